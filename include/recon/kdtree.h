@@ -1,0 +1,140 @@
+#pragma once
+// kd-tree: exact nearest-neighbour search in D dimensions (D = 2 or 3).
+//
+// Contract
+// - Distances passed in and returned are SQUARED Euclidean distances.
+// - Indices are positions in the span given to the constructor.
+// - A query point that is itself in the tree IS its own neighbour (distance
+//   0): `knn(points[i], k)` returns i first (or an exact duplicate of i with
+//   a smaller index). Callers that want "other" points ask for k + 1.
+// - Results are ordered by (squared distance, index), and ties are broken by
+//   the smaller index, so every query has exactly one correct answer: the
+//   same one brute force gives. Duplicate points are fine.
+// - The tree copies the points (in leaf order, for cache locality); the
+//   caller's span need not outlive it.
+// - A built tree is immutable; const queries are safe from many threads.
+//
+// Construction is balanced: each inner node splits its points at the median
+// of the axis along which they spread most, so the depth is about
+// log2(n / leaf_size). Leaves hold up to `leaf_size` points (see bench/ for the
+// measurement behind the default).
+
+#include "recon/point_cloud.h"
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+namespace recon {
+
+/// One neighbour found by a query.
+struct Neighbor {
+  std::uint32_t index = 0;  ///< position in the points given to the tree
+  double distance2 = 0.0;   ///< squared distance to the query
+
+  friend bool operator<(const Neighbor& a, const Neighbor& b) {
+    return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
+  }
+  friend bool operator==(const Neighbor&, const Neighbor&) = default;
+};
+
+/// The k nearest neighbours of every point of a tree, as one flat table:
+/// row i (entries [i*k, (i+1)*k)) lists point i's neighbours, itself included,
+/// in (distance, index) order.
+struct KnnTable {
+  int k = 0;
+  std::vector<Neighbor> entries;  ///< n * k
+
+  [[nodiscard]] std::size_t size() const { return k == 0 ? 0 : entries.size() / static_cast<std::size_t>(k); }
+  [[nodiscard]] std::span<const Neighbor> row(std::size_t i) const {
+    return {entries.data() + i * static_cast<std::size_t>(k), static_cast<std::size_t>(k)};
+  }
+};
+
+struct KdTreeOptions {
+  int leaf_size = 8;  ///< most points in a leaf; measured in bench/kdtree_bench.cpp
+};
+
+template <int D>
+class KdTree {
+ public:
+  using Point = Vec<D>;
+  static constexpr std::uint32_t no_child = std::numeric_limits<std::uint32_t>::max();
+
+  /// A node covers the points at tree positions [begin, end). An inner node
+  /// splits them on axis `axis`: the left child's points have coordinates
+  /// <= left_max there, the right child's >= right_min. `box` bounds the
+  /// node's points exactly (drawn by the visual feedback).
+  struct Node {
+    std::uint32_t begin = 0, end = 0;
+    std::uint32_t left = no_child, right = no_child;
+    int axis = 0;
+    double left_max = 0.0, right_min = 0.0;
+    Box<D> box;
+    [[nodiscard]] bool is_leaf() const { return left == no_child; }
+  };
+
+  KdTree() = default;
+  /// Builds the tree over `points`. Throws InvalidInputError for more than
+  /// 2^32 - 1 points or a leaf size below 1.
+  explicit KdTree(std::span<const Point> points, KdTreeOptions options = {});
+
+  [[nodiscard]] std::size_t size() const { return points_.size(); }
+  [[nodiscard]] bool empty() const { return points_.empty(); }
+
+  /// The k nearest points to q, in (distance, index) order; fewer when the
+  /// tree holds fewer than k points.
+  [[nodiscard]] std::vector<Neighbor> knn(const Point& q, int k) const;
+  /// Same, writing into `out` (capacity k = out.size()); returns how many
+  /// were written. No allocation: this is the form for hot loops.
+  std::size_t knn(const Point& q, std::span<Neighbor> out) const;
+
+  /// The nearest point to q. Precondition: the tree is not empty.
+  [[nodiscard]] Neighbor nearest(const Point& q) const;
+
+  /// Every point within distance sqrt(radius2) of q (inclusive), in
+  /// (distance, index) order.
+  [[nodiscard]] std::vector<Neighbor> radius(const Point& q, double radius2) const;
+
+  /// The nearest point whose label differs from `own_label`, among points
+  /// at squared distance <= max_distance2; index == no_child when none is.
+  /// `point_labels` is indexed like the input points; `node_labels` comes
+  /// from node_labels(point_labels) and lets whole subtrees of one label be
+  /// skipped. Used by the Borůvka EMST to find each component's nearest
+  /// outside point.
+  [[nodiscard]] Neighbor nearest_with_other_label(const Point& q, std::int32_t own_label,
+                                                  std::span<const std::int32_t> point_labels,
+                                                  std::span<const std::int32_t> node_labels,
+                                                  double max_distance2) const;
+  /// Per node: the label all its points share, or -1 if they differ.
+  [[nodiscard]] std::vector<std::int32_t> node_labels(std::span<const std::int32_t> point_labels) const;
+
+  /// The k nearest neighbours of every point in the tree (itself included),
+  /// computed in parallel, visiting the points in leaf order for locality.
+  /// Precondition: 1 <= k <= size().
+  [[nodiscard]] KnnTable all_knn(int k) const;
+
+  /// Nodes in pre-order; nodes()[0] is the root.
+  [[nodiscard]] const std::vector<Node>& nodes() const { return nodes_; }
+  /// Input index of the point at tree position t (leaf order).
+  [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }
+  [[nodiscard]] int depth() const { return depth_; }
+
+ private:
+  template <class Visitor>
+  void search(const Point& q, Visitor& visitor) const;
+  template <class Visitor>
+  void descend(std::uint32_t id, const Point& q, double rd, Point& offsets, Visitor& visitor) const;
+
+  std::vector<Point> points_;         // in tree (leaf) order
+  std::vector<std::uint32_t> order_;  // tree position -> input index
+  std::vector<Node> nodes_;
+  KdTreeOptions options_;
+  int depth_ = 0;
+};
+
+extern template class KdTree<2>;
+extern template class KdTree<3>;
+
+}  // namespace recon

@@ -1,0 +1,51 @@
+#pragma once
+// Basic geometric types shared by every phase.
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <vector>
+
+namespace recon {
+
+/// A point or vector in D dimensions (D = 2 for curves, 3 for surfaces).
+template <int D>
+using Vec = Eigen::Matrix<double, D, 1>;
+using Vec2 = Vec<2>;
+using Vec3 = Vec<3>;
+
+/// An unorganized point cloud: positions, and normals when the source had them.
+/// `normals` is either empty or has exactly one entry per position.
+struct PointCloud {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;
+
+  [[nodiscard]] std::size_t size() const { return positions.size(); }
+  [[nodiscard]] bool has_normals() const { return !normals.empty(); }
+};
+
+/// Axis-aligned bounding box.
+template <int D>
+struct Box {
+  Vec<D> min = Vec<D>::Constant(std::numeric_limits<double>::infinity());
+  Vec<D> max = Vec<D>::Constant(-std::numeric_limits<double>::infinity());
+
+  void extend(const Vec<D>& p) {
+    min = min.cwiseMin(p);
+    max = max.cwiseMax(p);
+  }
+  [[nodiscard]] bool empty() const { return (min.array() > max.array()).any(); }
+  [[nodiscard]] Vec<D> extent() const { return max - min; }
+  [[nodiscard]] double diagonal() const { return empty() ? 0.0 : extent().norm(); }
+};
+
+template <int D>
+[[nodiscard]] Box<D> bounding_box(std::span<const Vec<D>> points) {
+  Box<D> box;
+  for (const auto& p : points) box.extend(p);
+  return box;
+}
+
+}  // namespace recon

@@ -1,0 +1,255 @@
+#include "recon/kdtree.h"
+
+#include "recon/errors.h"
+
+#include <algorithm>
+#include <string>
+
+namespace recon {
+namespace {
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
+constexpr double bound_slack = 1.0 + 1e-12;
+
+bool before(double d2_a, std::uint32_t i_a, double d2_b, std::uint32_t i_b) {
+  return d2_a < d2_b || (d2_a == d2_b && i_a < i_b);
+}
+
+// The k best candidates seen so far, kept sorted in a caller-provided buffer.
+// For the small k of surface reconstruction, insertion into a sorted array
+// beats a heap.
+struct KnnCollector {
+  std::span<Neighbor> out;
+  std::size_t count = 0;
+
+  [[nodiscard]] double bound() const { return count < out.size() ? infinity : out.back().distance2; }
+  void offer(std::uint32_t index, double d2) {
+    if (count == out.size()) {
+      if (!before(d2, index, out.back().distance2, out.back().index)) return;
+    } else {
+      ++count;
+    }
+    std::size_t i = count - 1;
+    while (i > 0 && before(d2, index, out[i - 1].distance2, out[i - 1].index)) {
+      out[i] = out[i - 1];
+      --i;
+    }
+    out[i] = Neighbor{index, d2};
+  }
+};
+
+}  // namespace
+
+template <int D>
+KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : options_(options) {
+  if (options.leaf_size < 1) throw InvalidInputError("kd-tree leaf size must be at least 1");
+  if (points.size() >= no_child)
+    throw InvalidInputError("kd-tree: " + std::to_string(points.size()) + " points is more than the 2^32 - 1 supported");
+  if (points.empty()) return;
+
+  // Build over (point, input index) pairs so that the median selection moves
+  // contiguous data rather than chasing indices.
+  std::vector<std::pair<Point, std::uint32_t>> items(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i], static_cast<std::uint32_t>(i)};
+
+  nodes_.reserve(2 * points.size() / static_cast<std::size_t>(options_.leaf_size) + 1);
+  struct Builder {
+    KdTree& tree;
+    std::vector<std::pair<Point, std::uint32_t>>& items;
+
+    std::uint32_t build(std::uint32_t begin, std::uint32_t end, int depth) {
+      const auto id = static_cast<std::uint32_t>(tree.nodes_.size());
+      tree.nodes_.emplace_back();
+      tree.depth_ = std::max(tree.depth_, depth);
+      Node node;
+      node.begin = begin;
+      node.end = end;
+      for (auto t = begin; t < end; ++t) node.box.extend(items[t].first);
+      if (end - begin > static_cast<std::uint32_t>(tree.options_.leaf_size)) {
+        const Point extent = node.box.extent();
+        int axis = 0;
+        for (int a = 1; a < D; ++a)
+          if (extent[a] > extent[axis]) axis = a;
+        const std::uint32_t mid = begin + (end - begin) / 2;
+        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                         [axis](const auto& a, const auto& b) { return a.first[axis] < b.first[axis]; });
+        node.axis = axis;
+        node.left = build(begin, mid, depth + 1);
+        node.right = build(mid, end, depth + 1);
+        node.left_max = tree.nodes_[node.left].box.max[axis];
+        node.right_min = tree.nodes_[node.right].box.min[axis];
+      }
+      tree.nodes_[id] = node;
+      return id;
+    }
+  };
+  Builder{*this, items}.build(0, static_cast<std::uint32_t>(items.size()), 0);
+
+  points_.resize(items.size());
+  order_.resize(items.size());
+  for (std::size_t t = 0; t < items.size(); ++t) {
+    points_[t] = items[t].first;
+    order_[t] = items[t].second;
+  }
+}
+
+// Depth-first search with the incremental lower bound of Arya and Mount:
+// `offsets` holds, per axis, the squared distance from q to the slab of the
+// current node, and `rd` their sum, a lower bound on the distance from q to
+// any point below the node. A Visitor provides bound() (prune subtrees
+// farther than that), skip(node) and visit(tree position, d2).
+template <int D>
+template <class Visitor>
+void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offsets, Visitor& visitor) const {
+  if (visitor.skip(id)) return;
+  const Node& node = nodes_[id];
+  if (node.is_leaf()) {
+    for (auto t = node.begin; t < node.end; ++t) {
+      const double d2 = (points_[t] - q).squaredNorm();
+      if (d2 <= visitor.bound()) visitor.visit(t, d2);
+    }
+    return;
+  }
+  const int a = node.axis;
+  const double to_left = q[a] - node.left_max;    // > 0: q beyond the left child's points
+  const double to_right = q[a] - node.right_min;  // < 0: q before the right child's points
+  std::uint32_t near_child = node.left, far_child = node.right;
+  double cut = to_right * to_right;
+  if (to_left + to_right >= 0) {
+    std::swap(near_child, far_child);
+    cut = to_left * to_left;
+  }
+  descend(near_child, q, rd, offsets, visitor);
+  const double old = offsets[a];
+  const double rd_far = rd - old + cut;
+  // The incremental sum can round a hair above the distance the leaf will
+  // compute exactly; the slack keeps ties (which decide the answer) inside.
+  if (rd_far <= visitor.bound() * bound_slack) {
+    offsets[a] = cut;
+    descend(far_child, q, rd_far, offsets, visitor);
+    offsets[a] = old;
+  }
+}
+
+template <int D>
+template <class Visitor>
+void KdTree<D>::search(const Point& q, Visitor& visitor) const {
+  if (nodes_.empty()) return;
+  const Box<D>& box = nodes_[0].box;
+  Point offsets;
+  double rd = 0.0;
+  for (int a = 0; a < D; ++a) {
+    double d = 0.0;
+    if (q[a] < box.min[a]) d = box.min[a] - q[a];
+    if (q[a] > box.max[a]) d = q[a] - box.max[a];
+    offsets[a] = d * d;
+    rd += offsets[a];
+  }
+  descend(0, q, rd, offsets, visitor);
+}
+
+template <int D>
+std::size_t KdTree<D>::knn(const Point& q, std::span<Neighbor> out) const {
+  struct Visitor {
+    KnnCollector collector;
+    const std::uint32_t* order;
+    [[nodiscard]] double bound() const { return collector.bound(); }
+    [[nodiscard]] static bool skip(std::uint32_t) { return false; }
+    void visit(std::uint32_t t, double d2) { collector.offer(order[t], d2); }
+  } visitor{KnnCollector{out}, order_.data()};
+  if (out.empty()) return 0;
+  search(q, visitor);
+  return visitor.collector.count;
+}
+
+template <int D>
+std::vector<Neighbor> KdTree<D>::knn(const Point& q, int k) const {
+  std::vector<Neighbor> out(static_cast<std::size_t>(std::max(k, 0)));
+  out.resize(knn(q, std::span<Neighbor>(out)));
+  return out;
+}
+
+template <int D>
+Neighbor KdTree<D>::nearest(const Point& q) const {
+  Neighbor best{no_child, infinity};
+  knn(q, std::span<Neighbor>(&best, 1));
+  return best;
+}
+
+template <int D>
+std::vector<Neighbor> KdTree<D>::radius(const Point& q, double radius2) const {
+  struct Visitor {
+    double r2;
+    const std::uint32_t* order;
+    std::vector<Neighbor> found;
+    [[nodiscard]] double bound() const { return r2; }
+    [[nodiscard]] static bool skip(std::uint32_t) { return false; }
+    void visit(std::uint32_t t, double d2) { found.push_back({order[t], d2}); }
+  } visitor{radius2, order_.data(), {}};
+  search(q, visitor);
+  std::sort(visitor.found.begin(), visitor.found.end());
+  return std::move(visitor.found);
+}
+
+template <int D>
+Neighbor KdTree<D>::nearest_with_other_label(const Point& q, std::int32_t own_label,
+                                             std::span<const std::int32_t> point_labels,
+                                             std::span<const std::int32_t> node_labels,
+                                             double max_distance2) const {
+  struct Visitor {
+    std::int32_t own;
+    const std::int32_t* point_labels;
+    const std::int32_t* node_labels;
+    const std::uint32_t* order;
+    Neighbor best;
+    [[nodiscard]] double bound() const { return best.distance2; }
+    [[nodiscard]] bool skip(std::uint32_t id) const { return node_labels[id] == own; }
+    void visit(std::uint32_t t, double d2) {
+      const std::uint32_t i = order[t];
+      if (point_labels[i] != own && before(d2, i, best.distance2, best.index)) best = {i, d2};
+    }
+  } visitor{own_label, point_labels.data(), node_labels.data(), order_.data(), Neighbor{no_child, max_distance2}};
+  search(q, visitor);
+  return visitor.best;
+}
+
+template <int D>
+std::vector<std::int32_t> KdTree<D>::node_labels(std::span<const std::int32_t> point_labels) const {
+  std::vector<std::int32_t> labels(nodes_.size());
+  // Children come after their parent in pre-order: fill from the back.
+  for (std::size_t id = nodes_.size(); id-- > 0;) {
+    const Node& node = nodes_[id];
+    if (node.is_leaf()) {
+      std::int32_t label = point_labels[order_[node.begin]];
+      for (auto t = node.begin + 1; t < node.end && label >= 0; ++t)
+        if (point_labels[order_[t]] != label) label = -1;
+      labels[id] = label;
+    } else {
+      labels[id] = labels[node.left] == labels[node.right] ? labels[node.left] : -1;
+    }
+  }
+  return labels;
+}
+
+template <int D>
+KnnTable KdTree<D>::all_knn(int k) const {
+  if (k < 1 || static_cast<std::size_t>(k) > size())
+    throw InvalidInputError("k = " + std::to_string(k) + " neighbours asked of a tree of " + std::to_string(size()) +
+                            " points");
+  KnnTable table;
+  table.k = k;
+  table.entries.resize(size() * static_cast<std::size_t>(k));
+  const auto n = static_cast<std::int64_t>(size());
+  const auto kk = static_cast<std::size_t>(k);
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (std::int64_t t = 0; t < n; ++t) {
+    const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(t)]);
+    knn(points_[static_cast<std::size_t>(t)], std::span<Neighbor>(table.entries.data() + i * kk, kk));
+  }
+  return table;
+}
+
+template class KdTree<2>;
+template class KdTree<3>;
+
+}  // namespace recon

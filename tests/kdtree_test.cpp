@@ -1,0 +1,163 @@
+#include "recon/kdtree.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+namespace recon {
+namespace {
+
+enum class Layout { uniform, clustered, duplicates };
+
+template <int D>
+std::vector<Vec<D>> make_points(std::size_t n, Layout layout, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 0.01);
+  std::vector<Vec<D>> pts;
+  std::vector<Vec<D>> centres(5);
+  for (auto& c : centres)
+    for (int a = 0; a < D; ++a) c[a] = unit(rng);
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec<D> p;
+    switch (layout) {
+      case Layout::uniform:
+        for (int a = 0; a < D; ++a) p[a] = unit(rng);
+        break;
+      case Layout::clustered:
+        p = centres[i % centres.size()];
+        for (int a = 0; a < D; ++a) p[a] += gauss(rng);
+        break;
+      case Layout::duplicates:
+        // Few distinct positions, many copies: exercises the tie-breaking.
+        for (int a = 0; a < D; ++a) p[a] = std::floor(unit(rng) * 4.0) / 4.0;
+        break;
+    }
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+template <int D>
+std::vector<Neighbor> brute_force(const std::vector<Vec<D>>& pts, const Vec<D>& q) {
+  std::vector<Neighbor> all;
+  for (std::size_t i = 0; i < pts.size(); ++i) all.push_back({static_cast<std::uint32_t>(i), (pts[i] - q).squaredNorm()});
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+template <int D>
+void check_against_brute_force(Layout layout, std::uint32_t seed) {
+  std::mt19937 rng(seed + 100);
+  std::uniform_real_distribution<double> unit(-0.1, 1.1);
+  for (std::size_t n : {1u, 2u, 7u, 100u, 2000u}) {
+    const auto pts = make_points<D>(n, layout, seed);
+    for (int leaf : {1, 3, 8}) {
+      const KdTree<D> tree(pts, {leaf});
+      ASSERT_EQ(tree.size(), n);
+      for (int trial = 0; trial < 30; ++trial) {
+        // Half the queries are data points (their own neighbour), half random.
+        Vec<D> q;
+        if (trial % 2 == 0) {
+          q = pts[rng() % n];
+        } else {
+          for (int a = 0; a < D; ++a) q[a] = unit(rng);
+        }
+        const auto expected = brute_force(pts, q);
+        for (int k : {1, 4, 15, 40}) {
+          const auto got = tree.knn(q, k);
+          const std::size_t want = std::min<std::size_t>(static_cast<std::size_t>(k), n);
+          ASSERT_EQ(got.size(), want);
+          for (std::size_t j = 0; j < want; ++j) ASSERT_EQ(got[j], expected[j]) << "n=" << n << " k=" << k << " j=" << j;
+        }
+        ASSERT_EQ(tree.nearest(q), expected[0]);
+        const double r2 = expected[std::min<std::size_t>(n - 1, 9)].distance2;
+        const auto in_ball = tree.radius(q, r2);
+        const auto expected_ball = std::count_if(expected.begin(), expected.end(),
+                                                 [&](const Neighbor& nb) { return nb.distance2 <= r2; });
+        ASSERT_EQ(in_ball.size(), static_cast<std::size_t>(expected_ball));
+        for (std::size_t j = 0; j < in_ball.size(); ++j) ASSERT_EQ(in_ball[j], expected[j]);
+      }
+    }
+  }
+}
+
+TEST(KdTree, KnnNearestRadiusMatchBruteForce3D) {
+  check_against_brute_force<3>(Layout::uniform, 1);
+  check_against_brute_force<3>(Layout::clustered, 2);
+  check_against_brute_force<3>(Layout::duplicates, 3);
+}
+
+TEST(KdTree, KnnNearestRadiusMatchBruteForce2D) {
+  check_against_brute_force<2>(Layout::uniform, 4);
+  check_against_brute_force<2>(Layout::clustered, 5);
+  check_against_brute_force<2>(Layout::duplicates, 6);
+}
+
+TEST(KdTree, EmptyTreeAnswersNothing) {
+  const KdTree<3> tree(std::span<const Vec3>{});
+  EXPECT_TRUE(tree.empty());
+  EXPECT_TRUE(tree.knn(Vec3::Zero(), 3).empty());
+  EXPECT_TRUE(tree.radius(Vec3::Zero(), 1.0).empty());
+}
+
+TEST(KdTree, AllKnnRowsEqualSingleQueries) {
+  const auto pts = make_points<3>(3000, Layout::clustered, 7);
+  const KdTree<3> tree(pts);
+  const KnnTable table = tree.all_knn(10);
+  ASSERT_EQ(table.size(), pts.size());
+  for (std::size_t i = 0; i < pts.size(); i += 7) {
+    const auto row = table.row(i);
+    const auto expected = brute_force(pts, pts[i]);
+    for (std::size_t j = 0; j < 10; ++j) ASSERT_EQ(row[j], expected[j]);
+  }
+}
+
+TEST(KdTree, IsBalancedAndCoversEveryPointOnce) {
+  const auto pts = make_points<3>(10000, Layout::duplicates, 8);  // heavy duplicates
+  const KdTree<3> tree(pts, {8});
+  // Median splits: depth is ceil(log2(n / leaf)) at most.
+  EXPECT_LE(tree.depth(), static_cast<int>(std::ceil(std::log2(10000.0 / 8.0))));
+  std::vector<int> seen(pts.size(), 0);
+  for (auto i : tree.order()) ++seen[i];
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; }));
+  for (const auto& node : tree.nodes()) {
+    if (node.is_leaf()) {
+      EXPECT_LE(node.end - node.begin, 8u);
+      continue;
+    }
+    EXPECT_LE(node.left_max, node.right_min);
+    for (auto t = node.begin; t < node.end; ++t) {
+      const Vec3& p = pts[tree.order()[t]];
+      EXPECT_TRUE((p.array() >= node.box.min.array()).all() && (p.array() <= node.box.max.array()).all());
+    }
+  }
+}
+
+TEST(KdTree, NearestWithOtherLabelMatchesBruteForce) {
+  const auto pts = make_points<3>(2000, Layout::clustered, 9);
+  std::vector<std::int32_t> labels(pts.size());
+  std::mt19937 rng(10);
+  for (std::size_t i = 0; i < pts.size(); ++i) labels[i] = static_cast<std::int32_t>(i % 5 == 0 ? rng() % 3 : i % 5);
+  const KdTree<3> tree(pts, {4});
+  const auto node_labels = tree.node_labels(labels);
+  for (std::size_t q = 0; q < pts.size(); q += 13) {
+    Neighbor expected{KdTree<3>::no_child, std::numeric_limits<double>::infinity()};
+    for (const auto& nb : brute_force(pts, pts[q]))
+      if (labels[nb.index] != labels[q]) {
+        expected = nb;
+        break;
+      }
+    const auto got = tree.nearest_with_other_label(pts[q], labels[q], labels, node_labels,
+                                                   std::numeric_limits<double>::infinity());
+    ASSERT_EQ(got, expected);
+    // A bound below the answer finds nothing; a bound equal to it finds it.
+    const auto none = tree.nearest_with_other_label(pts[q], labels[q], labels, node_labels, expected.distance2 * 0.999);
+    EXPECT_EQ(none.index, KdTree<3>::no_child);
+    EXPECT_EQ(tree.nearest_with_other_label(pts[q], labels[q], labels, node_labels, expected.distance2), expected);
+  }
+}
+
+}  // namespace
+}  // namespace recon
