@@ -4,6 +4,24 @@
 // Writing is atomic (temporary file in the same folder, then rename).
 // Reading (PLY, OBJ, OFF) exists for reference surfaces and round trips;
 // polygons with more than three corners are split into a fan.
+//
+// Written files: PLY vertices as "property double" (lossless; the binary
+// file is 24 bytes a vertex) and faces as "property list uchar int
+// vertex_indices"; OBJ "v" and 1-based "f" lines and OFF, with the shortest
+// decimals that read back exactly; binary STL with float32 corners and a
+// unit facet normal computed from the corner order (zero when degenerate).
+// write_mesh throws InvalidInputError, before creating anything, for a
+// non-finite vertex, an index out of range, or (STL) a coordinate beyond
+// float range.
+//
+// Reading: PLY takes the "vertex" element's x, y, z and the "face" element's
+// "vertex_indices" or "vertex_index" list (any integer count type, any index
+// type holding whole numbers); OBJ takes "v" and "f" lines (corners v, v/vt,
+// v/vt/vn, v//vn; negative numbers count back from the last vertex read);
+// OFF takes its vertices and faces. A file without a triangle, a face with
+// fewer than three corners or an index out of range is a ParseError naming
+// the line or byte; reading STL is refused (InvalidInputError). Errors are
+// reported as for read_points (see point_io.h).
 
 #include "recon/mesh.h"
 

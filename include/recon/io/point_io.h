@@ -6,21 +6,44 @@
 //          "vertex" element's x, y, z (and nx, ny, nz when all three are
 //          present) of any scalar type; every other property and element
 //          (faces, colours, ...) is skipped, so a mesh's vertices read as a
-//          cloud.
-//   xyz  - text, 3 or 6 numbers a line (x y z [nx ny nz]); blank lines and
-//          '#' comments allowed. Extensions .xyz, .txt, .asc, .pwn.
+//          cloud. Elements may come in any order; a list property on the
+//          vertex element is refused. ASCII values may wrap across lines, but
+//          text after the last declared element is an error; bytes after the
+//          last element of a binary body are ignored.
+//   xyz  - text, 3 or 6 numbers a line (x y z [nx ny nz]), the same count on
+//          every line; blank lines and '#' comments (also after the numbers)
+//          allowed. Numbers are separated by blanks or by single commas.
+//          Extensions .xyz, .txt, .asc, .pwn.
 //   pts  - text, either Hoppe's format ("p x y z" records; other one-letter
-//          records and '#' comments are ignored) or plain xyz columns; the
-//          first record decides.
-//   obj  - "v x y z" lines (faces and the rest ignored).
-//   off  - OFF / NOFF header, counts, vertices (faces ignored).
-//   pcd  - PCD v0.7 with x, y, z fields (normal_x... used when present),
-//          DATA ascii or binary.
+//          records such as d, s, g, n and '#' comments are ignored) or plain
+//          xyz columns; the first record decides (a letter: Hoppe's format).
+//   obj  - "v x y z" lines; numbers after z (the w weight, or a colour) are
+//          ignored. "vn" lines become the normals only when there are exactly
+//          as many as "v" lines (OBJ ties normals to face corners, so another
+//          count cannot be matched to the points). Everything else is ignored.
+//   off  - [ST][C][N]OFF header (NOFF: normals after each position), counts
+//          on the header line or the next one, '#' comments, one vertex a
+//          line (colours after it ignored); faces are not read. 4OFF, nOFF
+//          and binary OFF are refused.
+//   pcd  - PCD v0.7 with x, y, z fields of any type (F 4/8, I or U 1/2/4/8),
+//          normal_x, normal_y, normal_z used when all are present, other
+//          fields skipped; DATA ascii or binary (little-endian records).
+//          Points whose x, y and z are all NaN (PCL's "no measurement" in
+//          organized clouds) are skipped. DATA binary_compressed is refused
+//          with a hint to convert the file.
+//
+// Numbers are parsed with std::from_chars from the whole file held in
+// memory; a header count never sizes an allocation beyond what the file
+// could hold.
 //
 // Errors: ParseError with "FILE:LINE: ..." (text) or "FILE: byte N: ..."
-// (binary) for malformed content, including non-finite coordinates;
-// IoError when the file cannot be opened; InvalidInputError for an unknown
-// format name or extension.
+// (binary) for malformed content, including non-finite coordinates or
+// normals and values too large for a double (values too small become 0);
+// element and point numbers in messages count from 0. "FILE: the file is
+// empty" and "FILE: no points ..." when there is nothing to read. IoError
+// "FILE: cannot open: reason" when the file is missing, a folder or
+// unreadable; InvalidInputError for an unknown format name or extension
+// (the message lists the known ones and the --format option).
 
 #include "recon/point_cloud.h"
 
@@ -47,8 +70,12 @@ struct WritePointsOptions {
   bool ascii = false;                           ///< PLY only: ascii instead of binary little-endian
 };
 
-/// Writes positions and, when present, normals. Doubles are written with
-/// full precision (PLY: property double; text: 17 significant digits).
+/// Writes positions and, when present, normals, as ply or xyz (throws
+/// InvalidInputError for another format). Doubles are written losslessly
+/// (PLY: property double; text: the shortest decimal that reads back as the
+/// same double, at most 17 significant digits), so a written cloud reads
+/// back bit for bit. Throws InvalidInputError, before creating anything,
+/// when normals are present but not one per point or a value is not finite.
 /// The file is written to a temporary file in the same folder and renamed
 /// into place when complete: a failure leaves no partial file.
 void write_points(const std::filesystem::path& path, const PointCloud& cloud, const WritePointsOptions& options = {});

@@ -1,0 +1,224 @@
+#include "commands.h"
+
+#include "summary.h"
+
+#include "recon/errors.h"
+#include "recon/io/point_io.h"
+#include "recon/orientation.h"
+#include "recon/parallel.h"
+#include "recon/shapes.h"
+#include "recon/tangent_planes.h"
+#include "recon/timer.h"
+
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <random>
+#include <sstream>
+
+namespace recon::cli {
+namespace {
+
+std::string plural(std::size_t n, const char* word) {
+  return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+// Options every command that reads a cloud shares.
+struct InputOptions {
+  std::filesystem::path path;
+  std::string format;
+};
+
+void add_input(CLI::App& app, InputOptions& in) {
+  app.add_option("input", in.path, "Point cloud (.ply .xyz .txt .pts .obj .off .pcd)")->required();
+  app.add_option("--format", in.format, "Input format when the extension does not say: ply, xyz, pts, obj, off, pcd");
+}
+
+PointCloud read_input(const InputOptions& in, Summary& summary) {
+  Timer timer;
+  io::ReadPointsOptions options;
+  if (!in.format.empty()) options.format = io::point_format_from_name(in.format);
+  PointCloud cloud = io::read_points(in.path, options);
+  summary.say("read      " + in.path.string() + ": " + plural(cloud.size(), "point") +
+              (cloud.has_normals() ? " with normals" : "") + " (" + format_seconds(timer.elapsed()) + ")");
+  summary.stats()["input"]["file"] = in.path.string();
+  summary.stats()["input"]["points"] = cloud.size();
+  summary.stats()["input"]["has_normals"] = cloud.has_normals();
+  summary.stats()["input"]["seconds"] = timer.elapsed();
+  return cloud;
+}
+
+void refuse_overwriting_input(const std::filesystem::path& input, const std::filesystem::path& output) {
+  std::error_code ec;
+  if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(input, output, ec))
+    throw InvalidInputError("refusing to overwrite the input file " + input.string() + "; choose another output");
+}
+
+// Options of phases I and II.
+struct PhaseOptions {
+  int k = TangentPlaneOptions{}.k;
+  std::optional<double> rho;
+};
+
+void add_phase_options(CLI::App& app, PhaseOptions& p) {
+  app.add_option("-k,--k", p.k, "Neighbours per tangent plane, the point itself included")
+      ->default_val(p.k)
+      ->check(CLI::Range(3, 256));
+  app.add_option("--rho", p.rho,
+                 "Sampling density: the largest gap between neighbouring samples (default: estimated per point)")
+      ->check(CLI::PositiveNumber);
+}
+
+TangentPlanes<3> run_phase_1(const PointCloud& cloud, const PhaseOptions& p, Summary& summary) {
+  TangentPlaneOptions options;
+  options.k = p.k;
+  options.rho = p.rho;
+  auto planes = estimate_tangent_planes<3>(cloud.positions, options);
+  std::ostringstream line;
+  line << "phase I   tangent planes: k = " << p.k << ", rho = " << format_length(planes.rho)
+       << (planes.rho_given ? " (given)" : " (estimated, median of local values)") << ", "
+       << plural(cloud.size() - planes.distinct_points, "duplicate") << ", "
+       << plural(planes.degenerate, "degenerate neighbourhood") << " ("
+       << format_seconds(planes.seconds_knn + planes.seconds_pca) << ")";
+  summary.say(line.str());
+  Json& s = summary.stats()["tangent_planes"];
+  s["k"] = p.k;
+  s["rho"] = planes.rho;
+  s["rho_estimated"] = !planes.rho_given;
+  s["distinct_points"] = planes.distinct_points;
+  s["degenerate_neighbourhoods"] = planes.degenerate;
+  s["seconds_knn"] = planes.seconds_knn;
+  s["seconds_pca"] = planes.seconds_pca;
+  return planes;
+}
+
+OrientedNormals<3> run_phase_2(const TangentPlanes<3>& planes, const PhaseOptions& p, Summary& summary) {
+  OrientationOptions options;
+  options.graph.k = p.k;
+  auto oriented = orient_normals<3>(planes, options);
+  const auto& g = oriented.graph;
+  std::vector<std::size_t> sizes(g.components.sizes.begin(), g.components.sizes.end());
+  std::ostringstream line;
+  line << "phase II  orientation: " << plural(oriented.component_count(), "component");
+  std::vector<std::size_t> shown = sizes;
+  std::sort(shown.rbegin(), shown.rend());
+  line << " (";
+  for (std::size_t c = 0; c < shown.size() && c < 8; ++c) line << (c ? ", " : "") << shown[c];
+  if (shown.size() > 8) line << ", ...";
+  line << " points), graph of " << plural(g.graph.edge_count(), "edge") << ", " << plural(oriented.flip_count, "flip")
+       << " (" << format_seconds(g.seconds_knn + g.seconds_emst + g.seconds_graph + oriented.seconds_mst) << ")";
+  summary.say(line.str());
+  Json& s = summary.stats()["orientation"];
+  s["components"] = oriented.component_count();
+  Json::Array size_list;
+  for (std::size_t v : sizes) size_list.emplace_back(v);
+  s["component_sizes"] = Json(size_list);
+  s["graph_edges"] = g.graph.edge_count();
+  s["gap_edges"] = g.gap_emst_edges;
+  s["rejoined_pieces"] = g.rejoined;
+  s["flips"] = oriented.flip_count;
+  s["seconds_knn"] = g.seconds_knn;
+  s["seconds_emst"] = g.seconds_emst;
+  s["seconds_graph"] = g.seconds_graph;
+  s["seconds_mst"] = oriented.seconds_mst;
+  return oriented;
+}
+
+}  // namespace
+
+Command add_info(CLI::App& app, const GlobalOptions& global) {
+  auto in = std::make_shared<InputOptions>();
+  auto k = std::make_shared<int>(TangentPlaneOptions{}.k);
+  add_input(app, *in);
+  app.add_option("-k,--k", *k, "Neighbourhood size used to estimate rho")->default_val(*k)->check(CLI::Range(3, 256));
+  return [in, k, &global] {
+    Summary summary(global.quiet);
+    const PointCloud cloud = read_input(*in, summary);
+    Box<3> box;
+    for (const auto& p : cloud.positions) box.extend(p);
+    std::ostringstream out;
+    out << "points        " << cloud.size() << (cloud.has_normals() ? " (with normals)" : "") << "\n";
+    out << "bounding box  [" << box.min.transpose() << "] .. [" << box.max.transpose() << "]\n";
+    out << "diagonal      " << format_length(box.diagonal()) << "\n";
+    TangentPlaneOptions options;
+    options.k = *k;
+    try {
+      const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
+      out << "duplicates    " << cloud.size() - planes.distinct_points << " (exact copies of an earlier point)\n";
+      out << "rho           " << format_length(planes.rho) << " (median local sampling gap, k = " << *k << ")\n";
+      out << "degenerate    " << planes.degenerate << " neighbourhoods with no unique normal";
+    } catch (const InvalidInputError& e) {
+      out << "rho           not available: " << e.what();
+    }
+    std::cout << out.str() << std::endl;
+  };
+}
+
+Command add_normals(CLI::App& app, const GlobalOptions& global) {
+  auto in = std::make_shared<InputOptions>();
+  auto phases = std::make_shared<PhaseOptions>();
+  auto output = std::make_shared<std::filesystem::path>();
+  auto ascii = std::make_shared<bool>(false);
+  auto stats = std::make_shared<std::filesystem::path>();
+  add_input(app, *in);
+  app.add_option("-o,--output", *output, "Oriented cloud to write (.ply or .xyz)")->required();
+  app.add_flag("--ascii", *ascii, "Write ASCII PLY instead of binary");
+  app.add_option("--stats", *stats, "Also write the run's figures as JSON to this file");
+  add_phase_options(app, *phases);
+  return [=, &global] {
+    Timer total;
+    Summary summary(global.quiet);
+    io::WritePointsOptions write_options;
+    write_options.format = io::point_format_from_path(*output);  // fail early on a bad extension
+    write_options.ascii = *ascii;
+    refuse_overwriting_input(in->path, *output);
+    PointCloud cloud = read_input(*in, summary);
+    const auto planes = run_phase_1(cloud, *phases, summary);
+    const auto oriented = run_phase_2(planes, *phases, summary);
+    cloud.normals = oriented.normals;
+    Timer timer;
+    io::write_points(*output, cloud, write_options);
+    summary.say("wrote     " + output->string() + " (" + format_seconds(timer.elapsed()) + "); total " +
+                format_seconds(total.elapsed()));
+    summary.stats()["output"]["file"] = output->string();
+    summary.stats()["threads"] = thread_count();
+    summary.stats()["seconds_total"] = total.elapsed();
+    if (!stats->empty()) summary.write_stats(*stats);
+  };
+}
+
+Command add_generate(CLI::App& app, const GlobalOptions& global) {
+  struct Options {
+    std::string shape;
+    std::size_t count = 100000;
+    std::uint64_t seed = 1;
+    double noise = 0.0;
+    bool with_normals = false;
+    std::filesystem::path output;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("shape", o->shape, "sphere, torus, ellipsoid, box, or two (a sphere beside a torus)")->required();
+  app.add_option("-o,--output", o->output, "Point cloud to write (.ply or .xyz)")->required();
+  app.add_option("-n,--points", o->count, "Number of points")->default_val(o->count)->check(CLI::Range(1, 1 << 30));
+  app.add_option("--seed", o->seed, "Random seed")->default_val(o->seed);
+  app.add_option("--noise", o->noise, "Gaussian noise, as a fraction of the bounding-box diagonal")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_flag("--with-normals", o->with_normals, "Also write the true outward normals");
+  return [o, &global] {
+    Summary summary(global.quiet);
+    const auto shape = make_shape(o->shape);
+    PointCloud cloud = shape->sample(o->count, o->seed);
+    if (o->noise > 0.0) {
+      Box<3> box;
+      for (const auto& p : cloud.positions) box.extend(p);
+      std::mt19937_64 rng(o->seed ^ 0x9e3779b97f4a7c15ULL);
+      std::normal_distribution<double> gauss(0.0, o->noise * box.diagonal());
+      for (auto& p : cloud.positions) p += Vec3(gauss(rng), gauss(rng), gauss(rng));
+    }
+    if (!o->with_normals) cloud.normals.clear();
+    io::write_points(o->output, cloud);
+    summary.say("wrote     " + o->output.string() + ": " + plural(cloud.size(), "point") + " on a " + o->shape);
+  };
+}
+
+}  // namespace recon::cli

@@ -1,0 +1,54 @@
+// recon: surface reconstruction from unorganized points (Hoppe et al. 1992).
+// This file only parses the command line and turns exceptions into one
+// line on stderr and an exit code; the work is in the library.
+
+#include "commands.h"
+
+#include "recon/errors.h"
+#include "recon/parallel.h"
+
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <new>
+
+int main(int argc, char** argv) {
+  CLI::App app{"recon: triangle meshes and oriented normals from unorganized point clouds\n"
+               "(Hoppe, DeRose, Duchamp, McDonald, Stuetzle: Surface reconstruction from unorganized points, 1992)"};
+  app.require_subcommand(1);
+  recon::cli::GlobalOptions global;
+  app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
+  app.add_option("--threads", global.threads, "Threads for the parallel phases (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+
+  std::map<CLI::App*, recon::cli::Command> commands;
+  auto add = [&](const char* name, const char* help, auto adder) {
+    CLI::App* sub = app.add_subcommand(name, help);
+    commands[sub] = adder(*sub, global);
+  };
+  add("info", "Describe a point cloud: size, bounding box, duplicates, sampling density", recon::cli::add_info);
+  add("normals", "Estimate consistently oriented normals (phases I and II) and write the oriented cloud",
+      recon::cli::add_normals);
+  add("generate", "Write a point sample of a known shape (sphere, torus, ellipsoid, box, two)",
+      recon::cli::add_generate);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    recon::set_thread_count(global.threads);
+    for (CLI::App* sub : app.get_subcommands()) commands.at(sub)();
+  } catch (const recon::Error& e) {
+    std::cerr << "recon: error: " << e.what() << '\n';
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "recon: error: out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "recon: internal error: " << e.what() << '\n';
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,115 @@
+#include "summary.h"
+
+#include "recon/io/atomic_file.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace recon::cli {
+
+Json& Json::operator[](const std::string& key) {
+  if (!std::holds_alternative<Object>(value_)) value_ = Object{};
+  auto& object = std::get<Object>(value_);
+  for (auto& [k, v] : object)
+    if (k == key) return v;
+  object.emplace_back(key, Json{});
+  return object.back().second;
+}
+
+namespace {
+void append_string(std::string& out, const std::string& s) {
+  out += '"';
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buffer[8];
+          std::snprintf(buffer, sizeof buffer, "\\u%04x", static_cast<unsigned>(c));
+          out += buffer;
+        } else {
+          out += c;
+        }
+    }
+  }
+  out += '"';
+}
+}  // namespace
+
+void Json::dump(std::string& out, int indent, int depth) const {
+  const auto newline = [&](int d) {
+    if (indent <= 0) return;
+    out += '\n';
+    out.append(static_cast<std::size_t>(indent * d), ' ');
+  };
+  if (const auto* d = std::get_if<double>(&value_)) {
+    if (!std::isfinite(*d)) {
+      out += "null";
+    } else {
+      char buffer[32];
+      const auto result = std::to_chars(buffer, buffer + sizeof buffer, *d);
+      out.append(buffer, result.ptr);
+    }
+  } else if (const auto* b = std::get_if<bool>(&value_)) {
+    out += *b ? "true" : "false";
+  } else if (const auto* s = std::get_if<std::string>(&value_)) {
+    append_string(out, *s);
+  } else if (const auto* a = std::get_if<Array>(&value_)) {
+    out += '[';
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      if (i) out += ", ";
+      (*a)[i].dump(out, 0, 0);
+    }
+    out += ']';
+  } else {
+    const auto& o = std::get<Object>(value_);
+    out += '{';
+    for (std::size_t i = 0; i < o.size(); ++i) {
+      if (i) out += ',';
+      newline(depth + 1);
+      append_string(out, o[i].first);
+      out += indent > 0 ? ": " : ":";
+      o[i].second.dump(out, indent, depth + 1);
+    }
+    if (!o.empty()) newline(depth);
+    out += '}';
+  }
+}
+
+std::string Json::dump(int indent) const {
+  std::string out;
+  dump(out, indent, 0);
+  return out;
+}
+
+void Summary::say(const std::string& text) const {
+  if (!quiet_) std::cout << text << std::endl;
+}
+
+void Summary::write_stats(const std::filesystem::path& path) const {
+  io::AtomicFile file(path);
+  file.stream() << stats_.dump(2) << '\n';
+  file.commit();
+}
+
+std::string format_seconds(double s) {
+  char buffer[32];
+  if (s < 1.0)
+    std::snprintf(buffer, sizeof buffer, "%.0f ms", s * 1000.0);
+  else
+    std::snprintf(buffer, sizeof buffer, "%.2f s", s);
+  return buffer;
+}
+
+std::string format_length(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4g", v);
+  return buffer;
+}
+
+}  // namespace recon::cli

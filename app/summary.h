@@ -1,0 +1,60 @@
+#pragma once
+// What a run reports: lines for the terminal as the phases finish, and the
+// same figures as JSON for --stats.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace recon::cli {
+
+/// A small JSON value: enough for statistics (numbers, strings, booleans,
+/// arrays and objects that keep their insertion order).
+class Json {
+ public:
+  using Array = std::vector<Json>;
+  using Object = std::vector<std::pair<std::string, Json>>;
+
+  Json() : value_(Object{}) {}
+  Json(double v) : value_(v) {}
+  Json(int v) : value_(static_cast<double>(v)) {}
+  Json(std::size_t v) : value_(static_cast<double>(v)) {}
+  Json(bool v) : value_(v) {}
+  Json(std::string v) : value_(std::move(v)) {}
+  Json(const char* v) : value_(std::string(v)) {}
+  Json(Array v) : value_(std::move(v)) {}
+
+  /// Object member, created (as an empty object) when absent.
+  Json& operator[](const std::string& key);
+  [[nodiscard]] std::string dump(int indent = 0) const;
+
+ private:
+  void dump(std::string& out, int indent, int depth) const;
+  std::variant<double, bool, std::string, Array, Object> value_;
+};
+
+class Summary {
+ public:
+  explicit Summary(bool quiet) : quiet_(quiet) {}
+  /// Prints one line (unless quiet).
+  void say(const std::string& text) const;
+  Json& stats() { return stats_; }
+  /// Writes the statistics as JSON, atomically.
+  void write_stats(const std::filesystem::path& path) const;
+
+ private:
+  bool quiet_;
+  Json stats_;
+};
+
+/// "1.23 s", "45 ms".
+std::string format_seconds(double s);
+/// Shortest round-trip decimal form of a length.
+std::string format_length(double v);
+
+}  // namespace recon::cli

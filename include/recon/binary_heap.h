@@ -1,0 +1,127 @@
+#pragma once
+// An indexed binary min-heap: the priority queue behind Prim's algorithm.
+//
+// Items are the integers 0..capacity-1, each in the heap at most once, with a
+// key. Besides push and pop it supports decrease_key(item, key), which is what
+// Prim needs when it finds a cheaper edge to a vertex already waiting: the
+// heap keeps, for every item, its slot in the array (`slot_`), so the item can
+// be found in O(1) and sifted up in O(log n).
+//
+// Order: by key, then by item, so that equal keys leave in a fixed order and
+// every run is deterministic.
+//
+// Costs: push, pop, decrease_key O(log n); top, contains, key O(1);
+// memory 2 ints per possible item plus a key per queued item.
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace recon {
+
+template <class Key>
+class IndexedBinaryHeap {
+ public:
+  static constexpr std::uint32_t absent = UINT32_MAX;
+
+  explicit IndexedBinaryHeap(std::size_t capacity = 0) : slot_(capacity, absent) {}
+
+  [[nodiscard]] bool empty() const { return heap_.empty(); }
+  [[nodiscard]] std::size_t size() const { return heap_.size(); }
+  [[nodiscard]] std::size_t capacity() const { return slot_.size(); }
+  [[nodiscard]] bool contains(std::uint32_t item) const { return slot_[item] != absent; }
+  /// Precondition: contains(item).
+  [[nodiscard]] const Key& key(std::uint32_t item) const { return heap_[slot_[item]].key; }
+  /// The item with the smallest key. Precondition: !empty().
+  [[nodiscard]] std::uint32_t top() const { return heap_.front().item; }
+  [[nodiscard]] const Key& top_key() const { return heap_.front().key; }
+
+  /// Precondition: !contains(item) and item < capacity().
+  void push(std::uint32_t item, Key key) {
+    slot_[item] = static_cast<std::uint32_t>(heap_.size());
+    heap_.push_back({std::move(key), item});
+    sift_up(heap_.size() - 1);
+  }
+
+  /// Removes and returns the item with the smallest key.
+  std::uint32_t pop() {
+    const std::uint32_t item = heap_.front().item;
+    move_to(0, heap_.back());
+    heap_.pop_back();
+    slot_[item] = absent;
+    if (!heap_.empty()) sift_down(0);
+    return item;
+  }
+
+  /// Lowers an item's key. Precondition: contains(item), key <= key(item).
+  void decrease_key(std::uint32_t item, Key key) {
+    const std::size_t s = slot_[item];
+    heap_[s].key = std::move(key);
+    sift_up(s);
+  }
+
+  /// Push when absent, decrease_key when present with a larger key; returns
+  /// whether the key changed. Prim's relaxation step in one call.
+  bool push_or_decrease(std::uint32_t item, const Key& key) {
+    if (!contains(item)) {
+      push(item, key);
+      return true;
+    }
+    if (!less(key, item, this->key(item), item)) return false;
+    decrease_key(item, key);
+    return true;
+  }
+
+  void clear() {
+    for (const auto& e : heap_) slot_[e.item] = absent;
+    heap_.clear();
+  }
+
+ private:
+  struct Entry {
+    Key key;
+    std::uint32_t item;
+  };
+
+  static bool less(const Key& ka, std::uint32_t ia, const Key& kb, std::uint32_t ib) {
+    return ka < kb || (!(kb < ka) && ia < ib);
+  }
+  static bool less(const Entry& a, const Entry& b) { return less(a.key, a.item, b.key, b.item); }
+
+  void move_to(std::size_t s, Entry e) {
+    slot_[e.item] = static_cast<std::uint32_t>(s);
+    heap_[s] = std::move(e);
+  }
+
+  // Hole technique: carry the moving entry and shift the others into the
+  // hole instead of swapping at every level.
+  void sift_up(std::size_t s) {
+    Entry moving = std::move(heap_[s]);
+    while (s > 0) {
+      const std::size_t parent = (s - 1) / 2;
+      if (!less(moving, heap_[parent])) break;
+      move_to(s, std::move(heap_[parent]));
+      s = parent;
+    }
+    move_to(s, std::move(moving));
+  }
+
+  void sift_down(std::size_t s) {
+    Entry moving = std::move(heap_[s]);
+    const std::size_t n = heap_.size();
+    while (true) {
+      std::size_t child = 2 * s + 1;
+      if (child >= n) break;
+      if (child + 1 < n && less(heap_[child + 1], heap_[child])) ++child;
+      if (!less(heap_[child], moving)) break;
+      move_to(s, std::move(heap_[child]));
+      s = child;
+    }
+    move_to(s, std::move(moving));
+  }
+
+  std::vector<Entry> heap_;
+  std::vector<std::uint32_t> slot_;  // item -> position in heap_, or absent
+};
+
+}  // namespace recon

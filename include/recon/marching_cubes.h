@@ -1,0 +1,74 @@
+#pragma once
+// Phase IV: contour tracing. The zero set of the signed distance f becomes
+// a triangle mesh by marching cubes over a lattice, visiting only the cubes
+// near the surface.
+//
+// Lattice: cubes of side `cell`, aligned on the data's bounding box. The
+// walk starts from the cubes that contain a sample and moves to a
+// neighbouring cube only across a face whose four corners do not all have
+// the same sign: the surface goes through that face, so it continues in the
+// neighbour. Corner values are computed once and kept in a hash map, so time
+// and memory grow with the area of the surface, not the volume of the box.
+//
+// Per cube: if a corner is undefined (phase III), the cube yields nothing and
+// the walk does not go on through it: the surface stays open there.
+// Otherwise the case table (marching_cubes_table.h) gives the triangles;
+// each vertex sits on a lattice edge where f changes sign, at the linear
+// interpolation of the two corner values, and is shared by every triangle
+// using that edge: the mesh is indexed. A corner where f = 0 counts as
+// outside; a vertex is kept at least 1/1000 of the edge away from the
+// corners so that no triangle has zero area.
+
+#include "recon/mesh.h"
+#include "recon/point_cloud.h"
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace recon {
+
+struct MarchingCubesOptions {
+  double cell = 0.0;                     ///< cube side (a length); must be > 0
+  std::size_t max_cubes = 200'000'000;   ///< refuse lattices that would visit more (memory guard)
+};
+
+/// One evaluated lattice corner, for inspection and the visual feedback.
+struct LatticeCorner {
+  std::array<std::int32_t, 3> index{};  ///< lattice coordinates
+  double value = 0.0;                   ///< f, when defined
+  bool defined = false;
+};
+
+struct MarchingCubesResult {
+  Mesh mesh;
+  double cell = 0.0;
+  Vec3 origin = Vec3::Zero();             ///< position of lattice corner (0, 0, 0)
+  std::array<std::int32_t, 3> size{};     ///< cubes along each axis
+  std::size_t seed_cubes = 0;             ///< cubes containing a sample
+  std::size_t visited_cubes = 0;          ///< cubes whose corners were looked at
+  std::size_t undefined_cubes = 0;        ///< visited cubes with an undefined corner
+  std::size_t evaluated_corners = 0;
+  std::size_t undefined_corners = 0;
+  std::vector<LatticeCorner> corners;     ///< every evaluated corner (if keep_corners)
+  double seconds = 0.0;
+};
+
+/// The function contoured: its value at a point, or nullopt where undefined.
+using ScalarField = std::function<std::optional<double>(const Vec3&)>;
+
+/// Estimated cubes a walk will visit for `samples` points on a surface
+/// sampled `spacing` apart, at cube side `cell` (used to refuse before
+/// allocating).
+[[nodiscard]] double estimate_visited_cubes(std::size_t samples, double spacing, double cell);
+
+/// Contours f = 0 starting from the cubes that contain `seeds` (normally the
+/// input points). Throws InvalidInputError for a cell that is not a positive
+/// length, ResourceLimitError when the lattice needs more than 2^21 cubes
+/// along an axis or the walk would exceed max_cubes.
+[[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
+                                                 const MarchingCubesOptions& options, bool keep_corners = false);
+
+}  // namespace recon

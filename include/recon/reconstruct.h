@@ -1,0 +1,45 @@
+#pragma once
+// The whole of Hoppe's algorithm in one call: phases I to IV, keeping every
+// phase's result (the visual feedback and the statistics read them).
+
+#include "recon/marching_cubes.h"
+#include "recon/orientation.h"
+#include "recon/signed_distance.h"
+#include "recon/tangent_planes.h"
+
+#include <optional>
+
+namespace recon {
+
+struct ReconstructionOptions {
+  TangentPlaneOptions planes{};            ///< phase I: k, rho
+  OrientationOptions orientation{};        ///< phase II (its k follows planes.k)
+  SignedDistanceOptions distance{};        ///< phase III: delta
+  std::optional<double> cell;              ///< phase IV cube side; default rho / 2 (about the sample spacing)
+  std::optional<int> resolution;           ///< or: cubes along the longest side of the bounding box
+  bool use_input_normals = false;          ///< orient with the cloud's own normals, skipping phase II
+  std::size_t max_cubes = 200'000'000;     ///< refuse larger lattice walks (about 250 bytes a cube)
+  bool keep_corners = false;               ///< keep the evaluated lattice corners in the result
+};
+
+struct Reconstruction {
+  TangentPlanes<3> planes;
+  std::optional<OrientedNormals<3>> oriented;  ///< absent when the input normals were used
+  std::vector<Vec3> normals;                   ///< the oriented normals used by phase III
+  std::optional<KdTree<3>> origin_tree;        ///< built here when phase II did not
+  double delta = 0.0;
+  bool delta_given = false;
+  MarchingCubesResult contour;                 ///< the mesh and the lattice statistics
+  double seconds_distance_setup = 0.0;
+};
+
+/// Throws what the phases throw (InvalidInputError for unusable data or
+/// parameters, ResourceLimitError for a lattice too large), and
+/// InvalidInputError when use_input_normals is set but the cloud has none.
+[[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
+
+/// The cube side that `options` asks for, given the phase I result.
+[[nodiscard]] double lattice_cell(const PointCloud& cloud, const TangentPlanes<3>& planes,
+                                  const ReconstructionOptions& options);
+
+}  // namespace recon

@@ -1,0 +1,73 @@
+#pragma once
+// Phase I: a tangent plane for every point.
+//
+// For each x_i, its k-neighbourhood N(x_i) (x_i and its k - 1 nearest other
+// points, found with our kd-tree) is fitted with a plane by PCA: the origin
+// o_i is the centroid of N(x_i) and the normal n_i the eigenvector of the
+// smallest eigenvalue of its covariance. Normals are unit but not yet
+// oriented (phase II does that).
+//
+// The phase also measures the sampling, locally, so that later phases adapt
+// to scans whose density varies across the surface:
+// - rho_i, the sampling density in Hoppe's sense (the data is rho-dense when
+//   every point of the surface is within rho of a sample): estimated as the
+//   radius of x_i's neighbourhood, the distance to its farthest of the k
+//   neighbours. With k around 15 this bounds the empty gaps even of random
+//   (Poisson) samples, whose largest holes are several times the typical
+//   spacing. Phase III uses it. `rho` is the median of the rho_i, the figure
+//   reported; a value given by the user replaces every rho_i.
+// - gap_i, the widest spacing between neighbouring samples around x_i: the
+//   largest, over x_i's neighbours x_j, of the distance from x_j to its
+//   nearest distinct sample. Phase II uses it to tell a gap between two
+//   objects from the spacing within one. With a given rho, gap_i = rho.
+//
+// Works in D = 2 (tangent lines of a curve) and D = 3.
+
+#include "recon/kdtree.h"
+#include "recon/point_cloud.h"
+
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace recon {
+
+struct TangentPlaneOptions {
+  int k = 15;                          ///< neighbourhood size, the point itself included (Hoppe: 4..20)
+  std::optional<double> rho;           ///< sampling density; estimated per point when absent
+  KdTreeOptions tree{};                ///< kd-tree over the input points
+};
+
+template <int D>
+struct TangentPlanes {
+  std::vector<Vec<D>> origins;      ///< o_i, centroid of the neighbourhood of x_i
+  std::vector<Vec<D>> normals;      ///< n_i, unit, unoriented
+  std::vector<Vec<D>> eigenvalues;  ///< covariance eigenvalues, ascending
+  std::vector<double> local_rho;    ///< rho_i (see above), or the given rho
+  std::vector<double> local_gap;    ///< gap_i (see above), or the given rho
+  double rho = 0.0;                 ///< median of local_rho, or the given rho
+  double gap = 0.0;                 ///< median of local_gap, or the given rho
+  bool rho_given = false;
+  int k = 0;
+  std::size_t distinct_points = 0;  ///< points that are not exact copies of an earlier one
+  std::size_t degenerate = 0;       ///< neighbourhoods with no unique normal (collinear / coincident)
+  KdTree<D> point_tree;             ///< over the input points; phase III queries it
+  double seconds_knn = 0.0, seconds_pca = 0.0;
+
+  /// lambda_0 / (lambda_0 + ... ): 0 for a perfectly flat neighbourhood,
+  /// 1/D for an isotropic blob.
+  [[nodiscard]] double surface_variation(std::size_t i) const {
+    const double sum = eigenvalues[i].sum();
+    return sum > 0.0 ? eigenvalues[i][0] / sum : 0.0;
+  }
+};
+
+/// Throws InvalidInputError when k < 3 (2D: k < 2), when there are fewer than
+/// k + 1 distinct points, when a coordinate is not finite, when the given rho
+/// is not positive, or when every neighbourhood is degenerate (all points on
+/// one line, or identical).
+template <int D>
+[[nodiscard]] TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points,
+                                                       const TangentPlaneOptions& options = {});
+
+}  // namespace recon

@@ -1,0 +1,94 @@
+#include "recon/graph.h"
+
+#include "recon/errors.h"
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+
+namespace recon {
+
+Graph make_graph(std::size_t vertex_count, std::span<const Edge> edges) {
+  Graph g;
+  g.offsets.assign(vertex_count + 1, 0);
+  for (const Edge& e : edges) {
+    if (e.u >= vertex_count || e.v >= vertex_count)
+      throw InvalidInputError("graph edge (" + std::to_string(e.u) + ", " + std::to_string(e.v) +
+                              ") names a vertex beyond " + std::to_string(vertex_count));
+    if (e.u == e.v) continue;
+    ++g.offsets[e.u + 1];
+    ++g.offsets[e.v + 1];
+  }
+  std::partial_sum(g.offsets.begin(), g.offsets.end(), g.offsets.begin());
+  std::vector<std::pair<std::uint32_t, double>> slots(g.offsets.back());
+  std::vector<std::uint64_t> fill(g.offsets.begin(), g.offsets.end() - 1);
+  for (const Edge& e : edges) {
+    if (e.u == e.v) continue;
+    slots[fill[e.u]++] = {e.v, e.weight};
+    slots[fill[e.v]++] = {e.u, e.weight};
+  }
+  // Sort each row, merge repeated targets (keeping the lightest), compact.
+  std::uint64_t write = 0;
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    const auto begin = slots.begin() + static_cast<std::ptrdiff_t>(g.offsets[v]);
+    const auto end = slots.begin() + static_cast<std::ptrdiff_t>(g.offsets[v + 1]);
+    std::sort(begin, end);  // by target, then weight: the first of a run is the lightest
+    g.offsets[v] = write;
+    for (auto it = begin; it != end; ++it)
+      if (write == g.offsets[v] || slots[write - 1].first != it->first) slots[write++] = *it;
+  }
+  g.offsets[vertex_count] = write;
+  g.targets.resize(write);
+  g.weights.resize(write);
+  for (std::uint64_t s = 0; s < write; ++s) {
+    g.targets[s] = slots[s].first;
+    g.weights[s] = slots[s].second;
+  }
+  return g;
+}
+
+UnionFind::UnionFind(std::size_t n) : parent_(n), size_(n, 1), sets_(n) {
+  std::iota(parent_.begin(), parent_.end(), 0u);
+}
+
+std::uint32_t UnionFind::find(std::uint32_t x) {
+  while (parent_[x] != x) {
+    parent_[x] = parent_[parent_[x]];
+    x = parent_[x];
+  }
+  return x;
+}
+
+bool UnionFind::unite(std::uint32_t a, std::uint32_t b) {
+  a = find(a);
+  b = find(b);
+  if (a == b) return false;
+  if (size_[a] < size_[b]) std::swap(a, b);
+  parent_[b] = a;
+  size_[a] += size_[b];
+  --sets_;
+  return true;
+}
+
+Components connected_components(const Graph& graph) {
+  const std::size_t n = graph.vertex_count();
+  UnionFind sets(n);
+  for (std::uint32_t v = 0; v < n; ++v)
+    for (std::uint32_t w : graph.neighbors(v))
+      if (v < w) sets.unite(v, w);
+  Components c;
+  c.label.assign(n, 0);
+  std::vector<std::uint32_t> label_of_root(n, UINT32_MAX);
+  for (std::uint32_t v = 0; v < n; ++v) {
+    std::uint32_t& l = label_of_root[sets.find(v)];
+    if (l == UINT32_MAX) {
+      l = static_cast<std::uint32_t>(c.sizes.size());
+      c.sizes.push_back(0);
+    }
+    c.label[v] = l;
+    ++c.sizes[l];
+  }
+  return c;
+}
+
+}  // namespace recon

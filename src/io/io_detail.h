@@ -1,0 +1,237 @@
+#pragma once
+// Helpers shared by the format readers and writers in src/io (not installed,
+// not part of the public interface): reading a whole file, building the error
+// messages, parsing and printing numbers, and binary scalars in either byte
+// order.
+
+#include "recon/mesh.h"
+#include "recon/point_cloud.h"
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+
+namespace recon::io::detail {
+
+// ---------------------------------------------------------------------------
+// Files and error messages
+
+/// The whole content of a file, read in one go (the readers parse from
+/// memory). Throws IoError "FILE: cannot open: reason" when the file is
+/// missing, is a folder or cannot be read.
+[[nodiscard]] std::string read_file(const std::filesystem::path& path);
+
+/// Throw ParseError "FILE:LINE: what" (text content).
+[[noreturn]] void fail_at_line(std::string_view file, std::size_t line, std::string_view what);
+/// Throw ParseError "FILE: byte OFFSET: what" (binary content).
+[[noreturn]] void fail_at_byte(std::string_view file, std::size_t offset, std::string_view what);
+/// Throw ParseError "FILE: what" (the file as a whole: empty, no points, ...).
+[[noreturn]] void fail_in_file(std::string_view file, std::string_view what);
+
+/// A piece of the file quoted for an error message: at most 40 characters,
+/// bytes that are not printable ASCII shown as '?'.
+[[nodiscard]] std::string excerpt(std::string_view text);
+
+// ---------------------------------------------------------------------------
+// Numbers in text
+
+enum class NumberStatus { ok, not_a_number, overflow };
+
+/// Parses all of `token` as a decimal floating-point number with
+/// std::from_chars. A leading '+' is accepted. "nan" and "inf" parse (the
+/// caller decides whether non-finite values are allowed); a value too small
+/// for a double becomes zero or a subnormal; a value too large is `overflow`.
+[[nodiscard]] NumberStatus parse_double(std::string_view token, double& value);
+
+/// Parses all of `token` as a decimal integer (leading '+' or '-' allowed).
+[[nodiscard]] bool parse_integer(std::string_view token, std::int64_t& value);
+
+/// Parses all of `token` as a non-negative decimal integer.
+[[nodiscard]] bool parse_count(std::string_view token, std::uint64_t& value);
+
+/// Describes a failed parse_double of `token` for an error message, e.g.
+/// "expected a number for x, found 'abc'" or "'1e999' for x is too large for a double".
+[[nodiscard]] std::string describe_bad_number(NumberStatus status, std::string_view token, std::string_view what);
+
+/// Parses a coordinate or normal component `what` ("x", "nz", ...) from
+/// text: a finite number, or ParseError "FILE:LINE: ..." saying what is wrong
+/// (not a number, too large for a double, NaN or infinity).
+[[nodiscard]] double parse_coordinate(std::string_view file, std::size_t line, std::string_view token,
+                                      std::string_view what);
+
+/// Appends the shortest decimal text that reads back as exactly `value`
+/// (at most 17 significant digits).
+void append_number(std::string& out, double value);
+/// Appends an unsigned integer in decimal.
+void append_integer(std::string& out, std::uint64_t value);
+
+// ---------------------------------------------------------------------------
+// Binary scalars
+
+/// The scalar types of PLY and PCD.
+enum class ScalarType : std::uint8_t { int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32, float64 };
+
+[[nodiscard]] constexpr std::size_t scalar_size(ScalarType type) {
+  switch (type) {
+    case ScalarType::int8:
+    case ScalarType::uint8: return 1;
+    case ScalarType::int16:
+    case ScalarType::uint16: return 2;
+    case ScalarType::int32:
+    case ScalarType::uint32:
+    case ScalarType::float32: return 4;
+    case ScalarType::int64:
+    case ScalarType::uint64:
+    case ScalarType::float64: return 8;
+  }
+  return 0;
+}
+
+[[nodiscard]] constexpr bool is_integer_type(ScalarType type) {
+  return type != ScalarType::float32 && type != ScalarType::float64;
+}
+
+constexpr std::uint16_t byte_swap(std::uint16_t v) { return static_cast<std::uint16_t>((v << 8) | (v >> 8)); }
+constexpr std::uint32_t byte_swap(std::uint32_t v) {
+  return ((v & 0x000000ffU) << 24) | ((v & 0x0000ff00U) << 8) | ((v & 0x00ff0000U) >> 8) | ((v & 0xff000000U) >> 24);
+}
+constexpr std::uint64_t byte_swap(std::uint64_t v) {
+  return (std::uint64_t{byte_swap(static_cast<std::uint32_t>(v))} << 32) |
+         byte_swap(static_cast<std::uint32_t>(v >> 32));
+}
+
+/// True when data stored with the given byte order must be swapped on this machine.
+[[nodiscard]] constexpr bool needs_swap(bool data_is_big_endian) {
+  return data_is_big_endian != (std::endian::native == std::endian::big);
+}
+
+enum class Decoded { finite, nan, infinite };
+
+/// Reads one scalar of `type` at `bytes` (no alignment needed), swapping the
+/// byte order when `swap`. Floating-point values are classified from their
+/// bits before any conversion, so a signalling NaN in a file raises no
+/// floating-point exception; `value` is set only when the result is finite.
+inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, double& value) {
+  switch (type) {
+    case ScalarType::int8: {
+      std::int8_t v = 0;
+      std::memcpy(&v, bytes, 1);
+      value = v;
+      return Decoded::finite;
+    }
+    case ScalarType::uint8: {
+      std::uint8_t v = 0;
+      std::memcpy(&v, bytes, 1);
+      value = v;
+      return Decoded::finite;
+    }
+    case ScalarType::int16:
+    case ScalarType::uint16: {
+      std::uint16_t bits = 0;
+      std::memcpy(&bits, bytes, 2);
+      if (swap) bits = byte_swap(bits);
+      value = type == ScalarType::int16 ? static_cast<double>(static_cast<std::int16_t>(bits)) : bits;
+      return Decoded::finite;
+    }
+    case ScalarType::int32:
+    case ScalarType::uint32: {
+      std::uint32_t bits = 0;
+      std::memcpy(&bits, bytes, 4);
+      if (swap) bits = byte_swap(bits);
+      value =
+          type == ScalarType::int32 ? static_cast<double>(static_cast<std::int32_t>(bits)) : static_cast<double>(bits);
+      return Decoded::finite;
+    }
+    case ScalarType::int64:
+    case ScalarType::uint64: {
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, bytes, 8);
+      if (swap) bits = byte_swap(bits);
+      value =
+          type == ScalarType::int64 ? static_cast<double>(static_cast<std::int64_t>(bits)) : static_cast<double>(bits);
+      return Decoded::finite;
+    }
+    case ScalarType::float32: {
+      std::uint32_t bits = 0;
+      std::memcpy(&bits, bytes, 4);
+      if (swap) bits = byte_swap(bits);
+      if ((bits & 0x7f800000U) == 0x7f800000U) return (bits & 0x007fffffU) != 0 ? Decoded::nan : Decoded::infinite;
+      float f = 0.0F;
+      std::memcpy(&f, &bits, 4);
+      value = static_cast<double>(f);
+      return Decoded::finite;
+    }
+    case ScalarType::float64: {
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, bytes, 8);
+      if (swap) bits = byte_swap(bits);
+      constexpr std::uint64_t exponent = 0x7ff0000000000000ULL;
+      if ((bits & exponent) == exponent)
+        return (bits & ~(exponent | (1ULL << 63))) != 0 ? Decoded::nan : Decoded::infinite;
+      std::memcpy(&value, &bits, 8);
+      return Decoded::finite;
+    }
+  }
+  return Decoded::nan;
+}
+
+/// Appends `value` to `out` in little-endian byte order.
+template <typename T>
+void append_little_endian(std::string& out, T value) {
+  static_assert(std::is_trivially_copyable_v<T> &&
+                (sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4 || sizeof(T) == 8));
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  if constexpr (std::endian::native == std::endian::big) {
+    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(bytes[i], bytes[sizeof(T) - 1 - i]);
+  }
+  out.append(bytes, sizeof(T));
+}
+
+// ---------------------------------------------------------------------------
+// Output
+
+/// Collects output in memory and hands it to the stream in blocks of about
+/// a megabyte (one write call per block instead of one per number).
+class BlockWriter {
+ public:
+  explicit BlockWriter(std::ostream& out) : out_(out) { buffer_.reserve(block_size + 4096); }
+  BlockWriter(const BlockWriter&) = delete;
+  BlockWriter& operator=(const BlockWriter&) = delete;
+  ~BlockWriter() = default;  // deliberately no flush: finish() must be called on success
+
+  std::string& buffer() { return buffer_; }
+  void flush_if_full() {
+    if (buffer_.size() >= block_size) flush();
+  }
+  /// Writes what is left. Stream errors are found by AtomicFile::commit().
+  void finish() { flush(); }
+
+ private:
+  static constexpr std::size_t block_size = std::size_t{1} << 20;
+  void flush() {
+    out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    buffer_.clear();
+  }
+  std::ostream& out_;
+  std::string buffer_;
+};
+
+// ---------------------------------------------------------------------------
+// Checks before writing
+
+/// Throws InvalidInputError "FILE: ..." when the cloud cannot be written
+/// faithfully: normals present but not one per position, or a non-finite value.
+void check_cloud_for_writing(std::string_view file, const PointCloud& cloud);
+/// Throws InvalidInputError "FILE: ..." for a non-finite vertex or a vertex
+/// index out of range.
+void check_mesh_for_writing(std::string_view file, const Mesh& mesh);
+
+}  // namespace recon::io::detail

@@ -1,0 +1,84 @@
+// Choosing a mesh format and handing the file to its reader or writer
+// (the formats themselves live in ply.cpp, obj.cpp, off.cpp, stl.cpp).
+
+#include "recon/io/mesh_io.h"
+
+#include "formats.h"
+#include "io_detail.h"
+
+#include "recon/errors.h"
+#include "recon/io/atomic_file.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+namespace recon::io {
+namespace {
+
+MeshFormat resolve(const std::filesystem::path& path, MeshFormat format) {
+  return format == MeshFormat::automatic ? mesh_format_from_path(path) : format;
+}
+
+/// STL stores float32: refuse what would become infinite instead of writing it.
+void check_for_stl(const std::string& file, const Mesh& mesh) {
+  if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+    throw InvalidInputError(file + ": cannot write: STL holds at most 2^32 - 1 triangles");
+  constexpr double largest = std::numeric_limits<float>::max();
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    if (mesh.vertices[i].cwiseAbs().maxCoeff() > largest)
+      throw InvalidInputError(file + ": cannot write: vertex " + std::to_string(i) +
+                              " is too large for the float coordinates of STL");
+  }
+}
+
+}  // namespace
+
+MeshFormat mesh_format_from_path(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  if (extension == ".ply") return MeshFormat::ply;
+  if (extension == ".obj") return MeshFormat::obj;
+  if (extension == ".off") return MeshFormat::off;
+  if (extension == ".stl") return MeshFormat::stl;
+  const std::string what = extension.empty() ? "has no extension" : "has the unknown extension '" + extension + "'";
+  throw InvalidInputError(path.string() + ": " + what + "; known mesh formats: .ply, .obj, .off, .stl");
+}
+
+void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const WriteMeshOptions& options) {
+  const MeshFormat format = resolve(path, options.format);
+  const std::string file = path.string();
+  detail::check_mesh_for_writing(file, mesh);
+  if (format == MeshFormat::stl) check_for_stl(file, mesh);
+  AtomicFile output(path);
+  switch (format) {
+    case MeshFormat::ply: detail::write_ply_mesh(output.stream(), mesh, options.ascii); break;
+    case MeshFormat::obj: detail::write_obj_mesh(output.stream(), mesh); break;
+    case MeshFormat::off: detail::write_off_mesh(output.stream(), mesh); break;
+    case MeshFormat::stl: detail::write_stl_mesh(output.stream(), mesh); break;
+    case MeshFormat::automatic: throw InvalidInputError(file + ": no mesh format chosen");
+  }
+  output.commit();
+}
+
+Mesh read_mesh(const std::filesystem::path& path) {
+  const MeshFormat format = mesh_format_from_path(path);
+  const std::string file = path.string();
+  if (format == MeshFormat::stl)
+    throw InvalidInputError(file + ": reading STL is not supported (it has no shared vertices); use PLY, OBJ or OFF");
+  const std::string content = detail::read_file(path);
+  if (content.empty()) detail::fail_in_file(file, "the file is empty");
+  switch (format) {
+    case MeshFormat::ply: return detail::read_ply_mesh(file, content);
+    case MeshFormat::obj: return detail::read_obj_mesh(file, content);
+    case MeshFormat::off: return detail::read_off_mesh(file, content);
+    case MeshFormat::stl:
+    case MeshFormat::automatic: break;
+  }
+  throw InvalidInputError(file + ": no mesh format chosen");
+}
+
+}  // namespace recon::io

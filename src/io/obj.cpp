@@ -1,0 +1,157 @@
+// Wavefront OBJ, the geometry statements only.
+//
+// "v x y z" is a vertex. Numbers after z are ignored: the optional w weight
+// of the OBJ specification (it weighs rational curves and surfaces and is 1
+// for polygon vertices, so it is not divided by) and the per-vertex colour
+// "v x y z r g b" some exporters write.
+// "vn nx ny nz" lines become the cloud's normals only when there are exactly
+// as many as "v" lines: OBJ ties normals to face corners, not to vertices, so
+// any other count cannot be matched to the points.
+// "f" corners are "v", "v/vt", "v/vt/vn" or "v//vn", counted from 1, or from
+// the end of the vertices read so far when negative; polygons are fanned.
+// Every other statement (vt, g, o, usemtl, l, ...) is ignored.
+
+#include "formats.h"
+#include "io_detail.h"
+#include "text_scanner.h"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace recon::io::detail {
+namespace {
+
+struct ObjContent {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+Vec3 parse_three(std::string_view file, std::size_t line, Fields& fields, std::string_view keyword,
+                 const char* const names[3]) {
+  std::array<std::string_view, 3> tokens;
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!fields.next(tokens[k]))
+      fail_at_line(file, line, "a '" + std::string(keyword) + "' line needs 3 numbers, found " + std::to_string(k));
+  }
+  const double x = parse_coordinate(file, line, tokens[0], names[0]);
+  const double y = parse_coordinate(file, line, tokens[1], names[1]);
+  const double z = parse_coordinate(file, line, tokens[2], names[2]);
+  return {x, y, z};
+}
+
+constexpr const char* position_names[3] = {"x", "y", "z"};
+constexpr const char* normal_names[3] = {"nx", "ny", "nz"};
+
+ObjContent parse_obj(std::string_view file, std::string_view content, bool faces) {
+  ObjContent obj;
+  LineScanner lines(content);
+  std::string_view line;
+  std::vector<std::uint32_t> corners;
+  std::uint64_t largest_index = 0;  // of the positive (forward) references, checked at the end
+  std::size_t largest_index_line = 0;
+
+  while (lines.next(line)) {
+    const std::size_t n = lines.line_number();
+    Fields fields(without_comment(line));
+    std::string_view keyword;
+    if (!fields.next(keyword)) continue;
+    if (keyword == "v") {
+      obj.positions.push_back(parse_three(file, n, fields, keyword, position_names));
+    } else if (keyword == "vn") {
+      obj.normals.push_back(parse_three(file, n, fields, keyword, normal_names));
+    } else if (keyword == "f" && faces) {
+      corners.clear();
+      for (std::string_view corner; fields.next(corner);) {
+        const std::string_view vertex = corner.substr(0, corner.find('/'));
+        std::int64_t index = 0;
+        if (!parse_integer(vertex, index) || index == 0)
+          fail_at_line(file, n,
+                       "expected a vertex number (1, 2, ... or -1, -2, ...) in face corner " + excerpt(corner));
+        std::uint64_t zero_based = 0;
+        if (index < 0) {
+          const auto back = static_cast<std::uint64_t>(-(index + 1)) + 1;  // no overflow for INT64_MIN
+          if (back > obj.positions.size())
+            fail_at_line(file, n,
+                         "face corner " + excerpt(corner) + " refers back " + std::to_string(back) +
+                             " vertices, but only " + std::to_string(obj.positions.size()) +
+                             " are defined before this line");
+          zero_based = obj.positions.size() - back;
+        } else {
+          zero_based = static_cast<std::uint64_t>(index) - 1;
+          if (zero_based >= largest_index) {
+            largest_index = zero_based;
+            largest_index_line = n;
+          }
+        }
+        if (zero_based >= std::numeric_limits<std::uint32_t>::max())
+          fail_at_line(file, n, "vertex number in " + excerpt(corner) + " is too large");
+        corners.push_back(static_cast<std::uint32_t>(zero_based));
+      }
+      if (corners.size() < 3)
+        fail_at_line(file, n, "a face needs at least 3 corners, found " + std::to_string(corners.size()));
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+        obj.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+    }
+  }
+  if (largest_index_line != 0 && largest_index >= obj.positions.size())
+    fail_at_line(file, largest_index_line,
+                 "a face uses vertex " + std::to_string(largest_index + 1) + ", but the file has " +
+                     std::to_string(obj.positions.size()) + " vertices");
+  return obj;
+}
+
+}  // namespace
+
+PointCloud read_obj_points(std::string_view file, std::string_view content) {
+  ObjContent obj = parse_obj(file, content, false);
+  if (obj.positions.empty()) fail_in_file(file, "no points: the file has no 'v x y z' line");
+  PointCloud cloud;
+  cloud.positions = std::move(obj.positions);
+  if (obj.normals.size() == cloud.positions.size()) cloud.normals = std::move(obj.normals);
+  return cloud;
+}
+
+Mesh read_obj_mesh(std::string_view file, std::string_view content) {
+  ObjContent obj = parse_obj(file, content, true);
+  if (obj.triangles.empty()) fail_in_file(file, "no triangles: the file has no 'f' line");
+  Mesh mesh;
+  mesh.vertices = std::move(obj.positions);
+  mesh.triangles = std::move(obj.triangles);
+  return mesh;
+}
+
+void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
+  BlockWriter writer(stream);
+  std::string& out = writer.buffer();
+  out += "# written by recon: ";
+  out += std::to_string(mesh.vertices.size());
+  out += " vertices, ";
+  out += std::to_string(mesh.triangles.size());
+  out += " triangles\n";
+  for (const Vec3& v : mesh.vertices) {
+    out += "v ";
+    append_number(out, v.x());
+    out += ' ';
+    append_number(out, v.y());
+    out += ' ';
+    append_number(out, v.z());
+    out += '\n';
+    writer.flush_if_full();
+  }
+  for (const auto& triangle : mesh.triangles) {
+    out += 'f';
+    for (const std::uint32_t v : triangle) {
+      out += ' ';
+      append_integer(out, std::uint64_t{v} + 1);
+    }
+    out += '\n';
+    writer.flush_if_full();
+  }
+  writer.finish();
+}
+
+}  // namespace recon::io::detail

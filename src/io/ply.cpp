@@ -1,0 +1,557 @@
+// PLY 1.0 (Turk, Stanford): a text header declaring elements and their
+// properties, then the elements in the declared order, as text or as packed
+// binary records in either byte order.
+//
+// One reader serves both read_points and read_mesh. It walks every element
+// of the body (so elements may come in any order and a truncated file is
+// always noticed), keeps the "vertex" element's x, y, z (and nx, ny, nz when
+// all three are declared) and, for meshes, the "face" element's
+// "vertex_indices" (or "vertex_index") list; every other property and
+// element is skipped.
+
+#include "formats.h"
+#include "io_detail.h"
+#include "text_scanner.h"
+
+#include "recon/errors.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace recon::io::detail {
+namespace {
+
+enum class PlyEncoding { ascii, binary_little_endian, binary_big_endian };
+
+struct PlyProperty {
+  std::string name;
+  ScalarType type = ScalarType::float32;  ///< of the value, or of each list item
+  bool is_list = false;
+  ScalarType count_type = ScalarType::uint8;  ///< lists only
+  std::size_t line = 0;                       ///< header line that declares it
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+  std::size_t line = 0;
+
+  [[nodiscard]] bool has_lists() const {
+    return std::any_of(properties.begin(), properties.end(), [](const PlyProperty& p) { return p.is_list; });
+  }
+  /// Bytes of one binary record; only meaningful without list properties.
+  [[nodiscard]] std::size_t record_size() const {
+    std::size_t size = 0;
+    for (const PlyProperty& p : properties) size += scalar_size(p.type);
+    return size;
+  }
+};
+
+struct PlyHeader {
+  PlyEncoding encoding = PlyEncoding::ascii;
+  std::vector<PlyElement> elements;
+  std::size_t body_offset = 0;      ///< first byte after the end_header line
+  std::size_t end_header_line = 0;  ///< the body starts on the next line
+};
+
+bool scalar_type_from_name(std::string_view name, ScalarType& type) {
+  static constexpr std::pair<std::string_view, ScalarType> names[] = {
+      {"char", ScalarType::int8},       {"int8", ScalarType::int8},       {"uchar", ScalarType::uint8},
+      {"uint8", ScalarType::uint8},     {"short", ScalarType::int16},     {"int16", ScalarType::int16},
+      {"ushort", ScalarType::uint16},   {"uint16", ScalarType::uint16},   {"int", ScalarType::int32},
+      {"int32", ScalarType::int32},     {"uint", ScalarType::uint32},     {"uint32", ScalarType::uint32},
+      {"float", ScalarType::float32},   {"float32", ScalarType::float32}, {"double", ScalarType::float64},
+      {"float64", ScalarType::float64},
+  };
+  for (const auto& [known, known_type] : names) {
+    if (name == known) {
+      type = known_type;
+      return true;
+    }
+  }
+  return false;
+}
+
+constexpr std::string_view known_types =
+    "char, uchar, short, ushort, int, uint, float, double, int8, uint8, int16, uint16, int32, uint32, float32, "
+    "float64";
+
+PlyHeader parse_header(std::string_view file, std::string_view content) {
+  LineScanner lines(content);
+  std::string_view line;
+  if (!lines.next(line) || trim(line) != "ply") fail_at_line(file, 1, "not a PLY file: the first line must be 'ply'");
+
+  PlyHeader header;
+  bool have_format = false;
+  for (;;) {
+    if (!lines.next(line)) fail_at_line(file, lines.line_number(), "the PLY header has no 'end_header' line");
+    const std::size_t n = lines.line_number();
+    Fields fields(line);
+    std::string_view keyword;
+    if (!fields.next(keyword)) continue;  // blank line
+    if (keyword == "comment" || keyword == "obj_info") continue;
+
+    if (keyword == "format") {
+      std::string_view encoding;
+      std::string_view version;
+      if (!fields.next(encoding) || !fields.next(version) || fields.count_rest() != 0)
+        fail_at_line(file, n,
+                     "bad format line " + excerpt(line) +
+                         ": expected 'format ascii 1.0' (or binary_little_endian, binary_big_endian)");
+      if (encoding == "ascii") {
+        header.encoding = PlyEncoding::ascii;
+      } else if (encoding == "binary_little_endian") {
+        header.encoding = PlyEncoding::binary_little_endian;
+      } else if (encoding == "binary_big_endian") {
+        header.encoding = PlyEncoding::binary_big_endian;
+      } else {
+        fail_at_line(
+            file, n,
+            "unknown PLY format " + excerpt(encoding) + " (expected ascii, binary_little_endian or binary_big_endian)");
+      }
+      double number = 0.0;
+      if (parse_double(version, number) != NumberStatus::ok || number != 1.0)
+        fail_at_line(file, n, "unsupported PLY version " + excerpt(version) + " (only 1.0 exists)");
+      if (have_format) fail_at_line(file, n, "a second format line");
+      have_format = true;
+
+    } else if (keyword == "element") {
+      std::string_view name;
+      std::string_view count;
+      PlyElement element;
+      if (!fields.next(name) || !fields.next(count) || fields.count_rest() != 0 || !parse_count(count, element.count))
+        fail_at_line(file, n, "bad element line " + excerpt(line) + ": expected 'element NAME COUNT'");
+      for (const PlyElement& other : header.elements) {
+        if (other.name == name) fail_at_line(file, n, "a second element named " + excerpt(name));
+      }
+      element.name = name;
+      element.line = n;
+      header.elements.push_back(std::move(element));
+
+    } else if (keyword == "property") {
+      if (header.elements.empty()) fail_at_line(file, n, "a property before any element");
+      PlyProperty property;
+      property.line = n;
+      std::string_view type;
+      std::string_view name;
+      if (!fields.next(type)) fail_at_line(file, n, "bad property line: expected 'property TYPE NAME'");
+      if (type == "list") {
+        std::string_view count_type;
+        if (!fields.next(count_type) || !fields.next(type) || !fields.next(name) || fields.count_rest() != 0)
+          fail_at_line(
+              file, n,
+              "bad list property line " + excerpt(line) + ": expected 'property list COUNT_TYPE ITEM_TYPE NAME'");
+        property.is_list = true;
+        if (!scalar_type_from_name(count_type, property.count_type))
+          fail_at_line(file, n, "unknown type " + excerpt(count_type) + " (known: " + std::string(known_types) + ")");
+        if (!is_integer_type(property.count_type))
+          fail_at_line(file, n,
+                       "the length of list " + excerpt(name) + " has type " + excerpt(count_type) +
+                           "; it must be an integer type");
+      } else if (!fields.next(name) || fields.count_rest() != 0) {
+        fail_at_line(file, n, "bad property line " + excerpt(line) + ": expected 'property TYPE NAME'");
+      }
+      if (!scalar_type_from_name(type, property.type))
+        fail_at_line(file, n, "unknown type " + excerpt(type) + " (known: " + std::string(known_types) + ")");
+      property.name = name;
+      header.elements.back().properties.push_back(std::move(property));
+
+    } else if (keyword == "end_header") {
+      if (!have_format) fail_at_line(file, n, "the PLY header has no format line");
+      header.body_offset = lines.position();
+      header.end_header_line = n;
+      return header;
+
+    } else {
+      fail_at_line(file, n, "unexpected line in the PLY header: " + excerpt(line));
+    }
+  }
+}
+
+// What the reader keeps, and where it finds it.
+struct Wanted {
+  std::size_t vertex_element = 0;
+  /// Per property of the vertex element: 0-2 for x, y, z, 3-5 for nx, ny,
+  /// nz, -1 for a property that is skipped.
+  std::vector<int> slot;
+  bool normals = false;
+  static constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+  std::size_t face_element = none;
+  std::size_t face_property = none;
+};
+
+constexpr std::array<std::string_view, 6> slot_names = {"x", "y", "z", "nx", "ny", "nz"};
+
+Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
+  Wanted wanted;
+  const auto vertex = std::find_if(header.elements.begin(), header.elements.end(),
+                                   [](const PlyElement& e) { return e.name == "vertex"; });
+  if (vertex == header.elements.end())
+    fail_at_line(file, header.end_header_line, "the PLY header declares no 'vertex' element");
+  wanted.vertex_element = static_cast<std::size_t>(vertex - header.elements.begin());
+
+  std::array<std::size_t, 6> found{};
+  found.fill(Wanted::none);
+  for (std::size_t p = 0; p < vertex->properties.size(); ++p) {
+    const PlyProperty& property = vertex->properties[p];
+    if (property.is_list)
+      fail_at_line(file, property.line,
+                   "list property " + excerpt(property.name) +
+                       " on the vertex element is not supported (vertex properties must be scalars)");
+    for (std::size_t s = 0; s < slot_names.size(); ++s) {
+      if (property.name == slot_names[s] && found[s] == Wanted::none) found[s] = p;
+    }
+  }
+  for (std::size_t s = 0; s < 3; ++s) {
+    if (found[s] == Wanted::none)
+      fail_at_line(file, vertex->line, "the vertex element has no " + excerpt(slot_names[s]) + " property");
+  }
+  wanted.normals = found[3] != Wanted::none && found[4] != Wanted::none && found[5] != Wanted::none;
+  wanted.slot.assign(vertex->properties.size(), -1);
+  for (std::size_t s = 0; s < (wanted.normals ? 6U : 3U); ++s) wanted.slot[found[s]] = static_cast<int>(s);
+
+  if (faces) {
+    if (vertex->count > std::numeric_limits<std::uint32_t>::max())
+      fail_at_line(file, vertex->line, "too many vertices for a mesh (at most 2^32 - 1)");
+    const auto face = std::find_if(header.elements.begin(), header.elements.end(),
+                                   [](const PlyElement& e) { return e.name == "face"; });
+    if (face == header.elements.end())
+      fail_at_line(file, header.end_header_line, "the PLY header declares no 'face' element (is this a point cloud?)");
+    wanted.face_element = static_cast<std::size_t>(face - header.elements.begin());
+    for (std::size_t p = 0; p < face->properties.size(); ++p) {
+      const PlyProperty& property = face->properties[p];
+      if (property.is_list && (property.name == "vertex_indices" || property.name == "vertex_index")) {
+        wanted.face_property = p;
+        break;
+      }
+    }
+    if (wanted.face_property == Wanted::none)
+      fail_at_line(file, face->line, "the face element has no list property 'vertex_indices' or 'vertex_index'");
+  }
+  return wanted;
+}
+
+struct PlyContent {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+std::string ends_early(const PlyElement& element, std::uint64_t index) {
+  return "the file ends inside " + element.name + " " + std::to_string(index) +
+         " (counting from 0), but the header promises " + std::to_string(element.count) + " '" + element.name +
+         "' elements";
+}
+
+/// Splits polygon `corners` (already checked) into a fan of triangles.
+void add_fan(const std::vector<std::uint32_t>& corners, std::vector<std::array<std::uint32_t, 3>>& triangles) {
+  for (std::size_t k = 1; k + 1 < corners.size(); ++k) triangles.push_back({corners[0], corners[k], corners[k + 1]});
+}
+
+void read_ascii_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
+                     PlyContent& out) {
+  TokenScanner tokens(content, header.body_offset, header.end_header_line + 1);
+  const std::uint64_t vertex_count = header.elements[wanted.vertex_element].count;
+  std::string_view token;
+  std::vector<std::uint32_t> corners;
+
+  for (std::size_t e = 0; e < header.elements.size(); ++e) {
+    const PlyElement& element = header.elements[e];
+    const bool is_vertex = e == wanted.vertex_element;
+    const bool is_face = e == wanted.face_element;
+    if (is_vertex) {
+      // Each value takes at least two characters: cap the reservation by the text left.
+      const std::uint64_t room = tokens.bytes_left() / (2 * std::max<std::size_t>(element.properties.size(), 1));
+      out.positions.reserve(static_cast<std::size_t>(std::min(element.count, room)));
+      if (wanted.normals) out.normals.reserve(out.positions.capacity());
+    }
+
+    for (std::uint64_t i = 0; i < element.count; ++i) {
+      std::array<double, 6> values{};
+      for (std::size_t p = 0; p < element.properties.size(); ++p) {
+        const PlyProperty& property = element.properties[p];
+        if (!tokens.next(token)) fail_at_line(file, tokens.line_number(), ends_early(element, i));
+        if (!property.is_list) {
+          if (is_vertex && wanted.slot[p] >= 0) {
+            values[static_cast<std::size_t>(wanted.slot[p])] =
+                parse_coordinate(file, tokens.line_number(), token, property.name);
+          } else if (double ignored = 0.0; parse_double(token, ignored) == NumberStatus::not_a_number) {
+            fail_at_line(file, tokens.line_number(),
+                         describe_bad_number(NumberStatus::not_a_number, token, property.name));
+          }
+          continue;
+        }
+        std::uint64_t length = 0;
+        if (!parse_count(token, length))
+          fail_at_line(file, tokens.line_number(),
+                       "expected the length of list " + excerpt(property.name) + " of " + element.name + " " +
+                           std::to_string(i) + ", found " + excerpt(token));
+        const bool keep = is_face && p == wanted.face_property;
+        if (keep) {
+          if (length < 3)
+            fail_at_line(file, tokens.line_number(),
+                         "face " + std::to_string(i) + " has " + std::to_string(length) +
+                             " corners; a polygon needs at least 3");
+          corners.clear();
+        }
+        for (std::uint64_t k = 0; k < length; ++k) {
+          if (!tokens.next(token)) fail_at_line(file, tokens.line_number(), ends_early(element, i));
+          if (keep) {
+            std::int64_t index = 0;
+            if (!parse_integer(token, index))
+              fail_at_line(file, tokens.line_number(),
+                           "expected a vertex index in face " + std::to_string(i) + ", found " + excerpt(token));
+            if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count)
+              fail_at_line(file, tokens.line_number(),
+                           "face " + std::to_string(i) + " uses vertex " + std::to_string(index) +
+                               ", but the file has " + std::to_string(vertex_count) + " vertices");
+            corners.push_back(static_cast<std::uint32_t>(index));
+          } else if (double ignored = 0.0; parse_double(token, ignored) == NumberStatus::not_a_number) {
+            fail_at_line(file, tokens.line_number(),
+                         describe_bad_number(NumberStatus::not_a_number, token, property.name));
+          }
+        }
+        if (keep) add_fan(corners, out.triangles);
+      }
+      if (is_vertex) {
+        out.positions.emplace_back(values[0], values[1], values[2]);
+        if (wanted.normals) out.normals.emplace_back(values[3], values[4], values[5]);
+      }
+    }
+  }
+  if (tokens.next(token))
+    fail_at_line(file, tokens.line_number(),
+                 "unexpected " + excerpt(token) +
+                     " after the last element: the file holds more values than its header declares");
+}
+
+void read_binary_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
+                      PlyContent& out) {
+  const bool swap = needs_swap(header.encoding == PlyEncoding::binary_big_endian);
+  const std::uint64_t vertex_count = header.elements[wanted.vertex_element].count;
+  std::size_t position = header.body_offset;
+  std::vector<std::uint32_t> corners;
+
+  for (std::size_t e = 0; e < header.elements.size(); ++e) {
+    const PlyElement& element = header.elements[e];
+    const bool is_face = e == wanted.face_element;
+
+    if (!element.has_lists()) {
+      // Fixed-size records: check the whole block once, then decode or jump.
+      const std::size_t record = element.record_size();
+      if (record == 0) continue;
+      const std::uint64_t whole_records = (content.size() - position) / record;
+      if (element.count > whole_records)
+        fail_at_byte(file, position + static_cast<std::size_t>(whole_records) * record,
+                     ends_early(element, whole_records) + " (each takes " + std::to_string(record) +
+                         " bytes; the file has " + std::to_string(content.size()) + ")");
+      const std::size_t count = static_cast<std::size_t>(element.count);
+      if (e == wanted.vertex_element) {
+        struct Slot {
+          std::size_t offset;
+          ScalarType type;
+          std::string_view name;
+        };
+        std::array<Slot, 6> slots{};
+        std::size_t offset = 0;
+        for (std::size_t p = 0; p < element.properties.size(); ++p) {
+          if (const int s = wanted.slot[p]; s >= 0)
+            slots[static_cast<std::size_t>(s)] = {offset, element.properties[p].type, element.properties[p].name};
+          offset += scalar_size(element.properties[p].type);
+        }
+        const std::size_t used_slots = wanted.normals ? 6 : 3;
+        out.positions.reserve(count);
+        if (wanted.normals) out.normals.reserve(count);
+        std::array<double, 6> values{};
+        for (std::size_t i = 0; i < count; ++i) {
+          const std::size_t start = position + i * record;
+          for (std::size_t s = 0; s < used_slots; ++s) {
+            if (decode_scalar(content.data() + start + slots[s].offset, slots[s].type, swap, values[s]) !=
+                Decoded::finite)
+              fail_at_byte(file, start + slots[s].offset,
+                           "vertex " + std::to_string(i) + ": " + std::string(slots[s].name) +
+                               " is not a finite number (NaN or infinity)");
+          }
+          out.positions.emplace_back(values[0], values[1], values[2]);
+          if (wanted.normals) out.normals.emplace_back(values[3], values[4], values[5]);
+        }
+      }
+      position += count * record;
+      continue;
+    }
+
+    // Records with lists: walk them one by one.
+    for (std::uint64_t i = 0; i < element.count; ++i) {
+      const std::size_t start = position;
+      const auto need = [&](std::uint64_t bytes) {
+        if (bytes > content.size() - position) fail_at_byte(file, start, ends_early(element, i));
+      };
+      for (std::size_t p = 0; p < element.properties.size(); ++p) {
+        const PlyProperty& property = element.properties[p];
+        if (!property.is_list) {
+          need(scalar_size(property.type));
+          position += scalar_size(property.type);
+          continue;
+        }
+        need(scalar_size(property.count_type));
+        double length_value = 0.0;
+        static_cast<void>(decode_scalar(content.data() + position, property.count_type, swap, length_value));
+        if (length_value < 0)
+          fail_at_byte(file, position,
+                       element.name + " " + std::to_string(i) + ": negative length of list " + excerpt(property.name));
+        position += scalar_size(property.count_type);
+        const auto length = static_cast<std::uint64_t>(length_value);
+        const std::size_t item_size = scalar_size(property.type);
+        if (length > (content.size() - position) / item_size) fail_at_byte(file, start, ends_early(element, i));
+        if (!is_face || p != wanted.face_property) {
+          position += static_cast<std::size_t>(length) * item_size;
+          continue;
+        }
+        if (length < 3)
+          fail_at_byte(
+              file, start,
+              "face " + std::to_string(i) + " has " + std::to_string(length) + " corners; a polygon needs at least 3");
+        corners.clear();
+        for (std::uint64_t k = 0; k < length; ++k, position += item_size) {
+          double index = 0.0;
+          if (decode_scalar(content.data() + position, property.type, swap, index) != Decoded::finite || index < 0 ||
+              index >= static_cast<double>(vertex_count) || index != std::floor(index))
+            fail_at_byte(file, position,
+                         "face " + std::to_string(i) + ": vertex index is not an integer from 0 to " +
+                             std::to_string(vertex_count) + " - 1");
+          corners.push_back(static_cast<std::uint32_t>(index));
+        }
+        add_fan(corners, out.triangles);
+      }
+    }
+  }
+  // Bytes after the last element are ignored (some writers end with a newline).
+}
+
+PlyContent read_ply(std::string_view file, std::string_view content, bool faces) {
+  const PlyHeader header = parse_header(file, content);
+  const Wanted wanted = find_wanted(file, header, faces);
+  PlyContent result;
+  if (header.encoding == PlyEncoding::ascii) {
+    read_ascii_body(file, content, header, wanted, result);
+  } else {
+    read_binary_body(file, content, header, wanted, result);
+  }
+  return result;
+}
+
+// ---------------------------------------------------------------------------
+// Writing
+
+void append_vec3_binary(std::string& out, const Vec3& v) {
+  append_little_endian(out, v.x());
+  append_little_endian(out, v.y());
+  append_little_endian(out, v.z());
+}
+
+void append_vec3_text(std::string& out, const Vec3& v) {
+  append_number(out, v.x());
+  out += ' ';
+  append_number(out, v.y());
+  out += ' ';
+  append_number(out, v.z());
+}
+
+std::string header_start(bool ascii, std::size_t vertices) {
+  std::string header = "ply\nformat ";
+  header += ascii ? "ascii" : "binary_little_endian";
+  header += " 1.0\ncomment written by recon\nelement vertex ";
+  header += std::to_string(vertices);
+  header += "\nproperty double x\nproperty double y\nproperty double z\n";
+  return header;
+}
+
+}  // namespace
+
+PointCloud read_ply_points(std::string_view file, std::string_view content) {
+  PlyContent ply = read_ply(file, content, false);
+  if (ply.positions.empty()) fail_in_file(file, "no points: the vertex element is empty");
+  PointCloud cloud;
+  cloud.positions = std::move(ply.positions);
+  cloud.normals = std::move(ply.normals);
+  return cloud;
+}
+
+Mesh read_ply_mesh(std::string_view file, std::string_view content) {
+  PlyContent ply = read_ply(file, content, true);
+  if (ply.triangles.empty()) fail_in_file(file, "no triangles: the face element is empty");
+  Mesh mesh;
+  mesh.vertices = std::move(ply.positions);
+  mesh.triangles = std::move(ply.triangles);
+  return mesh;
+}
+
+void write_ply_points(std::ostream& stream, const PointCloud& cloud, bool ascii) {
+  BlockWriter writer(stream);
+  std::string& out = writer.buffer();
+  out += header_start(ascii, cloud.size());
+  if (cloud.has_normals()) out += "property double nx\nproperty double ny\nproperty double nz\n";
+  out += "end_header\n";
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (ascii) {
+      append_vec3_text(out, cloud.positions[i]);
+      if (cloud.has_normals()) {
+        out += ' ';
+        append_vec3_text(out, cloud.normals[i]);
+      }
+      out += '\n';
+    } else {
+      append_vec3_binary(out, cloud.positions[i]);
+      if (cloud.has_normals()) append_vec3_binary(out, cloud.normals[i]);
+    }
+    writer.flush_if_full();
+  }
+  writer.finish();
+}
+
+void write_ply_mesh(std::ostream& stream, const Mesh& mesh, bool ascii) {
+  // Indices are written as "int", which every PLY reader knows, unless the
+  // mesh is too large for it.
+  const bool signed_indices =
+      mesh.vertices.size() <= static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
+  BlockWriter writer(stream);
+  std::string& out = writer.buffer();
+  out += header_start(ascii, mesh.vertices.size());
+  out += "element face ";
+  out += std::to_string(mesh.triangles.size());
+  out += signed_indices ? "\nproperty list uchar int vertex_indices\n" : "\nproperty list uchar uint vertex_indices\n";
+  out += "end_header\n";
+  for (const Vec3& v : mesh.vertices) {
+    if (ascii) {
+      append_vec3_text(out, v);
+      out += '\n';
+    } else {
+      append_vec3_binary(out, v);
+    }
+    writer.flush_if_full();
+  }
+  for (const auto& triangle : mesh.triangles) {
+    if (ascii) {
+      out += '3';
+      for (const std::uint32_t v : triangle) {
+        out += ' ';
+        append_integer(out, v);
+      }
+      out += '\n';
+    } else {
+      append_little_endian(out, std::uint8_t{3});
+      for (const std::uint32_t v : triangle) append_little_endian(out, v);  // same bytes as int for v < 2^31
+    }
+    writer.flush_if_full();
+  }
+  writer.finish();
+}
+
+}  // namespace recon::io::detail

@@ -1,0 +1,114 @@
+// Choosing a point cloud format and handing the file to its reader or writer
+// (the formats themselves live in ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp).
+
+#include "recon/io/point_io.h"
+
+#include "formats.h"
+#include "io_detail.h"
+
+#include "recon/errors.h"
+#include "recon/io/atomic_file.h"
+
+#include <array>
+#include <string>
+#include <utility>
+
+namespace recon::io {
+namespace {
+
+std::string lower_case(std::string_view text) {
+  std::string result(text);
+  for (char& c : result) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return result;
+}
+
+constexpr std::array<std::pair<std::string_view, PointFormat>, 6> format_names = {{
+    {"ply", PointFormat::ply},
+    {"xyz", PointFormat::xyz},
+    {"pts", PointFormat::pts},
+    {"obj", PointFormat::obj},
+    {"off", PointFormat::off},
+    {"pcd", PointFormat::pcd},
+}};
+
+constexpr std::array<std::pair<std::string_view, PointFormat>, 9> extensions = {{
+    {".ply", PointFormat::ply},
+    {".xyz", PointFormat::xyz},
+    {".txt", PointFormat::xyz},
+    {".asc", PointFormat::xyz},
+    {".pwn", PointFormat::xyz},
+    {".pts", PointFormat::pts},
+    {".obj", PointFormat::obj},
+    {".off", PointFormat::off},
+    {".pcd", PointFormat::pcd},
+}};
+
+std::string_view name_of(PointFormat format) {
+  for (const auto& [name, known] : format_names) {
+    if (known == format) return name;
+  }
+  return "automatic";
+}
+
+PointFormat resolve(const std::filesystem::path& path, PointFormat format) {
+  return format == PointFormat::automatic ? point_format_from_path(path) : format;
+}
+
+}  // namespace
+
+PointFormat point_format_from_name(std::string_view name) {
+  const std::string lower = lower_case(name);
+  for (const auto& [known, format] : format_names) {
+    if (lower == known) return format;
+  }
+  throw InvalidInputError("unknown point format '" + std::string(name) +
+                          "'; known formats: ply, xyz, pts, obj, off, pcd");
+}
+
+PointFormat point_format_from_path(const std::filesystem::path& path) {
+  const std::string extension = lower_case(path.extension().string());
+  for (const auto& [known, format] : extensions) {
+    if (extension == known) return format;
+  }
+  const std::string what = extension.empty() ? "has no extension" : "has the unknown extension '" + extension + "'";
+  throw InvalidInputError(path.string() + ": " + what +
+                          "; known point formats: .ply, .xyz (also .txt, .asc, .pwn), .pts, .obj, .off, .pcd"
+                          " - or name the format with --format (ply, xyz, pts, obj, off, pcd)");
+}
+
+PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options) {
+  const PointFormat format = resolve(path, options.format);
+  const std::string file = path.string();
+  const std::string content = detail::read_file(path);
+  if (content.empty()) detail::fail_in_file(file, "the file is empty");
+  switch (format) {
+    case PointFormat::ply: return detail::read_ply_points(file, content);
+    case PointFormat::xyz: return detail::read_xyz_points(file, content);
+    case PointFormat::pts: return detail::read_pts_points(file, content);
+    case PointFormat::obj: return detail::read_obj_points(file, content);
+    case PointFormat::off: return detail::read_off_points(file, content);
+    case PointFormat::pcd: return detail::read_pcd_points(file, content);
+    case PointFormat::automatic: break;
+  }
+  throw InvalidInputError(file + ": no point format chosen");
+}
+
+void write_points(const std::filesystem::path& path, const PointCloud& cloud, const WritePointsOptions& options) {
+  const PointFormat format = resolve(path, options.format);
+  const std::string file = path.string();
+  if (format != PointFormat::ply && format != PointFormat::xyz)
+    throw InvalidInputError(file + ": cannot write points as " + std::string(name_of(format)) +
+                            "; recon writes point clouds as ply or xyz");
+  detail::check_cloud_for_writing(file, cloud);
+  AtomicFile output(path);
+  if (format == PointFormat::ply) {
+    detail::write_ply_points(output.stream(), cloud, options.ascii);
+  } else {
+    detail::write_xyz_points(output.stream(), cloud);
+  }
+  output.commit();
+}
+
+}  // namespace recon::io

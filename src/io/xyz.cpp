@@ -1,0 +1,158 @@
+// Plain text point lists: .xyz (also .txt, .asc, .pwn) and .pts.
+//
+// xyz: one point a line, "x y z" or "x y z nx ny nz". The first data line
+//   decides which, and every other line must have the same count. Numbers
+//   are separated by blanks, or by a single comma with optional blanks around
+//   it ("1.5, 2, 3" as exported by spreadsheets). '#' starts a comment, on its
+//   own line or after the numbers; blank lines are skipped.
+// pts: either Hoppe's format, records of one letter and numbers where
+//   "p x y z" is a point and every other one-letter record ("d", "s", "g",
+//   "n", ...) is ignored, or plain columns read as xyz. The first record
+//   decides: a letter means Hoppe's format.
+
+#include "formats.h"
+#include "io_detail.h"
+#include "text_scanner.h"
+
+#include <array>
+#include <string>
+
+namespace recon::io::detail {
+namespace {
+
+constexpr std::size_t max_numbers = 8;
+using Numbers = std::array<std::string_view, max_numbers>;
+
+/// Splits a data line (comment removed) into its numbers and returns how
+/// many there are; the first max_numbers are stored in `numbers`.
+std::size_t split_numbers(std::string_view file, std::size_t line_number, std::string_view line, Numbers& numbers) {
+  std::size_t count = 0;
+  std::size_t i = 0;
+  bool after_comma = false;
+  for (;;) {
+    while (i < line.size() && is_blank(line[i])) ++i;
+    if (i == line.size()) {
+      if (after_comma) fail_at_line(file, line_number, "a comma at the end of the line; a number must follow it");
+      return count;
+    }
+    if (line[i] == ',') {
+      if (count == 0 || after_comma) fail_at_line(file, line_number, "a comma where a number belongs");
+      after_comma = true;
+      ++i;
+      continue;
+    }
+    const std::size_t begin = i;
+    while (i < line.size() && !is_blank(line[i]) && line[i] != ',') ++i;
+    if (count < max_numbers) numbers[count] = line.substr(begin, i - begin);
+    ++count;
+    after_comma = false;
+  }
+}
+
+Vec3 parse_vec3(std::string_view file, std::size_t line, const std::string_view* tokens, const char* const names[3]) {
+  const double x = parse_coordinate(file, line, tokens[0], names[0]);
+  const double y = parse_coordinate(file, line, tokens[1], names[1]);
+  const double z = parse_coordinate(file, line, tokens[2], names[2]);
+  return {x, y, z};
+}
+
+constexpr const char* position_names[3] = {"x", "y", "z"};
+constexpr const char* normal_names[3] = {"nx", "ny", "nz"};
+
+}  // namespace
+
+PointCloud read_xyz_points(std::string_view file, std::string_view content) {
+  PointCloud cloud;
+  LineScanner lines(content);
+  std::string_view line;
+  Numbers numbers;
+  std::size_t columns = 0;
+  std::size_t first_line = 0;
+  while (lines.next(line)) {
+    const std::size_t n = lines.line_number();
+    const std::size_t count = split_numbers(file, n, without_comment(line), numbers);
+    if (count == 0) continue;
+    if (columns == 0) {
+      if (count != 3 && count != 6)
+        fail_at_line(file, n,
+                     "expected 3 numbers (x y z) or 6 (x y z nx ny nz) on a line, found " + std::to_string(count));
+      columns = count;
+      first_line = n;
+    } else if (count != columns) {
+      fail_at_line(file, n,
+                   "found " + std::to_string(count) + " numbers, but line " + std::to_string(first_line) + " has " +
+                       std::to_string(columns) + "; every line must have the same count");
+    }
+    cloud.positions.push_back(parse_vec3(file, n, numbers.data(), position_names));
+    if (columns == 6) cloud.normals.push_back(parse_vec3(file, n, numbers.data() + 3, normal_names));
+  }
+  if (cloud.positions.empty()) fail_in_file(file, "no points: the file holds only comments and blank lines");
+  return cloud;
+}
+
+PointCloud read_pts_points(std::string_view file, std::string_view content) {
+  LineScanner lines(content);
+  std::string_view line;
+  std::string_view first;
+  std::size_t first_line = 0;
+  while (lines.next(line)) {
+    if (Fields(without_comment(line)).next(first)) {
+      first_line = lines.line_number();
+      break;
+    }
+  }
+  const auto is_letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
+  if (first.empty() || !is_letter(first[0])) return read_xyz_points(file, content);
+
+  PointCloud cloud;
+  lines = LineScanner(content);
+  while (lines.next(line)) {
+    const std::size_t n = lines.line_number();
+    Fields fields(without_comment(line));
+    std::string_view record;
+    if (!fields.next(record)) continue;
+    if (record == "p") {
+      std::array<std::string_view, 3> xyz;
+      std::size_t count = 0;
+      for (std::string_view token; fields.next(token); ++count) {
+        if (count < 3) xyz[count] = token;
+      }
+      if (count != 3) fail_at_line(file, n, "a 'p' record needs 3 numbers (p x y z), found " + std::to_string(count));
+      cloud.positions.push_back(parse_vec3(file, n, xyz.data(), position_names));
+    } else if (record.size() != 1 || !is_letter(record[0])) {
+      fail_at_line(file, n,
+                   "expected a one-letter record such as 'p x y z', found " + excerpt(record) +
+                       " (the file was read as Hoppe's .pts format because line " + std::to_string(first_line) +
+                       " starts with a letter)");
+    }
+  }
+  if (cloud.positions.empty()) fail_in_file(file, "no points: the file has no 'p x y z' record");
+  return cloud;
+}
+
+void write_xyz_points(std::ostream& stream, const PointCloud& cloud) {
+  BlockWriter writer(stream);
+  std::string& out = writer.buffer();
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vec3& p = cloud.positions[i];
+    append_number(out, p.x());
+    out += ' ';
+    append_number(out, p.y());
+    out += ' ';
+    append_number(out, p.z());
+    if (cloud.has_normals()) {
+      const Vec3& v = cloud.normals[i];
+      out += ' ';
+      append_number(out, v.x());
+      out += ' ';
+      append_number(out, v.y());
+      out += ' ';
+      append_number(out, v.z());
+    }
+    out += '\n';
+    writer.flush_if_full();
+  }
+  writer.finish();
+}
+
+}  // namespace recon::io::detail

@@ -1,0 +1,206 @@
+// Topology of an indexed triangle mesh.
+//
+// Choices beyond the field descriptions in mesh.h:
+// - A triangle with a repeated vertex index ("collapsed") is counted in
+//   `triangles` and `degenerate_triangles` and otherwise left out: it adds no
+//   edges, no vertices, nothing to the Euler characteristic, area or volume.
+//   `vertices`, `edges`, `euler_characteristic` and the components are those
+//   of the remaining triangles.
+// - A triangle with three distinct corners is also degenerate when its area
+//   is at most 1e-14 * d^2, d the diagonal of the bounding box of the used
+//   vertices: about a hundred times the rounding error of a cross product of
+//   edges as long as the box, so only numerically flat triangles are flagged.
+//   Such triangles still count in the topology (they are topologically sound).
+// - Components are sets of triangles connected through shared edges (two
+//   triangles that share only a vertex are in different components), listed
+//   largest first (ties: the one with the lower first triangle index first).
+//   A vertex shared by two components counts in both per-component Euler
+//   characteristics but once in the global one.
+// - An edge is inconsistent when exactly two triangles use it and traverse it
+//   in the same direction; an edge of three or more triangles is counted as
+//   non-manifold only.
+// - Boundary loops are the connected components of the graph of boundary
+//   edges, so two holes touching at one vertex count as one loop.
+// - Volumes are signed tetrahedron volumes taken from the centre of the
+//   bounding box rather than the origin (the same sum for a closed surface,
+//   but without the cancellation a far-away origin causes).
+
+#include "recon/mesh.h"
+
+#include "recon/errors.h"
+#include "recon/graph.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <limits>
+#include <string>
+
+namespace recon {
+namespace {
+
+struct HalfEdge {
+  std::uint64_t key;  ///< smaller vertex in the high half, larger in the low half
+  std::uint32_t triangle;
+  bool forward;  ///< traversed from the smaller to the larger vertex
+};
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
+}
+
+}  // namespace
+
+MeshTopology analyze_topology(const Mesh& mesh) {
+  MeshTopology topology;
+  topology.triangles = mesh.triangles.size();
+  if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+    throw InvalidInputError("analyze_topology: more than 2^32 - 1 triangles");
+
+  Box<3> box;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (const std::uint32_t v : mesh.triangles[t]) {
+      if (v >= mesh.vertices.size())
+        throw InvalidInputError("analyze_topology: triangle " + std::to_string(t) + " uses vertex " +
+                                std::to_string(v) + ", but the mesh has " + std::to_string(mesh.vertices.size()) +
+                                " vertices");
+      box.extend(mesh.vertices[v]);
+    }
+  }
+  const double diagonal = box.diagonal();
+  const double flat_area = 1e-14 * diagonal * diagonal;
+  const Vec3 centre = box.empty() ? Vec3::Zero() : Vec3(0.5 * (box.min + box.max));
+
+  // Per triangle: area, volume, half-edges.
+  std::vector<HalfEdge> half_edges;
+  half_edges.reserve(3 * mesh.triangles.size());
+  std::vector<double> volume(mesh.triangles.size(), 0.0);
+  std::vector<std::uint32_t> proper;  // triangles with three distinct corners
+  proper.reserve(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& [a, b, c] = mesh.triangles[t];
+    if (a == b || b == c || c == a) {
+      ++topology.degenerate_triangles;
+      continue;
+    }
+    const Vec3 pa = mesh.vertices[a] - centre;
+    const Vec3 pb = mesh.vertices[b] - centre;
+    const Vec3 pc = mesh.vertices[c] - centre;
+    const double area = 0.5 * (pb - pa).cross(pc - pa).norm();
+    if (area <= flat_area) ++topology.degenerate_triangles;
+    topology.area += area;
+    volume[t] = pa.dot(pb.cross(pc)) / 6.0;
+    topology.signed_volume += volume[t];
+    const auto id = static_cast<std::uint32_t>(t);
+    proper.push_back(id);
+    half_edges.push_back({edge_key(a, b), id, a < b});
+    half_edges.push_back({edge_key(b, c), id, b < c});
+    half_edges.push_back({edge_key(c, a), id, c < a});
+  }
+  std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    return x.key != y.key ? x.key < y.key : x.triangle < y.triangle;
+  });
+
+  // Edges: classify, and join the triangles around each into components.
+  UnionFind triangle_sets(mesh.triangles.size());
+  std::vector<std::uint64_t> boundary;           // keys of the boundary edges
+  std::vector<std::uint32_t> boundary_triangle;  // and their triangles
+  std::vector<std::uint32_t> edge_triangle;      // one triangle of each edge
+  for (std::size_t i = 0; i < half_edges.size();) {
+    std::size_t end = i + 1;
+    while (end < half_edges.size() && half_edges[end].key == half_edges[i].key) ++end;
+    const std::size_t uses = end - i;
+    ++topology.edges;
+    edge_triangle.push_back(half_edges[i].triangle);
+    if (uses == 1) {
+      ++topology.boundary_edges;
+      boundary.push_back(half_edges[i].key);
+      boundary_triangle.push_back(half_edges[i].triangle);
+    } else if (uses == 2 && half_edges[i].forward == half_edges[i + 1].forward) {
+      ++topology.inconsistent_edges;
+    } else if (uses >= 3) {
+      ++topology.non_manifold_edges;
+    }
+    for (std::size_t k = i + 1; k < end; ++k) triangle_sets.unite(half_edges[i].triangle, half_edges[k].triangle);
+    i = end;
+  }
+
+  // Number the components, largest first.
+  std::vector<std::uint32_t> root_of(proper.size());
+  for (std::size_t k = 0; k < proper.size(); ++k) root_of[k] = triangle_sets.find(proper[k]);
+  std::vector<std::uint32_t> roots;  // in order of their first triangle
+  {
+    std::vector<bool> seen(mesh.triangles.size(), false);
+    for (const std::uint32_t r : root_of) {
+      if (!seen[r]) {
+        seen[r] = true;
+        roots.push_back(r);
+      }
+    }
+  }
+  std::stable_sort(roots.begin(), roots.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return triangle_sets.set_size(x) > triangle_sets.set_size(y);
+  });
+  constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> component_of_root(mesh.triangles.size(), none);
+  for (std::size_t k = 0; k < roots.size(); ++k) component_of_root[roots[k]] = static_cast<std::uint32_t>(k);
+  topology.components = roots.size();
+  topology.component_list.resize(roots.size());
+  std::vector<long> component_edges(roots.size(), 0);
+  std::vector<long> component_vertices(roots.size(), 0);
+
+  std::vector<std::uint64_t> component_and_vertex;  // (component << 32) | vertex
+  component_and_vertex.reserve(3 * proper.size());
+  for (std::size_t k = 0; k < proper.size(); ++k) {
+    const std::uint32_t component = component_of_root[root_of[k]];
+    MeshTopology::Component& entry = topology.component_list[component];
+    ++entry.triangles;
+    entry.signed_volume += volume[proper[k]];
+    for (const std::uint32_t v : mesh.triangles[proper[k]])
+      component_and_vertex.push_back((std::uint64_t{component} << 32) | v);
+  }
+  std::sort(component_and_vertex.begin(), component_and_vertex.end());
+  component_and_vertex.erase(std::unique(component_and_vertex.begin(), component_and_vertex.end()),
+                             component_and_vertex.end());
+  for (const std::uint64_t entry : component_and_vertex) ++component_vertices[entry >> 32];
+
+  for (const std::uint32_t t : edge_triangle) ++component_edges[component_of_root[triangle_sets.find(t)]];
+  for (const std::uint32_t t : boundary_triangle)
+    ++topology.component_list[component_of_root[triangle_sets.find(t)]].boundary_edges;
+  for (std::size_t c = 0; c < roots.size(); ++c) {
+    MeshTopology::Component& entry = topology.component_list[c];
+    entry.euler_characteristic = component_vertices[c] - component_edges[c] + static_cast<long>(entry.triangles);
+  }
+
+  // Vertices used by the proper triangles.
+  std::vector<std::uint32_t> used;
+  used.reserve(component_and_vertex.size());
+  for (const std::uint64_t entry : component_and_vertex) used.push_back(static_cast<std::uint32_t>(entry));
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  topology.vertices = used.size();
+  topology.euler_characteristic =
+      static_cast<long>(topology.vertices) - static_cast<long>(topology.edges) + static_cast<long>(proper.size());
+
+  // Boundary loops: connected pieces of the boundary-edge graph.
+  if (!boundary.empty()) {
+    std::vector<std::uint32_t> ends;
+    ends.reserve(2 * boundary.size());
+    for (const std::uint64_t key : boundary) {
+      ends.push_back(static_cast<std::uint32_t>(key >> 32));
+      ends.push_back(static_cast<std::uint32_t>(key));
+    }
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    const auto local = [&ends](std::uint32_t v) {
+      return static_cast<std::uint32_t>(std::lower_bound(ends.begin(), ends.end(), v) - ends.begin());
+    };
+    UnionFind loops(ends.size());
+    for (const std::uint64_t key : boundary)
+      loops.unite(local(static_cast<std::uint32_t>(key >> 32)), local(static_cast<std::uint32_t>(key)));
+    topology.boundary_loops = loops.set_count();
+  }
+  return topology;
+}
+
+}  // namespace recon

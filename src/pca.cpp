@@ -1,0 +1,86 @@
+#include "recon/pca.h"
+
+#include <cmath>
+#include <utility>
+
+namespace recon {
+
+template <int D>
+SymmetricEigen<D> symmetric_eigen(const Mat<D>& input) {
+  Mat<D> a = input.template selfadjointView<Eigen::Upper>();
+  Mat<D> v = Mat<D>::Identity();
+  const double scale = a.cwiseAbs().maxCoeff();
+  if (scale > 0.0) {
+    for (int sweep = 0; sweep < 50; ++sweep) {
+      double off = 0.0;
+      for (int p = 0; p < D; ++p)
+        for (int q = p + 1; q < D; ++q) off += a(p, q) * a(p, q);
+      if (off <= 1e-36 * scale * scale) break;
+      for (int p = 0; p < D; ++p) {
+        for (int q = p + 1; q < D; ++q) {
+          if (a(p, q) == 0.0) continue;
+          // Rotation angle theta with tan(2 theta) = 2 a_pq / (a_qq - a_pp);
+          // t = tan(theta) taken as the smaller root for stability.
+          const double theta = (a(q, q) - a(p, p)) / (2.0 * a(p, q));
+          const double t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+          const double c = 1.0 / std::sqrt(t * t + 1.0);
+          const double s = t * c;
+          // A <- J^T A J, V <- V J, with J the rotation in the (p, q) plane.
+          for (int r = 0; r < D; ++r) {
+            const double arp = a(r, p), arq = a(r, q);
+            a(r, p) = c * arp - s * arq;
+            a(r, q) = s * arp + c * arq;
+          }
+          for (int r = 0; r < D; ++r) {
+            const double apr = a(p, r), aqr = a(q, r);
+            a(p, r) = c * apr - s * aqr;
+            a(q, r) = s * apr + c * aqr;
+          }
+          for (int r = 0; r < D; ++r) {
+            const double vrp = v(r, p), vrq = v(r, q);
+            v(r, p) = c * vrp - s * vrq;
+            v(r, q) = s * vrp + c * vrq;
+          }
+        }
+      }
+    }
+  }
+  SymmetricEigen<D> result;
+  result.values = a.diagonal();
+  result.vectors = v;
+  // Selection sort of at most 3 entries, carrying the vectors along.
+  for (int i = 0; i < D; ++i) {
+    int m = i;
+    for (int j = i + 1; j < D; ++j)
+      if (result.values[j] < result.values[m]) m = j;
+    if (m != i) {
+      std::swap(result.values[i], result.values[m]);
+      result.vectors.col(i).swap(result.vectors.col(m));
+    }
+  }
+  return result;
+}
+
+template <int D>
+PlaneFit<D> fit_plane(std::span<const Vec<D>> points, std::span<const std::uint32_t> indices) {
+  const std::size_t count = indices.empty() ? points.size() : indices.size();
+  auto at = [&](std::size_t j) -> const Vec<D>& { return indices.empty() ? points[j] : points[indices[j]]; };
+  Vec<D> centroid = Vec<D>::Zero();
+  for (std::size_t j = 0; j < count; ++j) centroid += at(j);
+  centroid /= static_cast<double>(count);
+  Mat<D> cov = Mat<D>::Zero();
+  for (std::size_t j = 0; j < count; ++j) {
+    const Vec<D> d = at(j) - centroid;
+    cov.template triangularView<Eigen::Upper>() += d * d.transpose();
+  }
+  cov /= static_cast<double>(count);
+  const SymmetricEigen<D> eig = symmetric_eigen<D>(cov);
+  return {centroid, eig.vectors.col(0).normalized(), eig.values.cwiseMax(0.0)};
+}
+
+template SymmetricEigen<2> symmetric_eigen<2>(const Mat<2>&);
+template SymmetricEigen<3> symmetric_eigen<3>(const Mat<3>&);
+template PlaneFit<2> fit_plane<2>(std::span<const Vec<2>>, std::span<const std::uint32_t>);
+template PlaneFit<3> fit_plane<3>(std::span<const Vec<3>>, std::span<const std::uint32_t>);
+
+}  // namespace recon

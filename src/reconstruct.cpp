@@ -1,0 +1,74 @@
+#include "recon/reconstruct.h"
+
+#include "recon/errors.h"
+#include "recon/timer.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace recon {
+
+double lattice_cell(const PointCloud& cloud, const TangentPlanes<3>& planes, const ReconstructionOptions& options) {
+  if (options.cell && options.resolution)
+    throw InvalidInputError("give either a cell size or a resolution, not both");
+  if (options.cell) {
+    if (!(*options.cell > 0.0) || !std::isfinite(*options.cell))
+      throw InvalidInputError("the cell size must be a positive length");
+    return *options.cell;
+  }
+  if (options.resolution) {
+    if (*options.resolution < 1) throw InvalidInputError("the resolution must be at least 1 cube");
+    const Box<3> box = bounding_box<3>(cloud.positions);
+    return box.extent().maxCoeff() / *options.resolution;
+  }
+  return planes.rho / 2.0;
+}
+
+Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
+  if (options.use_input_normals && !cloud.has_normals())
+    throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
+  Reconstruction r;
+  r.planes = estimate_tangent_planes<3>(cloud.positions, options.planes);
+
+  // Refuse a lattice that would not fit before building anything large.
+  const double cell = lattice_cell(cloud, r.planes, options);
+  const double cubes = estimate_visited_cubes(cloud.size(), r.planes.rho, cell);
+  if (cubes > static_cast<double>(options.max_cubes)) {
+    std::ostringstream message;
+    message << "a cell of " << cell << " would visit about " << static_cast<long long>(cubes)
+            << " lattice cubes (about " << static_cast<long long>(cubes * 250.0 / 1e9 + 0.5)
+            << " GB); the limit is " << options.max_cubes << ": use a larger --cell or a smaller --resolution";
+    throw ResourceLimitError(message.str());
+  }
+
+  if (options.use_input_normals) {
+    r.normals = cloud.normals;
+    for (Vec3& n : r.normals) {
+      const double norm = n.norm();
+      if (!(norm > 0.0) || !std::isfinite(norm))
+        throw InvalidInputError("the input normals include a zero or non-finite one; run without using them");
+      n /= norm;
+    }
+    r.origin_tree.emplace(std::span<const Vec3>(r.planes.origins));
+  } else {
+    OrientationOptions orientation = options.orientation;
+    orientation.graph.k = options.planes.k;
+    r.oriented = orient_normals<3>(r.planes, orientation);
+    r.normals = r.oriented->normals;
+  }
+  const KdTree<3>& origin_tree = r.oriented ? r.oriented->graph.origin_tree : *r.origin_tree;
+
+  Timer timer;
+  const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals, origin_tree, options.distance);
+  r.delta = f.delta();
+  r.delta_given = f.delta_given();
+  r.seconds_distance_setup = timer.lap();
+
+  MarchingCubesOptions mc;
+  mc.cell = cell;
+  mc.max_cubes = options.max_cubes;
+  r.contour = marching_cubes(std::cref(f), cloud.positions, mc, options.keep_corners);
+  return r;
+}
+
+}  // namespace recon

@@ -1,0 +1,58 @@
+#include "recon/signed_distance.h"
+
+#include "recon/errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace recon {
+
+template <int D>
+std::optional<double> SignedDistance<D>::operator()(const Vec<D>& p) const {
+  const std::uint32_t i = origin_tree_->nearest(p).index;
+  const Vec<D>& n = normals_[i];
+  const double f = (p - planes_->origins[i]).dot(n);
+  const Vec<D> foot = p - f * n;
+  const double reach = planes_->local_rho[i] + delta_;
+  if (planes_->point_tree.nearest(foot).distance2 <= reach * reach) return f;
+  // Near a sharp corner the projection onto one face's plane can overshoot
+  // the data while p is plainly close to it (see the header).
+  if (planes_->point_tree.nearest(p).distance2 <= std::pow(0.5 * planes_->local_rho[i] + reach + std::abs(f), 2)) return f;
+  return std::nullopt;
+}
+
+template <int D>
+SignedDistance<D> make_signed_distance(const TangentPlanes<D>& planes, std::span<const Vec<D>> normals,
+                                       const KdTree<D>& origin_tree, const SignedDistanceOptions& options) {
+  if (normals.size() != planes.origins.size() || origin_tree.size() != planes.origins.size())
+    throw InvalidInputError("signed distance: " + std::to_string(normals.size()) + " normals and a tree of " +
+                            std::to_string(origin_tree.size()) + " origins for " +
+                            std::to_string(planes.origins.size()) + " planes");
+  SignedDistance<D> f;
+  f.planes_ = &planes;
+  f.normals_ = normals;
+  f.origin_tree_ = &origin_tree;
+  if (options.delta) {
+    if (!(*options.delta >= 0.0 && std::isfinite(*options.delta)))
+      throw InvalidInputError("delta must be a length of 0 or more");
+    f.delta_ = *options.delta;
+    f.delta_given_ = true;
+  } else {
+    std::vector<double> residual(planes.eigenvalues.size());
+    for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = std::sqrt(planes.eigenvalues[i][0]);
+    const auto middle = residual.begin() + static_cast<std::ptrdiff_t>(residual.size() / 2);
+    std::nth_element(residual.begin(), middle, residual.end());
+    f.delta_ = residual.empty() ? 0.0 : 2.0 * *middle;
+  }
+  return f;
+}
+
+template class SignedDistance<2>;
+template class SignedDistance<3>;
+template SignedDistance<2> make_signed_distance<2>(const TangentPlanes<2>&, std::span<const Vec<2>>,
+                                                   const KdTree<2>&, const SignedDistanceOptions&);
+template SignedDistance<3> make_signed_distance<3>(const TangentPlanes<3>&, std::span<const Vec<3>>,
+                                                   const KdTree<3>&, const SignedDistanceOptions&);
+
+}  // namespace recon

@@ -1,0 +1,124 @@
+#include "recon/tangent_planes.h"
+
+#include "recon/errors.h"
+#include "recon/pca.h"
+#include "recon/timer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace recon {
+namespace {
+double median(std::vector<double> values) {
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+}  // namespace
+
+template <int D>
+TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const TangentPlaneOptions& options) {
+  const std::size_t n = points.size();
+  const int k = options.k;
+  if (k < D)
+    throw InvalidInputError("k = " + std::to_string(k) + " is too small: a neighbourhood needs at least " +
+                            std::to_string(D) + " points (use --k 8 or more)");
+  if (options.rho && !(*options.rho > 0.0 && std::isfinite(*options.rho)))
+    throw InvalidInputError("rho must be a positive length");
+  for (std::size_t i = 0; i < n; ++i)
+    if (!points[i].allFinite())
+      throw InvalidInputError("point " + std::to_string(i) + " has a non-finite coordinate");
+  if (n < static_cast<std::size_t>(k) + 1)
+    throw InvalidInputError("only " + std::to_string(n) + " points; k = " + std::to_string(k) + " needs at least " +
+                            std::to_string(k + 1) + " (lower --k)");
+
+  TangentPlanes<D> result;
+  result.k = k;
+  Timer timer;
+  result.point_tree = KdTree<D>(points, options.tree);
+  const KnnTable knn = result.point_tree.all_knn(k);
+  result.seconds_knn = timer.lap();
+
+  // A row's first entry is the smallest index among exact copies of the
+  // query (ties go to the smaller index), so x_i is a first occurrence
+  // exactly when it heads its own row.
+  for (std::size_t i = 0; i < n; ++i) result.distinct_points += knn.row(i)[0].index == i ? 1u : 0u;
+  if (result.distinct_points < static_cast<std::size_t>(k) + 1)
+    throw InvalidInputError("only " + std::to_string(result.distinct_points) + " distinct points (of " +
+                            std::to_string(n) + "); k = " + std::to_string(k) + " needs at least " +
+                            std::to_string(k + 1) + " (lower --k)");
+
+  result.origins.resize(n);
+  result.normals.resize(n);
+  result.eigenvalues.resize(n);
+  std::vector<double> nn_distance(n, 0.0);
+  std::size_t degenerate = 0;
+  const auto count = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : degenerate)
+  for (std::int64_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    const auto row = knn.row(i);
+    std::array<std::uint32_t, 256> small{};
+    std::vector<std::uint32_t> large;
+    std::span<std::uint32_t> idx;
+    if (row.size() <= small.size()) {
+      idx = std::span<std::uint32_t>(small.data(), row.size());
+    } else {
+      large.resize(row.size());
+      idx = large;
+    }
+    for (std::size_t j = 0; j < row.size(); ++j) idx[j] = row[j].index;
+    const PlaneFit<D> fit = fit_plane<D>(points, idx);
+    result.origins[i] = fit.centroid;
+    result.normals[i] = fit.normal;
+    result.eigenvalues[i] = fit.eigenvalues;
+    // No unique normal when the two smallest spreads are both negligible
+    // against the largest (the neighbourhood is a line or a point).
+    if (fit.eigenvalues[1] <= 1e-12 * fit.eigenvalues[D - 1]) ++degenerate;
+    for (const Neighbor& nb : row)
+      if (nb.distance2 > 0.0) {
+        nn_distance[i] = std::sqrt(nb.distance2);
+        break;
+      }
+  }
+  result.degenerate = degenerate;
+  if (degenerate == n)
+    throw InvalidInputError(D == 3 ? "all points lie on one line (or coincide): no surface to reconstruct"
+                                   : "all points coincide: no curve to reconstruct");
+
+  result.local_rho.resize(n);
+  result.local_gap.resize(n);
+  if (options.rho) {
+    result.rho_given = true;
+    result.rho = result.gap = *options.rho;
+    std::fill(result.local_rho.begin(), result.local_rho.end(), *options.rho);
+    std::fill(result.local_gap.begin(), result.local_gap.end(), *options.rho);
+  } else {
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      const auto row = knn.row(i);
+      double widest = 0.0;
+      for (const Neighbor& nb : row) widest = std::max(widest, nn_distance[nb.index]);
+      result.local_gap[i] = widest;
+      result.local_rho[i] = std::sqrt(row.back().distance2);
+    }
+    result.rho = median(result.local_rho);
+    result.gap = median(result.local_gap);
+    // A neighbourhood made only of copies of one point has no spacing to
+    // measure: give it the typical one.
+    for (std::size_t i = 0; i < n; ++i) {
+      if (result.local_rho[i] == 0.0) result.local_rho[i] = result.rho;
+      if (result.local_gap[i] == 0.0) result.local_gap[i] = result.gap;
+    }
+  }
+  result.seconds_pca = timer.lap();
+  return result;
+}
+
+template TangentPlanes<2> estimate_tangent_planes<2>(std::span<const Vec<2>>, const TangentPlaneOptions&);
+template TangentPlanes<3> estimate_tangent_planes<3>(std::span<const Vec<3>>, const TangentPlaneOptions&);
+
+}  // namespace recon

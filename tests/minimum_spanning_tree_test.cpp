@@ -1,0 +1,169 @@
+#include "recon/minimum_spanning_tree.h"
+
+#include "recon/emst.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+namespace recon {
+namespace {
+
+// Oracle: Kruskal's algorithm (sort all edges, keep those that join two sets).
+double kruskal_weight(std::size_t n, std::vector<Edge> edges, std::size_t* tree_edges = nullptr) {
+  std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.weight < b.weight; });
+  UnionFind sets(n);
+  double total = 0.0;
+  std::size_t count = 0;
+  for (const Edge& e : edges)
+    if (e.u != e.v && sets.unite(e.u, e.v)) {
+      total += e.weight;
+      ++count;
+    }
+  if (tree_edges) *tree_edges = count;
+  return total;
+}
+
+TEST(MinimumSpanningTree, PrimEqualsKruskalOnRandomGraphs) {
+  for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(seed);
+    const std::size_t n = 2 + rng() % 300;
+    const std::size_t m = rng() % (4 * n);
+    std::vector<Edge> edges;
+    for (std::size_t e = 0; e < m; ++e)
+      edges.push_back({static_cast<std::uint32_t>(rng() % n), static_cast<std::uint32_t>(rng() % n),
+                       static_cast<double>(rng() % 50)});  // many ties, repeated edges, self-loops
+    const Graph g = make_graph(n, edges);
+    const SpanningForest forest = prim_minimum_spanning_forest(g);
+    std::size_t tree_edges = 0;
+    EXPECT_DOUBLE_EQ(forest.total_weight, kruskal_weight(n, edges, &tree_edges));
+    // A forest: one root per component, every vertex once in the order,
+    // parents before children, each tree edge a graph edge.
+    EXPECT_EQ(forest.roots.size(), n - tree_edges);
+    EXPECT_EQ(forest.roots.size(), connected_components(g).sizes.size());
+    ASSERT_EQ(forest.order.size(), n);
+    std::vector<int> position(n, -1);
+    for (std::size_t i = 0; i < n; ++i) position[forest.order[i]] = static_cast<int>(i);
+    for (std::uint32_t v = 0; v < n; ++v) {
+      ASSERT_GE(position[v], 0);
+      const std::uint32_t p = forest.parent[v];
+      if (p == SpanningForest::no_parent) continue;
+      EXPECT_LT(position[p], position[v]);
+      const auto nb = g.neighbors(v);
+      EXPECT_TRUE(std::find(nb.begin(), nb.end(), p) != nb.end());
+    }
+  }
+}
+
+TEST(MinimumSpanningTree, GrowsFromTheGivenRoots) {
+  const std::vector<Edge> edges = {{0, 1, 1.0}, {1, 2, 1.0}, {3, 4, 2.0}};
+  const Graph g = make_graph(5, edges);
+  const std::vector<std::uint32_t> roots = {2, 4};
+  const SpanningForest forest = prim_minimum_spanning_forest(g, roots);
+  EXPECT_EQ(forest.roots, roots);
+  EXPECT_EQ(forest.parent[2], SpanningForest::no_parent);
+  EXPECT_EQ(forest.parent[1], 2u);
+  EXPECT_EQ(forest.parent[0], 1u);
+  EXPECT_EQ(forest.parent[3], 4u);
+}
+
+TEST(Graph, MergesRepeatedEdgesKeepingTheLightest) {
+  const std::vector<Edge> edges = {{0, 1, 3.0}, {1, 0, 2.0}, {1, 1, 0.5}, {1, 2, 1.0}};
+  const Graph g = make_graph(3, edges);
+  EXPECT_EQ(g.edge_count(), 2u);
+  ASSERT_EQ(g.neighbors(1).size(), 2u);
+  EXPECT_EQ(g.neighbors(1)[0], 0u);
+  EXPECT_EQ(g.neighbor_weights(1)[0], 2.0);
+  EXPECT_EQ(g.neighbor_weights(0)[0], 2.0);
+}
+
+// Oracle for the EMST: Prim on the complete graph, O(n^2), with the same
+// (length, smaller end, larger end) edge order.
+template <int D>
+std::vector<Edge> brute_force_emst(const std::vector<Vec<D>>& pts) {
+  const std::size_t n = pts.size();
+  std::vector<double> best(n, std::numeric_limits<double>::infinity());
+  std::vector<std::uint32_t> from(n, 0);
+  std::vector<bool> done(n, false);
+  std::vector<Edge> edges;
+  best[0] = 0.0;
+  auto better = [](double d, std::uint32_t a, std::uint32_t b, double d2, std::uint32_t a2, std::uint32_t b2) {
+    const auto key = [](double dd, std::uint32_t x, std::uint32_t y) {
+      return std::tuple(dd, std::min(x, y), std::max(x, y));
+    };
+    return key(d, a, b) < key(d2, a2, b2);
+  };
+  for (std::size_t step = 0; step < n; ++step) {
+    std::uint32_t v = UINT32_MAX;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (!done[i] && (v == UINT32_MAX || better(best[i], i, from[i], best[v], v, from[v]))) v = i;
+    done[v] = true;
+    if (step > 0) edges.push_back({std::min(v, from[v]), std::max(v, from[v]), std::sqrt(best[v])});
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const double d2 = (pts[i] - pts[v]).squaredNorm();
+      if (!done[i] && better(d2, i, v, best[i], i, from[i])) {
+        best[i] = d2;
+        from[i] = v;
+      }
+    }
+  }
+  return edges;
+}
+
+template <int D>
+void check_emst(std::size_t n, std::uint32_t seed, bool clustered, bool with_knn) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Vec<D>> pts(n);
+  for (auto& p : pts) {
+    for (int a = 0; a < D; ++a) p[a] = unit(rng);
+    if (clustered) p = (p * 0.05).eval() + Vec<D>::Constant(static_cast<double>(rng() % 4));
+  }
+  if (n > 10) pts[n - 1] = pts[n / 2];  // an exact duplicate
+  const KdTree<D> tree(pts, {4});
+  const KnnTable knn = tree.all_knn(static_cast<int>(std::min<std::size_t>(6, n)));
+  auto got = euclidean_minimum_spanning_tree<D>(tree, pts, with_knn ? &knn : nullptr);
+  auto expected = brute_force_emst<D>(pts);
+  ASSERT_EQ(got.size(), n - 1);
+  auto by_ends = [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); };
+  std::sort(got.begin(), got.end(), by_ends);
+  std::sort(expected.begin(), expected.end(), by_ends);
+  for (std::size_t e = 0; e < got.size(); ++e) {
+    ASSERT_EQ(got[e].u, expected[e].u) << "edge " << e;
+    ASSERT_EQ(got[e].v, expected[e].v) << "edge " << e;
+    ASSERT_DOUBLE_EQ(got[e].weight, expected[e].weight);
+  }
+}
+
+TEST(EuclideanMst, EqualsBruteForceMst3D) {
+  for (std::size_t n : {2u, 3u, 50u, 500u, 3000u}) {
+    check_emst<3>(n, static_cast<std::uint32_t>(n), false, true);
+    check_emst<3>(n, static_cast<std::uint32_t>(n + 1), true, true);
+  }
+  check_emst<3>(800, 99, true, false);  // without the k-NN shortcut
+}
+
+TEST(EuclideanMst, EqualsBruteForceMst2D) {
+  for (std::size_t n : {2u, 40u, 2000u}) check_emst<2>(n, static_cast<std::uint32_t>(n + 7), false, true);
+}
+
+TEST(EuclideanMst, GridWithManyEqualLengthsIsATree) {
+  // All edges of a grid have the same length: only the tie-breaking order
+  // keeps Borůvka from closing cycles.
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) pts.emplace_back(i, j, 0.0);
+  const KdTree<3> tree(pts);
+  const KnnTable knn = tree.all_knn(5);
+  const auto edges = euclidean_minimum_spanning_tree<3>(tree, pts, &knn);
+  ASSERT_EQ(edges.size(), pts.size() - 1);
+  UnionFind sets(pts.size());
+  for (const Edge& e : edges) {
+    EXPECT_TRUE(sets.unite(e.u, e.v));
+    EXPECT_DOUBLE_EQ(e.weight, 1.0);
+  }
+}
+
+}  // namespace
+}  // namespace recon

@@ -1,0 +1,66 @@
+#include "recon/pca.h"
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace recon {
+namespace {
+
+TEST(Pca, RecoversTheNormalOfRandomPlanes) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Vec3 normal = Vec3(g(rng), g(rng), g(rng)).normalized();
+    const Vec3 u = normal.unitOrthogonal();
+    const Vec3 v = normal.cross(u);
+    // Far from the origin, to show the two-pass covariance keeps precision.
+    const Vec3 offset = Vec3(g(rng), g(rng), g(rng)) * 1000.0;
+    std::vector<Vec3> pts;
+    for (int i = 0; i < 15; ++i) pts.push_back(offset + g(rng) * u + 0.1 * g(rng) * v);
+    const PlaneFit<3> fit = fit_plane<3>(pts);
+    EXPECT_NEAR(std::abs(fit.normal.dot(normal)), 1.0, 1e-9);
+    EXPECT_NEAR(fit.eigenvalues[0], 0.0, 1e-9);
+    EXPECT_GT(fit.eigenvalues[1], 0.0);
+  }
+}
+
+template <int D>
+void check_against_eigen(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int trial = 0; trial < 500; ++trial) {
+    Mat<D> a;
+    for (int r = 0; r < D; ++r)
+      for (int c = 0; c < D; ++c) a(r, c) = g(rng);
+    a = (a * a.transpose()).eval();
+    if (trial % 5 == 0) a(0, 1) = a(1, 0) = 0.0;           // already partly diagonal
+    if (trial % 7 == 0) a = Mat<D>::Identity() * 2.0;     // repeated eigenvalue
+    if (trial % 11 == 0) a *= 1e-12;                      // tiny scale
+    const SymmetricEigen<D> ours = symmetric_eigen<D>(a);
+    const Eigen::SelfAdjointEigenSolver<Mat<D>> theirs(a);
+    const double scale = std::max(1e-300, a.norm());
+    for (int c = 0; c < D; ++c) {
+      EXPECT_NEAR(ours.values[c], theirs.eigenvalues()[c], 1e-12 * scale);
+      // Each vector is an eigenvector of its value, unit length.
+      const Vec<D> x = ours.vectors.col(c);
+      EXPECT_NEAR(x.norm(), 1.0, 1e-12);
+      EXPECT_LE((a * x - ours.values[c] * x).norm(), 1e-11 * scale);
+    }
+    EXPECT_LE((ours.vectors.transpose() * ours.vectors - Mat<D>::Identity()).norm(), 1e-12);
+  }
+}
+
+TEST(Pca, SymmetricEigenAgreesWithEigen3x3) { check_against_eigen<3>(5); }
+TEST(Pca, SymmetricEigenAgreesWithEigen2x2) { check_against_eigen<2>(6); }
+
+TEST(Pca, LineIn2DHasTheRightNormal) {
+  std::vector<Vec2> pts;
+  for (int i = 0; i < 10; ++i) pts.emplace_back(i * 0.3, 1.0 + i * 0.3);  // along (1, 1)
+  const PlaneFit<2> fit = fit_plane<2>(pts);
+  EXPECT_NEAR(std::abs(fit.normal.dot(Vec2(1, -1).normalized())), 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace recon

@@ -1,0 +1,85 @@
+#include "recon/tangent_planes.h"
+
+#include "recon/errors.h"
+#include "recon/shapes.h"
+
+#include <gtest/gtest.h>
+
+namespace recon {
+namespace {
+
+TEST(TangentPlanes, NormalsOfASphereAreRadial) {
+  const PointCloud cloud = make_sphere()->sample(5000, 1);
+  const auto planes = estimate_tangent_planes<3>(cloud.positions);
+  ASSERT_EQ(planes.normals.size(), cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    EXPECT_GT(std::abs(planes.normals[i].dot(cloud.normals[i])), 0.99) << i;
+    // Centroids lie just inside the sphere (chords), by about r_k^2 / (4R).
+    EXPECT_LT(std::abs(planes.origins[i].norm() - 1.0), 0.01);
+    EXPECT_LT(planes.surface_variation(i), 0.01);
+  }
+  EXPECT_EQ(planes.distinct_points, cloud.size());
+  // 5000 samples on area 4 pi: a disc holding k = 15 of them has radius
+  // sqrt(15 * 4 pi / (5000 pi)) = 0.110; that is rho.
+  EXPECT_NEAR(planes.rho, 0.110, 0.015);
+  // The widest gap to a nearest neighbour is shorter, about the spacing.
+  EXPECT_GT(planes.gap, 0.03);
+  EXPECT_LT(planes.gap, planes.rho);
+}
+
+TEST(TangentPlanes, CountsDuplicatesAndGivenRho) {
+  PointCloud cloud = make_sphere()->sample(500, 2);
+  for (std::size_t i = 0; i < 100; ++i) cloud.positions.push_back(cloud.positions[i]);
+  TangentPlaneOptions options;
+  options.rho = 0.25;
+  const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
+  EXPECT_EQ(planes.distinct_points, 500u);
+  EXPECT_EQ(planes.rho, 0.25);
+  EXPECT_TRUE(planes.rho_given);
+  for (double r : planes.local_rho) EXPECT_EQ(r, 0.25);
+}
+
+TEST(TangentPlanes, RefusesDegenerateInput) {
+  std::vector<Vec3> few(10, Vec3::Zero());
+  for (int i = 0; i < 10; ++i) few[static_cast<std::size_t>(i)] = Vec3(i, i * i, 1);
+  EXPECT_THROW((void)estimate_tangent_planes<3>(few), InvalidInputError);  // fewer than k + 1
+
+  std::vector<Vec3> same(100, Vec3(1, 2, 3));
+  try {
+    (void)estimate_tangent_planes<3>(same);
+    FAIL();
+  } catch (const InvalidInputError& e) {
+    EXPECT_NE(std::string(e.what()).find("distinct"), std::string::npos) << e.what();
+  }
+
+  std::vector<Vec3> line;
+  for (int i = 0; i < 100; ++i) line.emplace_back(i, 2.0 * i, 3.0 * i);
+  try {
+    (void)estimate_tangent_planes<3>(line);
+    FAIL();
+  } catch (const InvalidInputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line"), std::string::npos) << e.what();
+  }
+
+  std::vector<Vec3> nan_cloud = make_sphere()->sample(100, 3).positions;
+  nan_cloud[42].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW((void)estimate_tangent_planes<3>(nan_cloud), InvalidInputError);
+
+  TangentPlaneOptions small_k;
+  small_k.k = 2;
+  EXPECT_THROW((void)estimate_tangent_planes<3>(make_sphere()->sample(100, 3).positions, small_k), InvalidInputError);
+}
+
+TEST(TangentPlanes, FlatPatchIsExactlyPlanar) {
+  std::vector<Vec3> grid;
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 30; ++j) grid.emplace_back(i * 0.1, j * 0.1, 2.0);
+  const auto planes = estimate_tangent_planes<3>(grid);
+  for (const Vec3& n : planes.normals) EXPECT_NEAR(std::abs(n.z()), 1.0, 1e-12);
+  EXPECT_NEAR(planes.gap, 0.1, 1e-9);  // the grid spacing
+  // Inside the grid, the 15th neighbour (self included) is sqrt(5) steps away.
+  EXPECT_NEAR(planes.rho, std::sqrt(5.0) * 0.1, 1e-9);
+}
+
+}  // namespace
+}  // namespace recon
