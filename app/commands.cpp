@@ -1,9 +1,13 @@
 #include "commands.h"
 
+#include "progress.h"
 #include "summary.h"
 
 #include "recon/errors.h"
+#include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
+#include "recon/mesh.h"
+#include "recon/reconstruct.h"
 #include "recon/orientation.h"
 #include "recon/parallel.h"
 #include "recon/shapes.h"
@@ -19,8 +23,10 @@
 namespace recon::cli {
 namespace {
 
-std::string plural(std::size_t n, const char* word) {
-  return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+std::string plural(std::size_t n, const std::string& word) {
+  if (n == 1) return "1 " + word;
+  if (word == "vertex") return std::to_string(n) + " vertices";
+  return std::to_string(n) + " " + word + "s";
 }
 
 // Options every command that reads a cloud shares.
@@ -57,45 +63,53 @@ void refuse_overwriting_input(const std::filesystem::path& input, const std::fil
 // Options of phases I and II.
 struct PhaseOptions {
   int k = TangentPlaneOptions{}.k;
+  bool k_given = false;
   std::optional<double> rho;
+  CLI::Option* k_option = nullptr;
 };
 
 void add_phase_options(CLI::App& app, PhaseOptions& p) {
-  app.add_option("-k,--k", p.k, "Neighbours per tangent plane, the point itself included")
-      ->default_val(p.k)
-      ->check(CLI::Range(3, 256));
+  p.k_option = app.add_option("-k,--k", p.k,
+                              "Neighbours per tangent plane, the point itself included (default 15, raised "
+                              "automatically for noisy data unless given)")
+                   ->check(CLI::Range(3, 256));
   app.add_option("--rho", p.rho,
                  "Sampling density: the largest gap between neighbouring samples (default: estimated per point)")
       ->check(CLI::PositiveNumber);
 }
 
-TangentPlanes<3> run_phase_1(const PointCloud& cloud, const PhaseOptions& p, Summary& summary) {
+TangentPlaneOptions phase_1_options(const PhaseOptions& p) {
   TangentPlaneOptions options;
   options.k = p.k;
+  options.adapt_k = !p.k_given;
   options.rho = p.rho;
-  auto planes = estimate_tangent_planes<3>(cloud.positions, options);
+  return options;
+}
+
+void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary& summary) {
   std::ostringstream line;
-  line << "phase I   tangent planes: k = " << p.k << ", rho = " << format_length(planes.rho)
+  line << "phase I   tangent planes: k = " << planes.k;
+  if (planes.k != planes.k_requested)
+    line << " (raised from " << planes.k_requested << ": noise " << format_length(planes.noise) << " is large)";
+  line << ", rho = " << format_length(planes.rho)
        << (planes.rho_given ? " (given)" : " (estimated, median of local values)") << ", "
-       << plural(cloud.size() - planes.distinct_points, "duplicate") << ", "
+       << plural(points - planes.distinct_points, "duplicate") << ", "
        << plural(planes.degenerate, "degenerate neighbourhood") << " ("
        << format_seconds(planes.seconds_knn + planes.seconds_pca) << ")";
   summary.say(line.str());
   Json& s = summary.stats()["tangent_planes"];
-  s["k"] = p.k;
+  s["k"] = planes.k;
+  s["k_requested"] = planes.k_requested;
+  s["noise"] = planes.noise;
   s["rho"] = planes.rho;
   s["rho_estimated"] = !planes.rho_given;
   s["distinct_points"] = planes.distinct_points;
   s["degenerate_neighbourhoods"] = planes.degenerate;
   s["seconds_knn"] = planes.seconds_knn;
   s["seconds_pca"] = planes.seconds_pca;
-  return planes;
 }
 
-OrientedNormals<3> run_phase_2(const TangentPlanes<3>& planes, const PhaseOptions& p, Summary& summary) {
-  OrientationOptions options;
-  options.graph.k = p.k;
-  auto oriented = orient_normals<3>(planes, options);
+void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   const auto& g = oriented.graph;
   std::vector<std::size_t> sizes(g.components.sizes.begin(), g.components.sizes.end());
   std::ostringstream line;
@@ -121,10 +135,121 @@ OrientedNormals<3> run_phase_2(const TangentPlanes<3>& planes, const PhaseOption
   s["seconds_emst"] = g.seconds_emst;
   s["seconds_graph"] = g.seconds_graph;
   s["seconds_mst"] = oriented.seconds_mst;
-  return oriented;
+  s["vote_flips"] = oriented.vote_flips;
+}
+
+void report_phases_3_4(const Reconstruction& r, Summary& summary) {
+  const MarchingCubesResult& c = r.contour;
+  std::ostringstream line;
+  line << "phase III signed distance: delta = " << format_length(r.delta) << (r.delta_given ? " (given)" : " (estimated)")
+       << ", " << c.evaluated_corners << " lattice corners evaluated, " << c.undefined_corners << " undefined";
+  summary.say(line.str());
+  line.str("");
+  line << "phase IV  contouring: cell = " << format_length(c.cell) << ", " << c.visited_cubes << " cubes visited of "
+       << static_cast<double>(c.size[0]) * c.size[1] * c.size[2] << " in the lattice (" << c.size[0] << " x "
+       << c.size[1] << " x " << c.size[2] << "), " << format_seconds(r.seconds_distance_setup + c.seconds)
+       << " with phase III";
+  summary.say(line.str());
+  Json& s = summary.stats()["signed_distance"];
+  s["delta"] = r.delta;
+  s["delta_estimated"] = !r.delta_given;
+  s["corners_evaluated"] = c.evaluated_corners;
+  s["corners_undefined"] = c.undefined_corners;
+  Json& m = summary.stats()["contouring"];
+  m["cell"] = c.cell;
+  m["lattice_size"] = Json(Json::Array{Json(static_cast<std::size_t>(c.size[0])), Json(static_cast<std::size_t>(c.size[1])),
+                                       Json(static_cast<std::size_t>(c.size[2]))});
+  m["seed_cubes"] = c.seed_cubes;
+  m["visited_cubes"] = c.visited_cubes;
+  m["undefined_cubes"] = c.undefined_cubes;
+  m["seconds"] = r.seconds_distance_setup + c.seconds;
+}
+
+void report_mesh(const Mesh& mesh, Summary& summary) {
+  const MeshTopology t = analyze_topology(mesh);
+  std::ostringstream line;
+  line << "mesh      " << plural(t.vertices, "vertex") << ", " << plural(t.triangles, "triangle") << ", "
+       << plural(t.components, "component") << ", "
+       << (t.boundary_loops == 0 ? std::string("closed") : plural(t.boundary_loops, "boundary loop"))
+       << ", Euler characteristic " << t.euler_characteristic;
+  summary.say(line.str());
+  Json& m = summary.stats()["mesh"];
+  m["vertices"] = t.vertices;
+  m["faces"] = t.triangles;
+  m["components"] = t.components;
+  m["boundary_edges"] = t.boundary_edges;
+  m["boundary_loops"] = t.boundary_loops;
+  m["non_manifold_edges"] = t.non_manifold_edges;
+  m["euler_characteristic"] = static_cast<double>(t.euler_characteristic);
+  m["area"] = t.area;
+  m["signed_volume"] = t.signed_volume;
 }
 
 }  // namespace
+
+Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
+  struct Options {
+    InputOptions in;
+    PhaseOptions phases;
+    std::filesystem::path output, stats;
+    std::optional<double> delta, cell;
+    std::optional<int> resolution;
+    bool ascii = false, use_normals = false;
+  };
+  auto o = std::make_shared<Options>();
+  add_input(app, o->in);
+  app.add_option("-o,--output", o->output, "Mesh to write (.ply .obj .off .stl)")->required();
+  add_phase_options(app, o->phases);
+  app.add_option("--delta", o->delta, "Noise level, a length (default: estimated from the tangent-plane fits)")
+      ->check(CLI::NonNegativeNumber);
+  auto* cell = app.add_option("--cell", o->cell, "Lattice cube side, a length (default: rho)")
+                   ->check(CLI::PositiveNumber);
+  app.add_option("--resolution", o->resolution, "Lattice cubes along the longest side of the bounding box")
+      ->check(CLI::Range(1, 1 << 20))
+      ->excludes(cell);
+  app.add_flag("--use-normals", o->use_normals, "Use the input's own normals (skips phase II)");
+  app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
+  app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
+  return [o, &global] {
+    Timer total;
+    Summary summary(global.quiet);
+    io::WriteMeshOptions write_options;
+    write_options.format = io::mesh_format_from_path(o->output);  // fail early on a bad extension
+    write_options.ascii = o->ascii;
+    refuse_overwriting_input(o->in.path, o->output);
+    o->phases.k_given = o->phases.k_option->count() > 0;
+    const PointCloud cloud = read_input(o->in, summary);
+
+    ReconstructionOptions options;
+    options.planes = phase_1_options(o->phases);
+    options.distance.delta = o->delta;
+    options.cell = o->cell;
+    options.resolution = o->resolution;
+    options.use_input_normals = o->use_normals;
+    Progress progress(!global.quiet);
+    options.on_phase = [&progress](const char* phase) { progress.phase(phase); };
+    const Reconstruction r = reconstruct(cloud, options);
+    progress.stop();
+
+    report_phase_1(r.planes, cloud.size(), summary);
+    if (r.oriented) {
+      report_phase_2(*r.oriented, summary);
+    } else {
+      summary.say("phase II  skipped: the input's normals are used");
+    }
+    report_phases_3_4(r, summary);
+    report_mesh(r.contour.mesh, summary);
+    Timer timer;
+    io::write_mesh(o->output, r.contour.mesh, write_options);
+    summary.say("wrote     " + o->output.string() + " (" + format_seconds(timer.elapsed()) + "); total " +
+                format_seconds(total.elapsed()));
+    summary.stats()["output"]["file"] = o->output.string();
+    summary.stats()["output"]["seconds"] = timer.elapsed();
+    summary.stats()["threads"] = thread_count();
+    summary.stats()["seconds_total"] = total.elapsed();
+    if (!o->stats.empty()) summary.write_stats(o->stats);
+  };
+}
 
 Command add_info(CLI::App& app, const GlobalOptions& global) {
   auto in = std::make_shared<InputOptions>();
@@ -145,7 +270,7 @@ Command add_info(CLI::App& app, const GlobalOptions& global) {
     try {
       const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
       out << "duplicates    " << cloud.size() - planes.distinct_points << " (exact copies of an earlier point)\n";
-      out << "rho           " << format_length(planes.rho) << " (median local sampling gap, k = " << *k << ")\n";
+      out << "rho           " << format_length(planes.rho) << " (median radius of a k-neighbourhood, k = " << *k << ")\n";
       out << "degenerate    " << planes.degenerate << " neighbourhoods with no unique normal";
     } catch (const InvalidInputError& e) {
       out << "rho           not available: " << e.what();
@@ -172,9 +297,20 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     write_options.format = io::point_format_from_path(*output);  // fail early on a bad extension
     write_options.ascii = *ascii;
     refuse_overwriting_input(in->path, *output);
+    phases->k_given = phases->k_option->count() > 0;
     PointCloud cloud = read_input(*in, summary);
-    const auto planes = run_phase_1(cloud, *phases, summary);
-    const auto oriented = run_phase_2(planes, *phases, summary);
+    Progress progress(!global.quiet);
+    progress.phase("phase I, tangent planes");
+    const auto planes = estimate_tangent_planes<3>(cloud.positions, phase_1_options(*phases));
+    progress.phase("");
+    report_phase_1(planes, cloud.size(), summary);
+    progress.phase("phase II, orientation");
+    OrientationOptions orientation;
+    orientation.graph.k = planes.k;
+    const auto oriented = orient_normals<3>(planes, orientation);
+    progress.phase("");
+    report_phase_2(oriented, summary);
+    progress.stop();
     cloud.normals = oriented.normals;
     Timer timer;
     io::write_points(*output, cloud, write_options);

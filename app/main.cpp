@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   add("info", "Describe a point cloud: size, bounding box, duplicates, sampling density", recon::cli::add_info);
   add("normals", "Estimate consistently oriented normals (phases I and II) and write the oriented cloud",
       recon::cli::add_normals);
+  add("reconstruct", "Reconstruct a triangle mesh from a point cloud (all four phases)", recon::cli::add_reconstruct);
   add("generate", "Write a point sample of a known shape (sphere, torus, ellipsoid, box, two)",
       recon::cli::add_generate);
 

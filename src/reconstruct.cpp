@@ -21,13 +21,17 @@ double lattice_cell(const PointCloud& cloud, const TangentPlanes<3>& planes, con
     const Box<3> box = bounding_box<3>(cloud.positions);
     return box.extent().maxCoeff() / *options.resolution;
   }
-  return planes.rho / 2.0;
+  return planes.rho;
 }
 
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
+  auto starting = [&](const char* phase) {
+    if (options.on_phase) options.on_phase(phase);
+  };
   Reconstruction r;
+  starting("tangent planes");
   r.planes = estimate_tangent_planes<3>(cloud.positions, options.planes);
 
   // Refuse a lattice that would not fit before building anything large.
@@ -51,19 +55,22 @@ Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions&
     }
     r.origin_tree.emplace(std::span<const Vec3>(r.planes.origins));
   } else {
+    starting("orientation");
     OrientationOptions orientation = options.orientation;
-    orientation.graph.k = options.planes.k;
+    orientation.graph.k = r.planes.k;
     r.oriented = orient_normals<3>(r.planes, orientation);
     r.normals = r.oriented->normals;
   }
   const KdTree<3>& origin_tree = r.oriented ? r.oriented->graph.origin_tree : *r.origin_tree;
 
+  starting("signed distance");
   Timer timer;
   const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals, origin_tree, options.distance);
   r.delta = f.delta();
   r.delta_given = f.delta_given();
   r.seconds_distance_setup = timer.lap();
 
+  starting("contouring");
   MarchingCubesOptions mc;
   mc.cell = cell;
   mc.max_cubes = options.max_cubes;

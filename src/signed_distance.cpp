@@ -2,7 +2,6 @@
 
 #include "recon/errors.h"
 
-#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -39,11 +38,7 @@ SignedDistance<D> make_signed_distance(const TangentPlanes<D>& planes, std::span
     f.delta_ = *options.delta;
     f.delta_given_ = true;
   } else {
-    std::vector<double> residual(planes.eigenvalues.size());
-    for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = std::sqrt(planes.eigenvalues[i][0]);
-    const auto middle = residual.begin() + static_cast<std::ptrdiff_t>(residual.size() / 2);
-    std::nth_element(residual.begin(), middle, residual.end());
-    f.delta_ = residual.empty() ? 0.0 : 2.0 * *middle;
+    f.delta_ = 2.0 * planes.noise;
   }
   return f;
 }

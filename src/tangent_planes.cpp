@@ -114,7 +114,29 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
       if (result.local_gap[i] == 0.0) result.local_gap[i] = result.gap;
     }
   }
+  {
+    std::vector<double> residual(n);
+    for (std::size_t i = 0; i < n; ++i) residual[i] = std::sqrt(result.eigenvalues[i][0]);
+    result.noise = median(std::move(residual));
+  }
   result.seconds_pca = timer.lap();
+  result.k_requested = k;
+
+  constexpr double noise_limit = 0.1;  // noise / rho above which k is raised
+  constexpr int max_adapted_k = 64;
+  if (options.adapt_k && !options.rho && result.noise > noise_limit * result.rho && k < max_adapted_k) {
+    const double wanted = std::ceil(k * result.noise / (noise_limit * result.rho));
+    TangentPlaneOptions raised = options;
+    raised.adapt_k = false;
+    raised.k = static_cast<int>(std::min<double>(max_adapted_k, wanted));
+    if (static_cast<std::size_t>(raised.k) + 1 <= result.distinct_points) {
+      TangentPlanes<D> again = estimate_tangent_planes<D>(points, raised);
+      again.k_requested = k;
+      again.seconds_knn += result.seconds_knn;
+      again.seconds_pca += result.seconds_pca;
+      return again;
+    }
+  }
   return result;
 }
 

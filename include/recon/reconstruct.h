@@ -7,19 +7,23 @@
 #include "recon/signed_distance.h"
 #include "recon/tangent_planes.h"
 
+#include <functional>
 #include <optional>
 
 namespace recon {
 
 struct ReconstructionOptions {
   TangentPlaneOptions planes{};            ///< phase I: k, rho
-  OrientationOptions orientation{};        ///< phase II (its k follows planes.k)
+  OrientationOptions orientation{};        ///< phase II (its k is the k phase I used)
   SignedDistanceOptions distance{};        ///< phase III: delta
-  std::optional<double> cell;              ///< phase IV cube side; default rho / 2 (about the sample spacing)
+  std::optional<double> cell;              ///< phase IV cube side; default rho (as in Hoppe's paper)
   std::optional<int> resolution;           ///< or: cubes along the longest side of the bounding box
   bool use_input_normals = false;          ///< orient with the cloud's own normals, skipping phase II
   std::size_t max_cubes = 200'000'000;     ///< refuse larger lattice walks (about 250 bytes a cube)
   bool keep_corners = false;               ///< keep the evaluated lattice corners in the result
+  /// Called as each phase starts, with its name ("tangent planes",
+  /// "orientation", "signed distance", "contouring"): for progress displays.
+  std::function<void(const char* phase)> on_phase;
 };
 
 struct Reconstruction {

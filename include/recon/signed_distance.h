@@ -18,9 +18,8 @@
 // near the surface (|f| small, where a zero crossing could be drawn) are as
 // far from the data as their foot points, so holes stay open.
 //
-// delta, when not given, is estimated from the PCA residuals: sqrt(lambda_0)
-// is the RMS distance of a neighbourhood to its plane (noise plus the
-// curvature the plane cannot follow); delta = 2 * median sqrt(lambda_0).
+// delta, when not given, is estimated from the PCA residuals: twice phase
+// I's noise (the median RMS distance of a neighbourhood to its plane).
 
 #include "recon/kdtree.h"
 #include "recon/tangent_planes.h"

@@ -32,8 +32,22 @@
 
 namespace recon {
 
+// Noise. sqrt(lambda_0) is the RMS distance of a neighbourhood to its
+// plane; its median over the cloud, `noise`, measures the noise (plus the
+// curvature a plane cannot follow). When the noise is large against the
+// neighbourhood (noise > 0.1 rho), k neighbours cannot average it out and
+// some normals come out tangent rather than normal; with adapt_k the phase
+// then runs again with k raised in proportion (k * noise / (0.1 rho), at most
+// 64), once. A user's explicit k should set adapt_k = false.
+//
+// Default k = 15: enough points that a plane fit averages moderate noise and
+// that rho (the 15-neighbourhood radius) covers the random gaps of
+// Poisson-like samples; few enough that the neighbourhood stays smaller than
+// thin features. Hoppe's program gathered between 4 and 20.
+
 struct TangentPlaneOptions {
-  int k = 15;                          ///< neighbourhood size, the point itself included (Hoppe: 4..20)
+  int k = 15;                          ///< neighbourhood size, the point itself included
+  bool adapt_k = true;                 ///< raise k once for noisy data (see above)
   std::optional<double> rho;           ///< sampling density; estimated per point when absent
   KdTreeOptions tree{};                ///< kd-tree over the input points
 };
@@ -48,7 +62,9 @@ struct TangentPlanes {
   double rho = 0.0;                 ///< median of local_rho, or the given rho
   double gap = 0.0;                 ///< median of local_gap, or the given rho
   bool rho_given = false;
-  int k = 0;
+  int k = 0;                        ///< the k used
+  int k_requested = 0;              ///< the k asked for (differs when adapt_k raised it)
+  double noise = 0.0;               ///< median sqrt(lambda_0): RMS distance of neighbourhoods to their planes
   std::size_t distinct_points = 0;  ///< points that are not exact copies of an earlier one
   std::size_t degenerate = 0;       ///< neighbourhoods with no unique normal (collinear / coincident)
   KdTree<D> point_tree;             ///< over the input points; phase III queries it

@@ -1,0 +1,352 @@
+// recon's kd-tree measured against nanoflann on the data phase I sees: a
+// Poisson sample of a torus, every point asking for its k = 15 nearest
+// neighbours (itself included).
+//
+// Both trees get the same points in the same order, at n = 100k and 1M:
+//   - "sampled": the order make_torus()->sample() returns them in, which is
+//     random: consecutive points are far apart on the surface;
+//   - "morton": sorted along a Morton (Z-order) curve first, so consecutive
+//     points are close: this shows how much of a k-NN loop's time is memory
+//     order rather than search.
+// Our all_knn always visits the points in its own leaf order, whatever the
+// input order; nanoflann's loop visits them in input order. knn_ours_loop
+// runs our single-point knn() in input order too, to tell the search itself
+// from the visiting order.
+//
+// Benchmarks:
+//   build_*        tree construction only
+//   knn_*          all k-NN (tree built before the timed loop); threads = 1
+//                  or 2 (OpenMP, the same dynamic schedule for both trees)
+//   leaf_sweep_*   build + all_knn(15) on 1M points, one thread, per leaf
+//                  size: the measurement behind KdTreeOptions::leaf_size
+//
+// Run through bench/run.sh; results are discussed in docs/benchmarks.md.
+
+#include "recon/kdtree.h"
+#include "recon/parallel.h"
+#include "recon/shapes.h"
+#include "recon/timer.h"
+
+#include <benchmark/benchmark.h>
+
+// nanoflann is a system header for this target (imported target), but keep
+// its warnings out of our -Werror build even if it is found elsewhere.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wconversion"
+#pragma GCC diagnostic ignored "-Wsign-conversion"
+#pragma GCC diagnostic ignored "-Wold-style-cast"
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wpedantic"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wnull-dereference"
+#pragma GCC diagnostic ignored "-Wdouble-promotion"
+#include <nanoflann.hpp>
+#pragma GCC diagnostic pop
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <numeric>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using recon::Vec3;
+
+constexpr int k = 15;              // phase I's default neighbourhood
+constexpr std::uint64_t seed = 1;  // same data on every run
+constexpr int our_default_leaf = recon::KdTreeOptions{}.leaf_size;
+constexpr int nanoflann_default_leaf = 10;  // KDTreeSingleIndexAdaptorParams' default
+
+// ---------------------------------------------------------------------------
+// Data
+
+// Interleaves the bits of three 21-bit lattice coordinates into one 63-bit
+// Morton code: bit b of axis a goes to bit 3 b + a.
+std::uint64_t morton_code(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+  std::uint64_t code = 0;
+  for (int b = 0; b < 21; ++b) {
+    code |= static_cast<std::uint64_t>((x >> b) & 1u) << (3 * b);
+    code |= static_cast<std::uint64_t>((y >> b) & 1u) << (3 * b + 1);
+    code |= static_cast<std::uint64_t>((z >> b) & 1u) << (3 * b + 2);
+  }
+  return code;
+}
+
+// The points reordered along the Z-order curve of their bounding box,
+// quantized to 2^21 cells per axis.
+std::vector<Vec3> in_morton_order(const std::vector<Vec3>& points) {
+  const recon::Box<3> box = recon::bounding_box<3>(points);
+  const Vec3 extent = box.extent().cwiseMax(1e-300);
+  constexpr double cells = 2097151.0;  // 2^21 - 1
+  auto quantize = [&](const Vec3& p, int axis) {
+    return static_cast<std::uint32_t>(std::lround((p[axis] - box.min[axis]) / extent[axis] * cells));
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3& p = points[i];
+    keyed[i] = {morton_code(quantize(p, 0), quantize(p, 1), quantize(p, 2)), static_cast<std::uint32_t>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<Vec3> sorted(points.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) sorted[i] = points[keyed[i].second];
+  return sorted;
+}
+
+// Torus samples, generated once per (n, order) and kept for every benchmark.
+const std::vector<Vec3>& torus_points(std::size_t n, bool morton) {
+  static std::map<std::pair<std::size_t, bool>, std::vector<Vec3>> cache;
+  const auto key = std::make_pair(n, morton);
+  auto found = cache.find(key);
+  if (found != cache.end()) return found->second;
+  std::vector<Vec3> points =
+      morton ? in_morton_order(torus_points(n, false)) : recon::make_torus()->sample(n, seed).positions;
+  return cache.emplace(key, std::move(points)).first->second;
+}
+
+// ---------------------------------------------------------------------------
+// nanoflann over the same std::vector<Vec3>, read in place through an adaptor.
+
+struct PointsAdaptor {
+  std::span<const Vec3> points;
+
+  [[nodiscard]] std::size_t kdtree_get_point_count() const { return points.size(); }
+  [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t axis) const {
+    return points[i][static_cast<Eigen::Index>(axis)];
+  }
+  // false: let nanoflann compute the bounding box itself.
+  template <class BoundingBox>
+  bool kdtree_get_bbox(BoundingBox& /*box*/) const {
+    return false;
+  }
+};
+
+using NanoflannTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor, double, std::uint32_t>,
+                                        PointsAdaptor, 3, std::uint32_t>;
+
+// What nanoflann's all-k-NN loop fills: the same n x k table as KnnTable,
+// as two arrays.
+struct NanoflannTable {
+  std::vector<std::uint32_t> indices;
+  std::vector<double> distances2;
+};
+
+NanoflannTable nanoflann_all_knn(const NanoflannTree& tree, std::span<const Vec3> points) {
+  const std::size_t n = points.size();
+  const auto kk = static_cast<std::size_t>(k);
+  NanoflannTable table{std::vector<std::uint32_t>(n * kk), std::vector<double>(n * kk)};
+  const auto count = static_cast<std::int64_t>(n);
+  // The same schedule as KdTree::all_knn.
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 4096)
+#endif
+  for (std::int64_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    tree.knnSearch(points[i].data(), kk, table.indices.data() + i * kk, table.distances2.data() + i * kk);
+  }
+  return table;
+}
+
+void set_rate(benchmark::State& state, std::size_t n) {
+  state.counters["points/s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// ---------------------------------------------------------------------------
+// Build
+
+void build_ours(benchmark::State& state) {
+  const auto& points = torus_points(static_cast<std::size_t>(state.range(0)), state.range(1) != 0);
+  const recon::KdTreeOptions options{static_cast<int>(state.range(2))};
+  for (auto _ : state) {
+    recon::KdTree<3> tree(points, options);
+    benchmark::DoNotOptimize(tree.nodes().data());
+    benchmark::ClobberMemory();
+  }
+  set_rate(state, points.size());
+}
+
+void build_nanoflann(benchmark::State& state) {
+  const auto& points = torus_points(static_cast<std::size_t>(state.range(0)), state.range(1) != 0);
+  const PointsAdaptor adaptor{points};
+  const nanoflann::KDTreeSingleIndexAdaptorParams params(static_cast<std::size_t>(state.range(2)));
+  for (auto _ : state) {
+    NanoflannTree tree(3, adaptor, params);
+    benchmark::DoNotOptimize(&tree);
+    benchmark::ClobberMemory();
+  }
+  set_rate(state, points.size());
+}
+
+// ---------------------------------------------------------------------------
+// All k-NN
+
+void knn_ours(benchmark::State& state) {
+  const auto& points = torus_points(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
+  recon::set_thread_count(static_cast<int>(state.range(1)));
+  const recon::KdTree<3> tree(points, {our_default_leaf});
+  for (auto _ : state) {
+    const recon::KnnTable table = tree.all_knn(k);
+    benchmark::DoNotOptimize(table.entries.data());
+    benchmark::ClobberMemory();
+  }
+  set_rate(state, points.size());
+}
+
+// Our single-point query in a loop over the input order, like nanoflann's.
+void knn_ours_loop(benchmark::State& state) {
+  const auto& points = torus_points(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
+  recon::set_thread_count(static_cast<int>(state.range(1)));
+  const recon::KdTree<3> tree(points, {our_default_leaf});
+  const auto kk = static_cast<std::size_t>(k);
+  for (auto _ : state) {
+    std::vector<recon::Neighbor> table(points.size() * kk);
+    const auto count = static_cast<std::int64_t>(points.size());
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 4096)
+#endif
+    for (std::int64_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      tree.knn(points[i], std::span<recon::Neighbor>(table.data() + i * kk, kk));
+    }
+    benchmark::DoNotOptimize(table.data());
+    benchmark::ClobberMemory();
+  }
+  set_rate(state, points.size());
+}
+
+void knn_nanoflann(benchmark::State& state) {
+  const auto& points = torus_points(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
+  recon::set_thread_count(static_cast<int>(state.range(1)));  // the same OpenMP runtime
+  const PointsAdaptor adaptor{points};
+  const NanoflannTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(nanoflann_default_leaf));
+  for (auto _ : state) {
+    const NanoflannTable table = nanoflann_all_knn(tree, points);
+    benchmark::DoNotOptimize(table.indices.data());
+    benchmark::DoNotOptimize(table.distances2.data());
+    benchmark::ClobberMemory();
+  }
+  set_rate(state, points.size());
+}
+
+// ---------------------------------------------------------------------------
+// Leaf-size sweep: build + all_knn(15), 1M points, one thread. Reports the
+// two parts separately as per-iteration averages.
+
+void leaf_sweep_ours(benchmark::State& state) {
+  const auto& points = torus_points(1'000'000, false);
+  recon::set_thread_count(1);
+  const recon::KdTreeOptions options{static_cast<int>(state.range(0))};
+  double build_s = 0.0, knn_s = 0.0;
+  for (auto _ : state) {
+    recon::Timer timer;
+    const recon::KdTree<3> tree(points, options);
+    build_s += timer.lap();
+    const recon::KnnTable table = tree.all_knn(k);
+    knn_s += timer.lap();
+    benchmark::DoNotOptimize(table.entries.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["build_s"] = benchmark::Counter(build_s, benchmark::Counter::kAvgIterations);
+  state.counters["knn_s"] = benchmark::Counter(knn_s, benchmark::Counter::kAvgIterations);
+  set_rate(state, points.size());
+}
+
+void leaf_sweep_nanoflann(benchmark::State& state) {
+  const auto& points = torus_points(1'000'000, false);
+  recon::set_thread_count(1);
+  const PointsAdaptor adaptor{points};
+  const nanoflann::KDTreeSingleIndexAdaptorParams params(static_cast<std::size_t>(state.range(0)));
+  double build_s = 0.0, knn_s = 0.0;
+  for (auto _ : state) {
+    recon::Timer timer;
+    const NanoflannTree tree(3, adaptor, params);
+    build_s += timer.lap();
+    const NanoflannTable table = nanoflann_all_knn(tree, points);
+    knn_s += timer.lap();
+    benchmark::DoNotOptimize(table.indices.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["build_s"] = benchmark::Counter(build_s, benchmark::Counter::kAvgIterations);
+  state.counters["knn_s"] = benchmark::Counter(knn_s, benchmark::Counter::kAvgIterations);
+  set_rate(state, points.size());
+}
+
+// ---------------------------------------------------------------------------
+// Before timing anything: both trees must find the same neighbours (the same
+// distances; indices may differ between equidistant points, which nanoflann
+// does not order).
+
+bool same_neighbours(std::size_t n) {
+  const auto& points = torus_points(n, false);
+  recon::set_thread_count(0);
+  const recon::KdTree<3> ours(points, {our_default_leaf});
+  const recon::KnnTable expected = ours.all_knn(k);
+  const PointsAdaptor adaptor{points};
+  const NanoflannTree theirs(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(nanoflann_default_leaf));
+  const NanoflannTable got = nanoflann_all_knn(theirs, points);
+  for (std::size_t e = 0; e < expected.entries.size(); ++e) {
+    const double a = expected.entries[e].distance2, b = got.distances2[e];
+    if (std::abs(a - b) > 1e-12 * std::max(a, b)) {
+      std::fprintf(stderr, "mismatch at point %zu, neighbour %zu: ours %.17g, nanoflann %.17g\n",
+                   e / static_cast<std::size_t>(k), e % static_cast<std::size_t>(k), a, b);
+      return false;
+    }
+  }
+  std::fprintf(stderr, "check: all-%d-NN distances of ours and nanoflann agree on %zu points\n", k, n);
+  return true;
+}
+
+}  // namespace
+
+BENCHMARK(build_ours)
+    ->ArgsProduct({{100'000, 1'000'000}, {0}, {our_default_leaf}})
+    ->ArgNames({"n", "morton", "leaf"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(build_nanoflann)
+    ->ArgsProduct({{100'000, 1'000'000}, {0}, {nanoflann_default_leaf}})
+    ->ArgNames({"n", "morton", "leaf"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK(knn_ours)
+    ->ArgsProduct({{100'000, 1'000'000}, {1, 2}, {0, 1}})
+    ->ArgNames({"n", "threads", "morton"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(knn_nanoflann)
+    ->ArgsProduct({{100'000, 1'000'000}, {1, 2}, {0, 1}})
+    ->ArgNames({"n", "threads", "morton"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(knn_ours_loop)
+    ->ArgsProduct({{100'000, 1'000'000}, {1}, {0, 1}})
+    ->ArgNames({"n", "threads", "morton"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK(leaf_sweep_ours)
+    ->ArgsProduct({{4, 6, 8, 10, 12, 16, 24, 32}})
+    ->ArgNames({"leaf"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(leaf_sweep_nanoflann)
+    ->ArgsProduct({{4, 6, 8, 10, 12, 16, 24, 32}})
+    ->ArgNames({"leaf"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  if (!same_neighbours(100'000)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
