@@ -70,7 +70,7 @@ struct PhaseOptions {
 
 void add_phase_options(CLI::App& app, PhaseOptions& p) {
   p.k_option = app.add_option("-k,--k", p.k,
-                              "Neighbours per tangent plane, the point itself included (default 15, raised "
+                              "Neighbours per tangent plane, the point itself included (default 20, raised "
                               "automatically for noisy data unless given)")
                    ->check(CLI::Range(3, 256));
   app.add_option("--rho", p.rho,

@@ -7,7 +7,9 @@
 //   phase I   estimate_tangent_planes<3>
 //   phase II  orient_normals<3> (Riemannian graph, EMST, Prim, vote)
 //   full      reconstruct(): phases I to IV
-// and then phases I and II again with one thread. Prints one markdown table
+// then phases I and II again with one thread, and once more with all cores
+// on the same points sorted along a Morton curve (spatial_order.h), which
+// shows what the random order of the samples costs. Prints one markdown table
 // row per step: wall time (our own Timer around the call), the time the
 // phase reports itself (its seconds_* fields, broken down), peak memory,
 // components, mesh size, and how many oriented normals agree with the true
@@ -26,6 +28,7 @@
 #include "recon/shapes.h"
 #include "recon/tangent_planes.h"
 #include "recon/timer.h"
+#include "spatial_order.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -38,6 +41,10 @@
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 namespace {
 
@@ -123,9 +130,14 @@ std::string agreement(const std::vector<Vec3>& normals, const std::vector<Vec3>&
 // ---------------------------------------------------------------------------
 // Steps
 
-// Runs `step` after resetting the peak, filling the memory columns.
+// Runs `step` after resetting the peak, filling the memory columns. Memory
+// freed by the previous step is handed back to the system first (glibc
+// keeps it otherwise), so that "RSS before" is what is really still held.
 template <class Step>
 void measured(Row& row, Step&& step) {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
   reset_peak_memory();
   row.start_mib = status_mib("VmRSS");
   recon::Timer timer;
@@ -134,18 +146,18 @@ void measured(Row& row, Step&& step) {
   row.peak_mib = status_mib("VmHWM");
 }
 
-void phase_one_and_two(const recon::PointCloud& cloud, int threads) {
+void phase_one_and_two(const recon::PointCloud& cloud, int threads, const std::string& input = "") {
   recon::set_thread_count(threads);
   const int used = recon::thread_count();
 
-  Row one = new_row(cloud.size(), used, "I tangent planes");
+  Row one = new_row(cloud.size(), used, "I tangent planes" + input);
   std::optional<recon::TangentPlanes<3>> planes;
   measured(one, [&] { planes.emplace(recon::estimate_tangent_planes<3>(cloud.positions)); });
   one.reported_s = planes->seconds_knn + planes->seconds_pca;
-  one.breakdown = "tree+knn " + fixed(planes->seconds_knn, 3) + ", pca " + fixed(planes->seconds_pca, 3);
+  one.breakdown = "k " + std::to_string(planes->k) + ": tree+knn " + fixed(planes->seconds_knn, 3) + ", pca " + fixed(planes->seconds_pca, 3);
   print_row(one);
 
-  Row two = new_row(cloud.size(), used, "II orientation");
+  Row two = new_row(cloud.size(), used, "II orientation" + input);
   std::optional<recon::OrientedNormals<3>> oriented;
   measured(two, [&] { oriented.emplace(recon::orient_normals<3>(*planes)); });
   const auto& graph = oriented->graph;
@@ -219,6 +231,11 @@ int main(int argc, char** argv) {
       phase_one_and_two(cloud, 0);
       full_reconstruction(cloud);
       phase_one_and_two(cloud, 1);
+      recon::PointCloud sorted;
+      const std::vector<std::uint32_t> order = recon::bench::morton_order(cloud.positions);
+      sorted.positions = recon::bench::permuted(cloud.positions, order);
+      sorted.normals = recon::bench::permuted(cloud.normals, order);
+      phase_one_and_two(sorted, 0, ", Morton-sorted input");
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "recon_pipeline_bench: %s\n", e.what());

@@ -57,8 +57,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
 
   Box<3> box;
   for (const Vec3& p : seeds) box.extend(p);
-  // A margin of a few cubes lets the surface close just beyond the outermost samples.
-  const double margin = 3.0 * options.cell;
+  const double margin = lattice_margin * options.cell;
   result.origin = box.min - Vec3::Constant(margin);
   for (int a = 0; a < 3; ++a) {
     const double cubes = std::ceil((box.max[a] - box.min[a] + 2.0 * margin) / options.cell);
@@ -120,8 +119,6 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
       ++result.undefined_cubes;
       continue;
     }
-    if (config == 0 || config == 255) continue;
-
     const mc::CubeCase& cube_case = mc::cube_case(config);
     // Vertices: one per crossed lattice edge, shared through edge_vertex;
     // then the centres of the loops that need one (private to this cube).
@@ -156,13 +153,18 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
       result.mesh.triangles.push_back({vertex[corners[0]], vertex[corners[1]], vertex[corners[2]]});
     }
 
-    // Continue through every face the surface crosses.
+    // Continue through every face the surface crosses, or touches at a
+    // corner where f = 0 (the surface may go on in the neighbour only).
     for (int a = 0; a < 3; ++a) {
       for (int s = 0; s < 2; ++s) {
         int inside = 0;
-        for (int c = 0; c < 8; ++c)
-          if (((c >> a) & 1) == s && ((config >> c) & 1u)) ++inside;
-        if (inside == 0 || inside == 4) continue;
+        bool touches = false;
+        for (int c = 0; c < 8; ++c) {
+          if (((c >> a) & 1) != s) continue;
+          if ((config >> c) & 1u) ++inside;
+          if (value[static_cast<std::size_t>(c)] == 0.0) touches = true;
+        }
+        if ((inside == 0 || inside == 4) && !touches) continue;
         Index3 next = cube;
         next[static_cast<std::size_t>(a)] += s == 0 ? -1 : 1;
         visit(next);

@@ -28,7 +28,7 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   auto is_gap = [&](std::uint32_t i, std::uint32_t j, double length) {
     if (!(length > options.gap_factor * std::max(planes.local_gap[i], planes.local_gap[j]))) return false;
     const Vec<D> direction = (planes.origins[j] - planes.origins[i]) / length;
-    return std::max(std::abs(direction.dot(planes.normals[i])), std::abs(direction.dot(planes.normals[j]))) > 0.5;
+    return std::max(std::abs(direction.dot(planes.normals[i])), std::abs(direction.dot(planes.normals[j]))) > 0.25;
   };
   auto cost = [&](std::uint32_t i, std::uint32_t j) {
     return 1.0 - std::abs(planes.normals[i].dot(planes.normals[j]));

@@ -19,8 +19,9 @@ TEST(TangentPlanes, NormalsOfASphereAreRadial) {
     EXPECT_LT(planes.surface_variation(i), 0.01);
   }
   EXPECT_EQ(planes.distinct_points, cloud.size());
-  // 5000 samples on area 4 pi: a disc holding k = 15 of them has radius
-  // sqrt(15 * 4 pi / (5000 pi)) = 0.110; that is rho.
+  // 5000 random samples on area 4 pi: a disc holding k = 15 of them has
+  // radius sqrt(15 * 4 pi / (5000 pi)) = 0.110; for random data that is rho.
+  EXPECT_GT(planes.irregularity, 0.45);
   EXPECT_NEAR(planes.rho, 0.110, 0.015);
   // The widest gap to a nearest neighbour is shorter, about the spacing.
   EXPECT_GT(planes.gap, 0.03);
@@ -77,8 +78,10 @@ TEST(TangentPlanes, FlatPatchIsExactlyPlanar) {
   const auto planes = estimate_tangent_planes<3>(grid);
   for (const Vec3& n : planes.normals) EXPECT_NEAR(std::abs(n.z()), 1.0, 1e-12);
   EXPECT_NEAR(planes.gap, 0.1, 1e-9);  // the grid spacing
-  // Inside the grid, the 15th neighbour (self included) is sqrt(5) steps away.
-  EXPECT_NEAR(planes.rho, std::sqrt(5.0) * 0.1, 1e-9);
+  // A perfectly regular grid: rho is 1.5 spacings (below the radius of the
+  // 15-neighbourhood, sqrt(5) spacings).
+  EXPECT_NEAR(planes.irregularity, 0.0, 0.05);
+  EXPECT_NEAR(planes.rho, 0.15, 1e-9);
 }
 
 }  // namespace

@@ -30,6 +30,13 @@
 
 namespace recon {
 
+/// Lattice corner (0, 0, 0) sits this many cubes below the seeds' bounding
+/// box on each axis: room for the surface to close beyond the outermost
+/// samples, and a fractional part that keeps lattice planes off round
+/// coordinates (flat data at z = 0 would otherwise put corners exactly on
+/// the surface).
+inline constexpr double lattice_margin = 3.381966;
+
 struct MarchingCubesOptions {
   double cell = 0.0;                     ///< cube side (a length); must be > 0
   std::size_t max_cubes = 200'000'000;   ///< refuse lattices that would visit more (memory guard)

@@ -17,8 +17,8 @@
 // inside-out. An edge is a gap when it is
 //   - longer than the sampling allows: length > gap_factor * max(gap_i, gap_j)
 //     (gap from phase I, the widest local spacing between samples), and
-//   - leaves the surface: it makes more than 30 degrees with one of its two
-//     tangent planes (|unit(o_j - o_i) . n| > 0.5 at i or at j).
+//   - leaves the surface: it makes more than about 15 degrees with one of its
+//     two tangent planes (|unit(o_j - o_i) . n| > 0.25 at i or at j).
 // The second test matters for random (Poisson) samples, whose holes between
 // samples reach twice the typical gap but lie along the surface; between
 // two objects, the gap is crossed along the normals. Pieces smaller than
@@ -36,7 +36,7 @@
 namespace recon {
 
 struct RiemannianGraphOptions {
-  int k = 15;                ///< neighbours per origin (itself included) for the k-NN edges
+  int k = 20;                ///< neighbours per origin (itself included) for the k-NN edges
   double gap_factor = 1.5;   ///< a gap is longer than this many local gaps (and leaves the surface)
   int min_component_points = 0;  ///< smaller pieces are joined back; 0 = 2 k
   KdTreeOptions tree{};      ///< kd-tree over the origins

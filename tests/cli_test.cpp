@@ -1,0 +1,720 @@
+// End-to-end tests of the `recon` program: each test runs the built binary
+// in a fresh temporary folder, with stdout and stderr captured, and checks
+// what a user sees (messages, exit status) and what lands on disk (files read
+// back with the library's readers, topology, --stats figures).
+//
+// The program runs with the folder as its working directory, so it is
+// given bare file names and its messages name them the same way; its
+// captured output goes beside the folder, so a listing of the folder shows
+// exactly what the program left there.
+
+#include "io/io_test_helpers.h"
+#include "test_data.h"
+
+#include "recon/io/mesh_io.h"
+#include "recon/io/point_io.h"
+#include "recon/mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <initializer_list>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <sys/wait.h>
+
+namespace recon {
+namespace {
+
+namespace fs = std::filesystem;
+using io::testing::read_bytes;
+using io::testing::TempFolder;
+using io::testing::write_file;
+
+// Seconds a single run may take before `timeout` stops it; the largest run
+// here (30,000 points) takes about 15 s in a Debug build.
+constexpr int run_time_limit = 120;
+
+/// What one run of the program produced.
+struct RunResult {
+  std::string command;
+  int exit_code = -1;  ///< -1 when the shell could not report one
+  std::string out;
+  std::string err;
+};
+
+std::string describe(const RunResult& run) {
+  std::ostringstream text;
+  text << "\n  command: " << run.command << "\n  exit status: " << run.exit_code;
+  if (run.exit_code == 124) text << " (timed out after " << run_time_limit << " s)";
+  if (run.exit_code > 128) text << " (killed by signal " << run.exit_code - 128 << ")";
+  text << "\n  stdout: [" << run.out << "]\n  stderr: [" << run.err << "]";
+  return text.str();
+}
+
+/// One argument for /bin/sh, single-quoted.
+std::string shell_quoted(std::string_view argument) {
+  std::string quoted = "'";
+  for (const char c : argument) {
+    if (c == '\'')
+      quoted += "'\\''";
+    else
+      quoted += c;
+  }
+  return quoted + "'";
+}
+
+std::size_t count_lines(std::string_view text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+/// The lines of `text` that start with `prefix`.
+std::vector<std::string> lines_starting_with(const std::string& text, std::string_view prefix) {
+  std::vector<std::string> found;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);)
+    if (line.starts_with(prefix)) found.push_back(line);
+  return found;
+}
+
+/// A run that succeeded quietly on stderr: exit status 0, nothing on stderr.
+::testing::AssertionResult succeeded(const RunResult& run) {
+  if (run.exit_code == 0 && run.err.empty()) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "expected success with an empty stderr" << describe(run);
+}
+
+/// A run refused the way the program promises: exit status 1 (2 would be an
+/// internal error, above 128 a crash), exactly one line on stderr starting
+/// with "recon: error:", containing every one of `parts`.
+::testing::AssertionResult refused(const RunResult& run, std::initializer_list<std::string_view> parts = {}) {
+  if (run.exit_code != 1) return ::testing::AssertionFailure() << "expected exit status 1" << describe(run);
+  if (!run.err.starts_with("recon: error: ") || count_lines(run.err) != 1 || !run.err.ends_with('\n'))
+    return ::testing::AssertionFailure() << "expected one line on stderr starting with 'recon: error: '"
+                                         << describe(run);
+  for (const std::string_view part : parts)
+    if (run.err.find(part) == std::string::npos)
+      return ::testing::AssertionFailure() << "the message lacks '" << part << "'" << describe(run);
+  return ::testing::AssertionSuccess();
+}
+
+/// The number after `"key": ` in the object `"section": {...}` of a --stats
+/// file (the whole file when section is empty). The program writes one
+/// level of objects holding numbers, so this is enough; it is no JSON parser.
+std::optional<double> stat(const std::string& json, std::string_view section, std::string_view key) {
+  std::string_view scope = json;
+  if (!section.empty()) {
+    const std::string opening = "\"" + std::string(section) + "\": {";
+    const std::size_t begin = json.find(opening);
+    if (begin == std::string::npos) return std::nullopt;
+    const std::size_t end = json.find('}', begin);
+    if (end == std::string::npos) return std::nullopt;
+    scope = scope.substr(begin + opening.size(), end - begin - opening.size());
+  }
+  const std::string label = "\"" + std::string(key) + "\": ";
+  const std::size_t at = scope.find(label);
+  if (at == std::string_view::npos) return std::nullopt;
+  const std::string_view number = scope.substr(at + label.size());
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(number.data(), number.data() + number.size(), value);
+  if (error != std::errc{} || end == number.data()) return std::nullopt;
+  return value;
+}
+
+/// Like stat(), as a whole count; -1 when absent, so comparisons fail visibly.
+long stat_count(const std::string& json, std::string_view section, std::string_view key) {
+  const std::optional<double> value = stat(json, section, key);
+  return value ? static_cast<long>(*value) : -1;
+}
+
+std::string xyz_text(const std::vector<Vec3>& points) {
+  std::ostringstream text;
+  text.precision(17);
+  for (const Vec3& p : points) text << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  return text.str();
+}
+
+/// Checks a mesh that should be a closed torus: watertight, one piece,
+/// Euler characteristic 0, facing outward.
+void expect_closed_torus(const Mesh& mesh) {
+  const MeshTopology t = analyze_topology(mesh);
+  EXPECT_TRUE(t.watertight()) << t.boundary_edges << " boundary, " << t.non_manifold_edges << " non-manifold, "
+                              << t.inconsistent_edges << " inconsistently oriented edges";
+  EXPECT_EQ(t.components, 1U);
+  EXPECT_EQ(t.euler_characteristic, 0);
+  EXPECT_GT(t.signed_volume, 0.0);
+  EXPECT_EQ(t.degenerate_triangles, 0U);
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override { fs::create_directory(work_folder()); }
+
+  [[nodiscard]] fs::path work_folder() const { return temp_ / "run"; }
+  /// A file in the folder the program runs in.
+  [[nodiscard]] fs::path at(std::string_view name) const { return work_folder() / name; }
+
+  /// Runs `recon args...` in the work folder, under `timeout`.
+  [[nodiscard]] RunResult recon(const std::vector<std::string>& args) const {
+    RunResult run;
+    run.command = "recon";
+    std::string command = "cd " + shell_quoted(work_folder().string()) + " && exec timeout -k 10 " +
+                          std::to_string(run_time_limit) + " " + shell_quoted(RECON_CLI_PATH);
+    for (const std::string& argument : args) {
+      command += " " + shell_quoted(argument);
+      run.command += " " + argument;
+    }
+    const fs::path out = temp_ / "stdout.txt";
+    const fs::path err = temp_ / "stderr.txt";
+    command += " </dev/null >" + shell_quoted(out.string()) + " 2>" + shell_quoted(err.string());
+    const int status = std::system(command.c_str());
+    if (status != -1 && WIFEXITED(status)) run.exit_code = WEXITSTATUS(status);
+    if (fs::exists(out)) run.out = read_bytes(out);
+    if (fs::exists(err)) run.err = read_bytes(err);
+    return run;
+  }
+
+  /// `recon --quiet generate shape -n points -o name`, which must succeed.
+  void generate(const std::string& shape, int points, const std::string& name) const {
+    const RunResult run = recon({"--quiet", "generate", shape, "-n", std::to_string(points), "-o", name});
+    ASSERT_TRUE(succeeded(run));
+    ASSERT_TRUE(run.out.empty()) << describe(run);
+    ASSERT_TRUE(fs::is_regular_file(at(name)));
+  }
+
+  /// Names in the work folder, sorted.
+  [[nodiscard]] std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(work_folder())) names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  /// The names in the work folder starting with "." (the writers' temporaries).
+  [[nodiscard]] std::vector<std::string> hidden_entries() const {
+    std::vector<std::string> hidden;
+    for (const std::string& name : entries())
+      if (name.starts_with('.')) hidden.push_back(name);
+    return hidden;
+  }
+
+ private:
+  TempFolder temp_;
+};
+
+// A suite name per theme, so that --gtest_filter can pick one.
+using CliHelp = CliTest;
+using CliErrors = CliTest;
+using CliAtomicOutput = CliTest;
+using CliNormals = CliTest;
+using CliReconstruct = CliTest;
+using CliOutput = CliTest;
+using CliLattice = CliTest;
+using CliInfo = CliTest;
+using CliDeterminism = CliTest;
+using CliRealData = CliTest;
+
+// ---------------------------------------------------------------- help
+
+TEST_F(CliHelp, ProgramListsSubcommandsAndGlobalOptions) {
+  const RunResult run = recon({"--help"});
+  ASSERT_TRUE(succeeded(run));
+  for (const char* part : {"info", "normals", "reconstruct", "generate", "--quiet", "--threads"})
+    EXPECT_NE(run.out.find(part), std::string::npos) << "help lacks " << part << describe(run);
+  EXPECT_TRUE(entries().empty());
+}
+
+TEST_F(CliHelp, EachSubcommandListsItsOptions) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> expected = {
+      {"info", {"input", "--format", "--k"}},
+      {"normals", {"input", "--format", "--output", "--k", "--rho", "--ascii", "--stats"}},
+      {"reconstruct",
+       {"input", "--format", "--output", "--k", "--rho", "--delta", "--cell", "--resolution", "--use-normals",
+        "--ascii", "--stats"}},
+      {"generate", {"shape", "--output", "--points", "--seed", "--noise", "--with-normals", "sphere", "torus", "two"}},
+  };
+  for (const auto& [command, options] : expected) {
+    const RunResult run = recon({command, "--help"});
+    ASSERT_TRUE(succeeded(run));
+    EXPECT_NE(run.out.find("Usage:"), std::string::npos) << describe(run);
+    for (const std::string& option : options)
+      EXPECT_NE(run.out.find(option), std::string::npos) << command << " --help lacks " << option << describe(run);
+  }
+  EXPECT_TRUE(entries().empty());
+}
+
+// ---------------------------------------------------------------- errors
+
+TEST_F(CliErrors, MissingInputIsNamed) {
+  for (const char* command : {"info", "normals", "reconstruct"}) {
+    std::vector<std::string> args = {command, "missing.xyz"};
+    if (std::string_view(command) != "info") args.insert(args.end(), {"-o", "out.ply"});
+    EXPECT_TRUE(refused(recon(args), {"missing.xyz: cannot open"})) << command;
+  }
+  EXPECT_TRUE(entries().empty());
+}
+
+TEST_F(CliErrors, FolderAsInputIsRefused) {
+  fs::create_directory(at("folder.xyz"));
+  EXPECT_TRUE(refused(recon({"reconstruct", "folder.xyz", "-o", "out.ply"}), {"folder.xyz: cannot open"}));
+  EXPECT_TRUE(refused(recon({"info", "folder.xyz"}), {"folder.xyz: cannot open"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"folder.xyz"});
+}
+
+TEST_F(CliErrors, UnknownInputExtensionPointsToFormatOption) {
+  std::vector<Vec3> points;
+  for (int i = 0; i < 40; ++i) points.emplace_back(std::cos(i), std::sin(i), 0.1 * i);
+  write_file(at("cloud.dat"), xyz_text(points));
+  EXPECT_TRUE(refused(recon({"reconstruct", "cloud.dat", "-o", "out.ply"}), {"cloud.dat", ".dat", "--format"}));
+  EXPECT_FALSE(fs::exists(at("out.ply")));
+
+  // The option the message points to does read the file.
+  const RunResult named = recon({"info", "cloud.dat", "--format", "xyz"});
+  ASSERT_TRUE(succeeded(named));
+  EXPECT_NE(named.out.find("points        40\n"), std::string::npos) << describe(named);
+  EXPECT_EQ(entries(), std::vector<std::string>{"cloud.dat"});
+}
+
+TEST_F(CliErrors, UnknownFormatNameIsRefused) {
+  write_file(at("cloud.dat"), "0 0 0\n1 0 0\n0 1 0\n");
+  EXPECT_TRUE(refused(recon({"reconstruct", "cloud.dat", "--format", "bogus", "-o", "out.ply"}), {"'bogus'"}));
+  EXPECT_TRUE(refused(recon({"info", "cloud.dat", "--format", "bogus"}), {"'bogus'"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"cloud.dat"});
+}
+
+TEST_F(CliErrors, MalformedTextNamesFileAndLine) {
+  write_file(at("bad.xyz"), "0 0 0\n1 0 0\n1 2 abc\n0 1 0\n");
+  const RunResult run = recon({"reconstruct", "bad.xyz", "-o", "out.ply"});
+  EXPECT_TRUE(refused(run, {"abc"}));
+  EXPECT_TRUE(run.err.starts_with("recon: error: bad.xyz:3:")) << describe(run);
+  EXPECT_EQ(entries(), std::vector<std::string>{"bad.xyz"});
+}
+
+TEST_F(CliErrors, TruncatedBinaryPlyNamesTheByte) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 200, "whole.ply"));
+  const std::string whole = read_bytes(at("whole.ply"));
+  ASSERT_GT(whole.size(), 1000U);
+  write_file(at("cut.ply"), whole.substr(0, 1000));
+  const RunResult run = recon({"reconstruct", "cut.ply", "-o", "out.ply"});
+  EXPECT_TRUE(refused(run, {"byte "}));
+  EXPECT_TRUE(run.err.starts_with("recon: error: cut.ply: byte ")) << describe(run);
+  EXPECT_EQ(entries(), (std::vector<std::string>{"cut.ply", "whole.ply"}));
+}
+
+TEST_F(CliErrors, NanCoordinateNamesTheLine) {
+  // Line 5, after a comment and a blank line, which count as lines too.
+  write_file(at("nan.xyz"), "# a comment\n0 0 0\n\n1 0 0\n1 nan 2\n0 1 0\n");
+  const RunResult run = recon({"reconstruct", "nan.xyz", "-o", "out.ply"});
+  EXPECT_TRUE(refused(run));
+  EXPECT_TRUE(run.err.starts_with("recon: error: nan.xyz:5:")) << describe(run);
+  EXPECT_EQ(entries(), std::vector<std::string>{"nan.xyz"});
+}
+
+TEST_F(CliErrors, FewerPointsThanTheNeighbourhoodSaysToLowerK) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 10; ++i) points.emplace_back(unit(random), unit(random), unit(random));
+  write_file(at("ten.xyz"), xyz_text(points));
+  EXPECT_TRUE(refused(recon({"reconstruct", "ten.xyz", "-o", "out.ply"}), {"10", "--k"}));
+  EXPECT_TRUE(refused(recon({"normals", "ten.xyz", "-o", "out.ply"}), {"10", "--k"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"ten.xyz"});
+}
+
+TEST_F(CliErrors, IdenticalPointsAreRefused) {
+  write_file(at("same.xyz"), xyz_text(std::vector<Vec3>(50, Vec3(1.5, -2.0, 3.25))));
+  EXPECT_TRUE(refused(recon({"reconstruct", "same.xyz", "-o", "out.ply"}), {"distinct"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "same.xyz", "--k", "3", "-o", "out.ply"}), {"distinct"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"same.xyz"});
+}
+
+TEST_F(CliErrors, CollinearPointsAreRefused) {
+  std::vector<Vec3> points;
+  for (int i = 0; i < 60; ++i) points.push_back(Vec3(0.5, -1.0, 2.0) + 0.037 * i * Vec3(1.0, 2.0, -0.5));
+  write_file(at("line.xyz"), xyz_text(points));
+  EXPECT_TRUE(refused(recon({"reconstruct", "line.xyz", "-o", "out.ply"}), {"line"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"line.xyz"});
+}
+
+TEST_F(CliErrors, OutputEqualToInputIsRefusedAndTheInputKept) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 300, "s.ply"));
+  const std::string before = read_bytes(at("s.ply"));
+  for (const char* command : {"reconstruct", "normals"}) {
+    for (const char* output : {"s.ply", "./s.ply"}) {
+      EXPECT_TRUE(refused(recon({command, "s.ply", "-o", output}), {"s.ply"})) << command << " -o " << output;
+      EXPECT_EQ(read_bytes(at("s.ply")), before) << command << " -o " << output << " changed the input";
+    }
+  }
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+TEST_F(CliErrors, OutputIntoMissingFolderIsRefused) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 300, "s.ply"));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "nowhere/out.ply"}), {"nowhere"}));
+  EXPECT_TRUE(refused(recon({"normals", "s.ply", "-o", "nowhere/out.ply"}), {"nowhere"}));
+  EXPECT_TRUE(refused(recon({"generate", "sphere", "-n", "100", "-o", "nowhere/out.ply"}), {"nowhere"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+TEST_F(CliErrors, UnknownOutputExtensionIsRefusedBeforeAnyWork) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 300, "s.ply"));
+  // Nothing on stdout: the input was not even read (its "read" line is
+  // the first thing a run prints).
+  for (const char* output : {"mesh.xyz", "mesh.foo"}) {
+    const RunResult run = recon({"reconstruct", "s.ply", "-o", output});
+    EXPECT_TRUE(refused(run, {output}));
+    EXPECT_TRUE(run.out.empty()) << "work was done before the refusal" << describe(run);
+  }
+  const RunResult normals = recon({"normals", "s.ply", "-o", "cloud.foo"});
+  EXPECT_TRUE(refused(normals, {"cloud.foo"}));
+  EXPECT_TRUE(normals.out.empty()) << "work was done before the refusal" << describe(normals);
+  EXPECT_TRUE(refused(recon({"generate", "sphere", "-n", "100", "-o", "cloud.foo"}), {"cloud.foo"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+// ---------------------------------------------------------------- never half-written
+
+TEST_F(CliAtomicOutput, FailedRunKeepsThePreviousOutput) {
+  const std::string previous = "a previous mesh, to be kept\n";
+  write_file(at("mesh.ply"), previous);
+  write_file(at("bad.xyz"), "0 0 0\n1 0 0\n1 2 abc\n");
+  std::vector<Vec3> points;
+  for (int i = 0; i < 60; ++i) points.emplace_back(0.1 * i, 0.2 * i, 0.3 * i);
+  write_file(at("line.xyz"), xyz_text(points));
+
+  // Refused while reading, and refused by phase I after reading.
+  for (const char* input : {"bad.xyz", "line.xyz"}) {
+    EXPECT_TRUE(refused(recon({"reconstruct", input, "-o", "mesh.ply", "--stats", "stats.json"}))) << input;
+    EXPECT_EQ(read_bytes(at("mesh.ply")), previous) << input;
+  }
+  EXPECT_EQ(entries(), (std::vector<std::string>{"bad.xyz", "line.xyz", "mesh.ply"}));
+}
+
+TEST_F(CliAtomicOutput, FailedWriteLeavesNoTemporaryFile) {
+  // The output name is taken by a folder: the mesh is computed and written to
+  // a temporary file, and the final rename fails.
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 300, "s.ply"));
+  fs::create_directory(at("mesh.ply"));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "mesh.ply"}), {"mesh.ply"}));
+  EXPECT_TRUE(fs::is_directory(at("mesh.ply")));
+  EXPECT_TRUE(fs::is_empty(at("mesh.ply")));
+  EXPECT_EQ(entries(), (std::vector<std::string>{"mesh.ply", "s.ply"}));
+}
+
+TEST_F(CliAtomicOutput, SuccessReplacesTheOutputAndLeavesNoTemporaryFile) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 1000, "s.xyz"));
+  const std::string previous = "a previous mesh, to be replaced\n";
+  write_file(at("mesh.ply"), previous);
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "s.xyz", "-o", "mesh.ply", "--stats", "stats.json"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "s.xyz", "-o", "oriented.ply", "--stats", "normals.json"})));
+  EXPECT_NE(read_bytes(at("mesh.ply")), previous);
+  EXPECT_GT(io::read_mesh(at("mesh.ply")).triangles.size(), 100U);
+  EXPECT_EQ(entries(),
+            (std::vector<std::string>{"mesh.ply", "normals.json", "oriented.ply", "s.xyz", "stats.json"}));
+  EXPECT_TRUE(hidden_entries().empty());
+}
+
+// ---------------------------------------------------------------- normals
+
+TEST_F(CliNormals, SphereNormalsAreUnitAndOutward) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 5000, "s.xyz"));
+  const RunResult run = recon({"normals", "s.xyz", "-o", "n.ply"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_TRUE(read_bytes(at("n.ply")).starts_with("ply\nformat binary_little_endian 1.0\n"));
+
+  const PointCloud input = io::read_points(at("s.xyz"));
+  const PointCloud cloud = io::read_points(at("n.ply"));
+  ASSERT_EQ(input.size(), 5000U);
+  ASSERT_EQ(cloud.size(), 5000U);
+  ASSERT_TRUE(cloud.has_normals());
+  ASSERT_EQ(cloud.normals.size(), cloud.size());
+  std::size_t not_unit = 0, inward = 0, far_from_radial = 0, moved = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vec3& p = cloud.positions[i];
+    const Vec3& n = cloud.normals[i];
+    if (std::abs(n.norm() - 1.0) > 1e-9) ++not_unit;
+    if (!(n.dot(p) > 0.0)) ++inward;
+    // The sphere is centred at the origin: the true normal is p / |p|.
+    if (!(n.dot(p.normalized()) > 0.95)) ++far_from_radial;
+    if (p != input.positions[i]) ++moved;
+  }
+  EXPECT_EQ(not_unit, 0U);
+  EXPECT_EQ(inward, 0U);
+  EXPECT_EQ(far_from_radial, 0U);
+  EXPECT_EQ(moved, 0U) << "the positions should be written back unchanged, in order";
+}
+
+TEST_F(CliNormals, AsciiFlagWritesAsciiPly) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 2000, "s.xyz"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "s.xyz", "-o", "n.ply", "--ascii"})));
+  const std::string content = read_bytes(at("n.ply"));
+  EXPECT_TRUE(content.starts_with("ply\nformat ascii 1.0\n")) << content.substr(0, 100);
+  const PointCloud cloud = io::read_points(at("n.ply"));
+  EXPECT_EQ(cloud.size(), 2000U);
+  EXPECT_EQ(cloud.normals.size(), 2000U);
+}
+
+// ---------------------------------------------------------------- reconstruct
+
+TEST_F(CliReconstruct, TorusIsClosedGenusOneAndStatsMatchTheFile) {
+  ASSERT_NO_FATAL_FAILURE(generate("torus", 20000, "t.ply"));
+  const RunResult run = recon({"reconstruct", "t.ply", "-o", "m.ply", "--stats", "st.json"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_NE(run.out.find("1 component,"), std::string::npos) << describe(run);
+  EXPECT_TRUE(read_bytes(at("m.ply")).starts_with("ply\nformat binary_little_endian 1.0\n"));
+
+  const Mesh mesh = io::read_mesh(at("m.ply"));
+  expect_closed_torus(mesh);
+  const MeshTopology t = analyze_topology(mesh);
+  EXPECT_EQ(t.vertices, mesh.vertices.size()) << "the file holds vertices no triangle uses";
+
+  const std::string json = read_bytes(at("st.json"));
+  EXPECT_EQ(stat_count(json, "input", "points"), 20000);
+  EXPECT_EQ(stat_count(json, "mesh", "vertices"), static_cast<long>(mesh.vertices.size())) << json;
+  EXPECT_EQ(stat_count(json, "mesh", "faces"), static_cast<long>(mesh.triangles.size())) << json;
+  EXPECT_EQ(stat_count(json, "mesh", "components"), 1) << json;
+  EXPECT_EQ(stat_count(json, "mesh", "boundary_loops"), 0) << json;
+  EXPECT_EQ(stat_count(json, "mesh", "euler_characteristic"), 0) << json;
+  EXPECT_EQ(stat_count(json, "orientation", "components"), 1) << json;
+
+  // Every phase's time: present, positive, and within the total.
+  const std::optional<double> total = stat(json, "", "seconds_total");
+  ASSERT_TRUE(total.has_value()) << json;
+  const std::vector<std::pair<const char*, const char*>> timings = {
+      {"input", "seconds"},              // reading
+      {"tangent_planes", "seconds_knn"}, // phase I
+      {"tangent_planes", "seconds_pca"},
+      {"orientation", "seconds_knn"},    // phase II
+      {"orientation", "seconds_emst"},
+      {"orientation", "seconds_graph"},
+      {"orientation", "seconds_mst"},
+      {"contouring", "seconds"},         // phases III and IV together
+      {"output", "seconds"},             // writing
+  };
+  for (const auto& [section, key] : timings) {
+    const std::optional<double> seconds = stat(json, section, key);
+    ASSERT_TRUE(seconds.has_value()) << section << "." << key << " missing in\n" << json;
+    EXPECT_GT(*seconds, 0.0) << section << "." << key;
+    EXPECT_LE(*seconds, *total) << section << "." << key;
+  }
+  EXPECT_EQ(entries(), (std::vector<std::string>{"m.ply", "st.json", "t.ply"}));
+}
+
+// A mesh file as written, with the counts its --stats file gives.
+struct WrittenMesh {
+  std::string bytes;
+  long faces = -1;
+  long vertices = -1;
+};
+
+class CliMeshFormat : public CliTest {
+ protected:
+  /// Reconstructs a 5,000-point torus into `name` and returns the file's
+  /// bytes with the face and vertex counts of its --stats.
+  WrittenMesh reconstruct_torus(const std::string& name) {
+    WrittenMesh written;
+    generate("torus", 5000, "t.ply");
+    const RunResult run = recon({"--quiet", "reconstruct", "t.ply", "-o", name, "--stats", "st.json"});
+    EXPECT_TRUE(succeeded(run));
+    EXPECT_TRUE(run.out.empty()) << describe(run);
+    if (!fs::exists(at(name))) {
+      ADD_FAILURE() << name << " was not written";
+      return written;
+    }
+    written.bytes = read_bytes(at(name));
+    const std::string json = read_bytes(at("st.json"));
+    written.faces = stat_count(json, "mesh", "faces");
+    written.vertices = stat_count(json, "mesh", "vertices");
+    EXPECT_GT(written.faces, 1000) << json;
+    EXPECT_EQ(stat_count(json, "mesh", "components"), 1) << json;
+    EXPECT_EQ(stat_count(json, "mesh", "boundary_loops"), 0) << json;
+    EXPECT_EQ(entries(), (std::vector<std::string>{name, "st.json", "t.ply"}));
+    return written;
+  }
+};
+
+TEST_F(CliMeshFormat, Obj) {
+  const WrittenMesh written = reconstruct_torus("m.obj");
+  EXPECT_EQ(static_cast<long>(lines_starting_with(written.bytes, "v ").size()), written.vertices);
+  EXPECT_EQ(static_cast<long>(lines_starting_with(written.bytes, "f ").size()), written.faces);
+  const Mesh mesh = io::read_mesh(at("m.obj"));
+  EXPECT_EQ(static_cast<long>(mesh.triangles.size()), written.faces);
+  expect_closed_torus(mesh);
+}
+
+TEST_F(CliMeshFormat, Off) {
+  const WrittenMesh written = reconstruct_torus("m.off");
+  EXPECT_TRUE(written.bytes.starts_with("OFF")) << written.bytes.substr(0, 40);
+  const Mesh mesh = io::read_mesh(at("m.off"));
+  EXPECT_EQ(static_cast<long>(mesh.vertices.size()), written.vertices);
+  EXPECT_EQ(static_cast<long>(mesh.triangles.size()), written.faces);
+  expect_closed_torus(mesh);
+}
+
+TEST_F(CliMeshFormat, BinaryStl) {
+  const WrittenMesh written = reconstruct_torus("m.stl");
+  ASSERT_GT(written.faces, 0);
+  EXPECT_EQ(static_cast<long>(written.bytes.size()), 84 + 50 * written.faces);
+  ASSERT_GE(written.bytes.size(), 84U);
+  // A binary STL must not start with "solid" (readers take that for ASCII STL).
+  EXPECT_FALSE(written.bytes.starts_with("solid"));
+  std::uint32_t count = 0;  // little-endian, at byte 80
+  for (std::size_t i = 0; i < 4; ++i)
+    count |= static_cast<std::uint32_t>(static_cast<unsigned char>(written.bytes[80 + i])) << (8 * i);
+  EXPECT_EQ(static_cast<long>(count), written.faces);
+}
+
+TEST_F(CliReconstruct, TwoShapesGiveTwoComponents) {
+  ASSERT_NO_FATAL_FAILURE(generate("two", 30000, "two.ply"));
+  const RunResult run = recon({"reconstruct", "two.ply", "-o", "m.ply"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_NE(run.out.find("2 components"), std::string::npos) << describe(run);
+  const MeshTopology t = analyze_topology(io::read_mesh(at("m.ply")));
+  EXPECT_EQ(t.components, 2U);
+  EXPECT_TRUE(t.watertight());
+  // A sphere (2) and a torus (0).
+  EXPECT_EQ(t.euler_characteristic, 2);
+  EXPECT_GT(t.signed_volume, 0.0);
+}
+
+// ---------------------------------------------------------------- what is printed
+
+TEST_F(CliOutput, QuietPrintsNothing) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 1500, "s.ply"));
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--quiet", "reconstruct", "s.ply", "-o", "m.ply", "--stats", "st.json"},
+        std::vector<std::string>{"-q", "normals", "s.ply", "-o", "n.ply"},
+        std::vector<std::string>{"-q", "generate", "torus", "-n", "100", "-o", "t.xyz"}}) {
+    const RunResult run = recon(args);
+    EXPECT_TRUE(succeeded(run));
+    EXPECT_TRUE(run.out.empty()) << describe(run);
+  }
+  EXPECT_EQ(entries(), (std::vector<std::string>{"m.ply", "n.ply", "s.ply", "st.json", "t.xyz"}));
+}
+
+TEST_F(CliOutput, ReconstructPrintsOneLinePerPhase) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 1500, "s.ply"));
+  const RunResult run = recon({"reconstruct", "s.ply", "-o", "m.ply"});
+  ASSERT_TRUE(succeeded(run));
+  // "phase I " does not match "phase II", nor "phase II " "phase III".
+  for (const char* phase : {"phase I ", "phase II ", "phase III ", "phase IV "})
+    EXPECT_EQ(lines_starting_with(run.out, phase).size(), 1U) << phase << describe(run);
+  EXPECT_EQ(lines_starting_with(run.out, "read ").size(), 1U) << describe(run);
+  EXPECT_EQ(lines_starting_with(run.out, "wrote ").size(), 1U) << describe(run);
+  // Phases I and II only, for normals.
+  const RunResult normals = recon({"normals", "s.ply", "-o", "n.ply"});
+  ASSERT_TRUE(succeeded(normals));
+  EXPECT_EQ(lines_starting_with(normals.out, "phase I ").size(), 1U) << describe(normals);
+  EXPECT_EQ(lines_starting_with(normals.out, "phase II ").size(), 1U) << describe(normals);
+  EXPECT_TRUE(lines_starting_with(normals.out, "phase III ").empty()) << describe(normals);
+}
+
+// ---------------------------------------------------------------- lattice
+
+TEST_F(CliLattice, ResolutionAndCellChangeTheLattice) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 3000, "s.ply"));
+  Box<3> box;
+  for (const Vec3& p : io::read_points(at("s.ply")).positions) box.extend(p);
+  const double longest = box.extent().maxCoeff();
+
+  struct Outcome {
+    double cell = 0.0;
+    long faces = -1;
+  };
+  const auto run_with = [&](const std::string& option, const std::string& value) {
+    const RunResult run =
+        recon({"--quiet", "reconstruct", "s.ply", "-o", "m.ply", option, value, "--stats", "st.json"});
+    EXPECT_TRUE(succeeded(run)) << option << " " << value;
+    const std::string json = fs::exists(at("st.json")) ? read_bytes(at("st.json")) : std::string();
+    EXPECT_EQ(stat_count(json, "mesh", "faces"), static_cast<long>(io::read_mesh(at("m.ply")).triangles.size()));
+    return Outcome{stat(json, "contouring", "cell").value_or(-1.0), stat_count(json, "mesh", "faces")};
+  };
+  const Outcome fine = run_with("--resolution", "20");
+  const Outcome coarse = run_with("--resolution", "10");
+  EXPECT_NEAR(fine.cell, longest / 20.0, 1e-12 * longest);
+  EXPECT_NEAR(coarse.cell, longest / 10.0, 1e-12 * longest);
+  EXPECT_LT(coarse.faces, fine.faces);
+  EXPECT_GT(coarse.faces, 0);
+
+  const Outcome small_cell = run_with("--cell", "0.2");
+  const Outcome large_cell = run_with("--cell", "0.4");
+  EXPECT_EQ(small_cell.cell, 0.2);
+  EXPECT_EQ(large_cell.cell, 0.4);
+  EXPECT_LT(large_cell.faces, small_cell.faces);
+  EXPECT_GT(large_cell.faces, 0);
+}
+
+TEST_F(CliLattice, ResolutionAndCellTogetherAreRefused) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 300, "s.ply"));
+  const RunResult run = recon({"reconstruct", "s.ply", "-o", "m.ply", "--cell", "0.2", "--resolution", "20"});
+  EXPECT_NE(run.exit_code, 0) << describe(run);
+  EXPECT_NE(run.err.find("--cell"), std::string::npos) << describe(run);
+  EXPECT_NE(run.err.find("--resolution"), std::string::npos) << describe(run);
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+// ---------------------------------------------------------------- info
+
+TEST_F(CliInfo, ReportsDuplicatesAndPointCount) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 100; ++i) points.emplace_back(unit(random), unit(random), unit(random));
+  for (const int i : {3, 17, 17, 42, 60, 88, 99}) {  // 7 exact copies of earlier points
+    const Vec3 copy = points[static_cast<std::size_t>(i)];
+    points.push_back(copy);
+  }
+  std::shuffle(points.begin(), points.end(), random);
+  write_file(at("dups.xyz"), xyz_text(points));
+
+  const RunResult run = recon({"info", "dups.xyz"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_NE(run.out.find("\npoints        107\n"), std::string::npos) << describe(run);
+  EXPECT_NE(run.out.find("\nduplicates    7 "), std::string::npos) << describe(run);
+  EXPECT_EQ(entries(), std::vector<std::string>{"dups.xyz"});
+}
+
+// ---------------------------------------------------------------- determinism
+
+TEST_F(CliDeterminism, ThreadCountDoesNotChangeTheMesh) {
+  ASSERT_NO_FATAL_FAILURE(generate("torus", 5000, "t.ply"));
+  for (const std::string threads : {"1", "2"})
+    ASSERT_TRUE(succeeded(
+        recon({"--quiet", "--threads", threads, "reconstruct", "t.ply", "-o", "m" + threads + ".ply", "--stats",
+               threads + ".json"})));
+  // The option took effect, so the comparison is between different runs.
+  EXPECT_EQ(stat_count(read_bytes(at("1.json")), "", "threads"), 1);
+  EXPECT_EQ(stat_count(read_bytes(at("2.json")), "", "threads"), 2);
+  const std::string one = read_bytes(at("m1.ply"));
+  EXPECT_GT(one.size(), 1000U);
+  EXPECT_TRUE(one == read_bytes(at("m2.ply"))) << "--threads 1 and --threads 2 wrote different meshes";
+}
+
+// ---------------------------------------------------------------- real data
+
+TEST_F(CliRealData, HoppeCactus) {
+  const fs::path input = testing::shared_data("hoppe_cactus/cactus.pts");
+  RECON_REQUIRE_DATA(input);
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", input.string(), "-o", "cactus.ply"})));
+  EXPECT_GE(io::read_mesh(at("cactus.ply")).triangles.size(), 100U);
+}
+
+TEST_F(CliRealData, PclLamppost) {
+  const fs::path input = testing::shared_data("pcl_lamppost/lamppost.pcd");
+  RECON_REQUIRE_DATA(input);
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", input.string(), "-o", "lamppost.ply"})));
+  EXPECT_GE(io::read_mesh(at("lamppost.ply")).triangles.size(), 100U);
+}
+
+}  // namespace
+}  // namespace recon

@@ -1,0 +1,311 @@
+#include "recon/reconstruct.h"
+
+#include "recon/errors.h"
+#include "recon/io/mesh_io.h"
+#include "recon/io/point_io.h"
+#include "recon/mesh.h"
+#include "recon/shapes.h"
+#include "test_data.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <numbers>
+#include <random>
+
+namespace recon {
+namespace {
+
+struct Outcome {
+  Reconstruction r;
+  MeshTopology topology;
+  double diagonal = 0.0;
+  double mean_error = 0.0;  // mean distance of mesh vertices to the true surface
+};
+
+Outcome reconstruct_shape(const Shape& shape, const PointCloud& cloud, const ReconstructionOptions& options = {}) {
+  Outcome o;
+  o.r = reconstruct(cloud, options);
+  o.topology = analyze_topology(o.r.contour.mesh);
+  o.diagonal = bounding_box<3>(cloud.positions).diagonal();
+  double sum = 0.0;
+  for (const Vec3& v : o.r.contour.mesh.vertices) sum += shape.distance(v);
+  o.mean_error = sum / static_cast<double>(std::max<std::size_t>(1, o.r.contour.mesh.vertices.size()));
+  return o;
+}
+
+void expect_closed_shape(const Outcome& o, std::size_t components, long euler) {
+  EXPECT_TRUE(o.topology.watertight()) << "boundary " << o.topology.boundary_edges << ", non-manifold "
+                                       << o.topology.non_manifold_edges << ", inconsistent "
+                                       << o.topology.inconsistent_edges;
+  EXPECT_EQ(o.topology.components, components);
+  EXPECT_EQ(o.topology.euler_characteristic, euler);
+  EXPECT_EQ(o.topology.degenerate_triangles, 0u);
+  for (const auto& c : o.topology.component_list) EXPECT_GT(c.signed_volume, 0.0) << "a component faces inward";
+  EXPECT_LT(o.mean_error, 0.001 * o.diagonal);
+}
+
+TEST(Reconstruct, Sphere) {
+  const auto shape = make_sphere();
+  const auto o = reconstruct_shape(*shape, shape->sample(20000, 21));
+  expect_closed_shape(o, 1, 2);
+}
+
+TEST(Reconstruct, Torus) {
+  const auto shape = make_torus();
+  const auto o = reconstruct_shape(*shape, shape->sample(100000, 22));
+  expect_closed_shape(o, 1, 0);
+}
+
+TEST(Reconstruct, Ellipsoid) {
+  const auto shape = make_ellipsoid();
+  const auto o = reconstruct_shape(*shape, shape->sample(20000, 23));
+  expect_closed_shape(o, 1, 2);
+}
+
+// Sharp edges and corners are the hard case of nearest-plane distances:
+// planes fitted across an edge are tilted and can draw small fins. With
+// k = 20 and 50k samples, 20 of 20 random boxes came out as one closed
+// surface (19 of 20 at 20k samples); three of them are checked here.
+TEST(Reconstruct, BoxWithSharpEdgesIsOneClosedSurface) {
+  const auto shape = make_box();
+  for (std::uint64_t seed : {24u, 25u, 26u}) {
+    const auto o = reconstruct_shape(*shape, shape->sample(50000, seed));
+    expect_closed_shape(o, 1, 2);
+  }
+}
+
+TEST(Reconstruct, TwoSeparateShapes) {
+  const auto shape = make_sphere_and_torus(0.3);
+  const auto o = reconstruct_shape(*shape, shape->sample(40000, 27));
+  expect_closed_shape(o, 2, 2);  // sphere (2) + torus (0)
+  ASSERT_TRUE(o.r.oriented.has_value());
+  EXPECT_EQ(o.r.oriented->component_count(), 2u);
+}
+
+TEST(Reconstruct, NoisyTorusStaysWatertightGenusOne) {
+  const auto shape = make_torus();
+  PointCloud cloud = shape->sample(100000, 28);
+  const double sigma = 0.002 * bounding_box<3>(cloud.positions).diagonal();
+  std::mt19937_64 rng(29);
+  std::normal_distribution<double> noise(0.0, sigma);
+  for (Vec3& p : cloud.positions) p += Vec3(noise(rng), noise(rng), noise(rng));
+  const auto o = reconstruct_shape(*shape, cloud);
+  EXPECT_TRUE(o.topology.watertight());
+  EXPECT_EQ(o.topology.components, 1u);
+  EXPECT_EQ(o.topology.euler_characteristic, 0);
+  EXPECT_GT(o.topology.signed_volume, 0.0);
+  // The noise is measured and k raised to average it out.
+  EXPECT_GT(o.r.planes.k, o.r.planes.k_requested);
+  EXPECT_GT(o.r.delta, sigma);
+  EXPECT_LT(o.mean_error, 0.5 * sigma);  // smoother than the data
+}
+
+// A flat square with a round hole: the outer rim and the hole stay open.
+TEST(Reconstruct, PlanePatchWithHoleStaysOpen) {
+  std::mt19937_64 rng(30);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  PointCloud cloud;
+  const double hole = 0.35;
+  while (cloud.size() < 30000) {
+    const Vec3 p(u(rng), u(rng), 0.0);
+    if (p.head<2>().norm() > hole) cloud.positions.push_back(p);
+  }
+  const Reconstruction r = reconstruct(cloud);
+  const MeshTopology t = analyze_topology(r.contour.mesh);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_EQ(t.boundary_loops, 2u);  // the rim and the hole
+  EXPECT_EQ(t.euler_characteristic, 0);  // an annulus
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+  // f is defined up to 1.5 rho_i + delta beyond the last samples (see
+  // signed_distance.h), so an open boundary may reach that far past the data,
+  // and no farther.
+  const double largest_rho = *std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end());
+  const double reach = 1.5 * largest_rho + r.delta;
+  EXPECT_LT(reach, 0.5 * hole);
+  for (const Vec3& v : r.contour.mesh.vertices) {
+    EXPECT_NEAR(v.z(), 0.0, 1e-9);                   // a flat patch reconstructs flat
+    EXPECT_GT(v.head<2>().norm(), hole - reach);     // no cap over the hole
+    EXPECT_LT(v.head<2>().lpNorm<Eigen::Infinity>(), 1.0 + reach);
+  }
+}
+
+TEST(Reconstruct, HemisphereRimStaysOpen) {
+  PointCloud cloud;
+  const PointCloud sphere = make_sphere()->sample(40000, 31);
+  for (const Vec3& p : sphere.positions)
+    if (p.z() > 0.0) cloud.positions.push_back(p);
+  const Reconstruction r = reconstruct(cloud);
+  const MeshTopology t = analyze_topology(r.contour.mesh);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_EQ(t.boundary_loops, 1u);
+  EXPECT_EQ(t.euler_characteristic, 1);  // a disc
+  // The rim may run on past the data by f's reach (see the plane test), no
+  // farther: nothing closes the bottom.
+  const double largest_rho = *std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end());
+  const double reach = 1.5 * largest_rho + r.delta;
+  EXPECT_LT(reach, 0.2);
+  for (const Vec3& v : r.contour.mesh.vertices) EXPECT_GT(v.z(), -reach);
+}
+
+// Density varying by 20x over a sphere (sparse at the bottom, dense at the
+// top) with one real hole: sparse regions stay closed, the hole stays open.
+TEST(Reconstruct, VaryingDensityKeepsSparseRegionsClosedAndRealHolesOpen) {
+  std::mt19937_64 rng(32);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const PointCloud dense = make_sphere()->sample(200000, 33);
+  PointCloud cloud;
+  const Vec3 hole_centre = Vec3(1.0, 0.0, 0.2).normalized();
+  const double hole_angle = 0.35;  // radians
+  for (const Vec3& p : dense.positions) {
+    const double keep = std::pow(20.0, (p.z() - 1.0) / 2.0);  // 1 at the top, 1/20 at the bottom
+    if (u(rng) > keep) continue;
+    if (std::acos(std::clamp(p.dot(hole_centre), -1.0, 1.0)) < hole_angle) continue;
+    cloud.positions.push_back(p);
+  }
+  const Reconstruction r = reconstruct(cloud);
+  const MeshTopology t = analyze_topology(r.contour.mesh);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_EQ(t.boundary_loops, 1u);  // the hole, and nothing in the sparse part
+  EXPECT_EQ(t.euler_characteristic, 1);
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+  for (const Vec3& v : r.contour.mesh.vertices) {
+    EXPECT_NEAR(v.norm(), 1.0, 0.02);
+    EXPECT_GT(std::acos(std::clamp(v.normalized().dot(hole_centre), -1.0, 1.0)), 0.5 * hole_angle);
+  }
+}
+
+TEST(Reconstruct, UsesTheInputNormalsWhenAsked) {
+  const auto shape = make_sphere();
+  const PointCloud cloud = shape->sample(10000, 34);
+  ReconstructionOptions options;
+  options.use_input_normals = true;
+  const auto o = reconstruct_shape(*shape, cloud, options);
+  EXPECT_FALSE(o.r.oriented.has_value());
+  expect_closed_shape(o, 1, 2);
+  PointCloud bare = cloud;
+  bare.normals.clear();
+  EXPECT_THROW((void)reconstruct(bare, options), InvalidInputError);
+}
+
+TEST(Reconstruct, CellAndResolutionOptions) {
+  const auto shape = make_sphere();
+  const PointCloud cloud = shape->sample(5000, 35);
+  ReconstructionOptions options;
+  options.resolution = 20;
+  const auto coarse = reconstruct(cloud, options);
+  EXPECT_NEAR(coarse.contour.cell, 2.0 / 20.0, 0.01);
+  options.resolution.reset();
+  options.cell = 0.05;
+  const auto fine = reconstruct(cloud, options);
+  EXPECT_EQ(fine.contour.cell, 0.05);
+  EXPECT_GT(fine.contour.mesh.triangles.size(), 3 * coarse.contour.mesh.triangles.size());
+  options.resolution = 10;
+  EXPECT_THROW((void)reconstruct(cloud, options), InvalidInputError);  // both
+  options.resolution.reset();
+  options.cell = 1e-6;
+  EXPECT_THROW((void)reconstruct(cloud, options), ResourceLimitError);  // refused before allocating
+}
+
+// --- real data ------------------------------------------------------------
+
+MeshTopology reconstruct_file(const std::string& relative, Reconstruction* out = nullptr) {
+  const PointCloud cloud = io::read_points(testing::shared_data(relative));
+  Reconstruction r = reconstruct(cloud);
+  const MeshTopology t = analyze_topology(r.contour.mesh);
+  EXPECT_GT(t.triangles, 100u) << relative;
+  EXPECT_EQ(t.non_manifold_edges, 0u) << relative;
+  if (out) *out = std::move(r);
+  return t;
+}
+
+TEST(ReconstructRealData, EveryDataSetReconstructs) {
+  RECON_REQUIRE_DATA(testing::shared_data("README.md"));
+  for (const char* file : {"hoppe_cactus/cactus.pts", "hoppe_distcap/distcap.pts", "stanford_bunny/bun_zipper.ply",
+                           "stanford_armadillo_points/Armadillo.ply", "powercrust_knot/knot.pts",
+                           "cgal_oni/oni.xyz", "pcl_lamppost/lamppost.pcd", "pcl_bun0/bun0.pcd"})
+    (void)reconstruct_file(file);
+}
+
+TEST(ReconstructRealData, KittenIsOneClosedMesh) {
+  RECON_REQUIRE_DATA(testing::shared_data("cgal_kitten/kitten.xyz"));
+  const MeshTopology t = reconstruct_file("cgal_kitten/kitten.xyz");
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_TRUE(t.watertight());
+  EXPECT_GT(t.signed_volume, 0.0);
+}
+
+TEST(ReconstructRealData, HotdogsAreTwoObjects) {
+  RECON_REQUIRE_DATA(testing::shared_data("powercrust_hotdogs/hotdogs.pts"));
+  const MeshTopology t = reconstruct_file("powercrust_hotdogs/hotdogs.pts");
+  EXPECT_EQ(t.components, 2u);
+  EXPECT_TRUE(t.watertight());
+  for (const auto& c : t.component_list) EXPECT_GT(c.signed_volume, 0.0);
+}
+
+// Distance from a point to a triangle (closest point by regions of the
+// triangle's plane: interior, edges, corners).
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return ap.norm();
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return bp.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + ab * (d1 / (d1 - d3)))).norm();
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return cp.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + ac * (d2 / (d2 - d6)))).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return (p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))))).norm();
+  const double denom = 1.0 / (va + vb + vc);
+  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
+}
+
+TEST(ReconstructRealData, BunnyStaysCloseToItsOwnSurface) {
+  const auto path = testing::shared_data("stanford_bunny/bun_zipper.ply");
+  RECON_REQUIRE_DATA(path);
+  const Mesh reference = io::read_mesh(path);
+  Reconstruction r;
+  (void)reconstruct_file("stanford_bunny/bun_zipper.ply", &r);
+  const Mesh& mesh = r.contour.mesh;
+  // Reference triangles around each reference vertex, and a tree over them.
+  std::vector<std::vector<std::uint32_t>> around(reference.vertices.size());
+  for (std::uint32_t t = 0; t < reference.triangles.size(); ++t)
+    for (auto v : reference.triangles[t]) around[v].push_back(t);
+  const KdTree<3> tree(reference.vertices);
+  const double diagonal = bounding_box<3>(reference.vertices).diagonal();
+  auto distance_to_reference = [&](const Vec3& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const Neighbor& nb : tree.knn(p, 16))
+      for (auto t : around[nb.index]) {
+        const auto& tri = reference.triangles[t];
+        best = std::min(best, point_triangle_distance(p, reference.vertices[tri[0]], reference.vertices[tri[1]],
+                                                      reference.vertices[tri[2]]));
+      }
+    return best;
+  };
+  // The share of our mesh's area within 0.5% of the diagonal: each triangle
+  // is split in four, and each quarter counts as close or not by the
+  // distance at its centroid (midpoint quadrature of the area integral).
+  double total = 0.0, close = 0.0;
+  for (const auto& tri : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+    const double quarter = 0.125 * (b - a).cross(c - a).norm();
+    const Vec3 ab = (a + b) / 2, bc = (b + c) / 2, ca = (c + a) / 2;
+    const std::array<Vec3, 4> centroids = {(a + ab + ca) / 3, (ab + b + bc) / 3, (ca + bc + c) / 3, (ab + bc + ca) / 3};
+    for (const Vec3& centroid : centroids) {
+      total += quarter;
+      if (distance_to_reference(centroid) <= 0.005 * diagonal) close += quarter;
+    }
+  }
+  EXPECT_GE(close / total, 0.99) << "share of area within 0.5% of the diagonal";
+}
+
+}  // namespace
+}  // namespace recon
