@@ -11,6 +11,7 @@
 #include "recon/orientation.h"
 #include "recon/parallel.h"
 #include "recon/shapes.h"
+#include "recon/spatial_order.h"
 #include "recon/tangent_planes.h"
 #include "recon/timer.h"
 
@@ -54,10 +55,40 @@ PointCloud read_input(const InputOptions& in, Summary& summary) {
   return cloud;
 }
 
-void refuse_overwriting_input(const std::filesystem::path& input, const std::filesystem::path& output) {
+bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
   std::error_code ec;
-  if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(input, output, ec))
-    throw InvalidInputError("refusing to overwrite the input file " + input.string() + "; choose another output");
+  if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
+  return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+}
+
+// Checks made before any work, so that a run that cannot write its results
+// fails at once: outputs must not be the input or each other, and their
+// folders must exist.
+void check_outputs(const std::filesystem::path& input, const std::vector<std::filesystem::path>& outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& out = outputs[i];
+    if (out.empty()) continue;
+    if (!input.empty() && same_file(input, out))
+      throw InvalidInputError("refusing to overwrite the input file " + input.string() + "; choose another output");
+    for (std::size_t j = 0; j < i; ++j)
+      if (!outputs[j].empty() && same_file(outputs[j], out))
+        throw InvalidInputError(out.string() + " is named for two outputs; give each its own file");
+    std::filesystem::path folder = out.parent_path();
+    if (folder.empty()) folder = ".";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+      throw IoError(out.string() + ": cannot write: folder '" + folder.string() + "' does not exist");
+    if (std::filesystem::is_directory(out, ec))
+      throw IoError(out.string() + ": cannot write: it is a folder");
+  }
+}
+
+// The formats write_points can write.
+io::PointFormat writable_point_format(const std::filesystem::path& path) {
+  const io::PointFormat format = io::point_format_from_path(path);
+  if (format != io::PointFormat::ply && format != io::PointFormat::xyz)
+    throw InvalidInputError(path.string() + ": oriented clouds are written as .ply or .xyz");
+  return format;
 }
 
 // Options of phases I and II.
@@ -142,19 +173,20 @@ void report_phases_3_4(const Reconstruction& r, Summary& summary) {
   const MarchingCubesResult& c = r.contour;
   std::ostringstream line;
   line << "phase III signed distance: delta = " << format_length(r.delta) << (r.delta_given ? " (given)" : " (estimated)")
-       << ", " << c.evaluated_corners << " lattice corners evaluated, " << c.undefined_corners << " undefined";
+       << ", " << c.evaluated_corners << " lattice corners evaluated, " << c.undefined_corners << " undefined ("
+       << format_seconds(r.seconds_distance_setup + c.seconds_field) << ")";
   summary.say(line.str());
   line.str("");
   line << "phase IV  contouring: cell = " << format_length(c.cell) << ", " << c.visited_cubes << " cubes visited of "
        << static_cast<double>(c.size[0]) * c.size[1] * c.size[2] << " in the lattice (" << c.size[0] << " x "
-       << c.size[1] << " x " << c.size[2] << "), " << format_seconds(r.seconds_distance_setup + c.seconds)
-       << " with phase III";
+       << c.size[1] << " x " << c.size[2] << "), " << format_seconds(c.seconds - c.seconds_field);
   summary.say(line.str());
   Json& s = summary.stats()["signed_distance"];
   s["delta"] = r.delta;
   s["delta_estimated"] = !r.delta_given;
   s["corners_evaluated"] = c.evaluated_corners;
   s["corners_undefined"] = c.undefined_corners;
+  s["seconds"] = r.seconds_distance_setup + c.seconds_field;
   Json& m = summary.stats()["contouring"];
   m["cell"] = c.cell;
   m["lattice_size"] = Json(Json::Array{Json(static_cast<std::size_t>(c.size[0])), Json(static_cast<std::size_t>(c.size[1])),
@@ -162,7 +194,7 @@ void report_phases_3_4(const Reconstruction& r, Summary& summary) {
   m["seed_cubes"] = c.seed_cubes;
   m["visited_cubes"] = c.visited_cubes;
   m["undefined_cubes"] = c.undefined_cubes;
-  m["seconds"] = r.seconds_distance_setup + c.seconds;
+  m["seconds"] = c.seconds - c.seconds_field;
 }
 
 void report_mesh(const Mesh& mesh, Summary& summary) {
@@ -216,7 +248,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     io::WriteMeshOptions write_options;
     write_options.format = io::mesh_format_from_path(o->output);  // fail early on a bad extension
     write_options.ascii = o->ascii;
-    refuse_overwriting_input(o->in.path, o->output);
+    check_outputs(o->in.path, {o->output, o->stats});
     o->phases.k_given = o->phases.k_option->count() > 0;
     const PointCloud cloud = read_input(o->in, summary);
 
@@ -263,7 +295,9 @@ Command add_info(CLI::App& app, const GlobalOptions& global) {
     for (const auto& p : cloud.positions) box.extend(p);
     std::ostringstream out;
     out << "points        " << cloud.size() << (cloud.has_normals() ? " (with normals)" : "") << "\n";
-    out << "bounding box  [" << box.min.transpose() << "] .. [" << box.max.transpose() << "]\n";
+    out << "bounding box  [" << format_length(box.min.x()) << ", " << format_length(box.min.y()) << ", "
+        << format_length(box.min.z()) << "] .. [" << format_length(box.max.x()) << ", " << format_length(box.max.y())
+        << ", " << format_length(box.max.z()) << "]\n";
     out << "diagonal      " << format_length(box.diagonal()) << "\n";
     TangentPlaneOptions options;
     options.k = *k;
@@ -294,14 +328,17 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     Timer total;
     Summary summary(global.quiet);
     io::WritePointsOptions write_options;
-    write_options.format = io::point_format_from_path(*output);  // fail early on a bad extension
+    write_options.format = writable_point_format(*output);  // fail early on a bad extension
     write_options.ascii = *ascii;
-    refuse_overwriting_input(in->path, *output);
+    check_outputs(in->path, {*output, *stats});
     phases->k_given = phases->k_option->count() > 0;
     PointCloud cloud = read_input(*in, summary);
     Progress progress(!global.quiet);
     progress.phase("phase I, tangent planes");
-    const auto planes = estimate_tangent_planes<3>(cloud.positions, phase_1_options(*phases));
+    // Work in spatial order (much faster on large clouds); write in the input's.
+    const std::vector<std::uint32_t> order = spatial_order(cloud.positions);
+    const std::vector<Vec3> points = permuted<Vec3>(cloud.positions, order);
+    const auto planes = estimate_tangent_planes<3>(points, phase_1_options(*phases));
     progress.phase("");
     report_phase_1(planes, cloud.size(), summary);
     progress.phase("phase II, orientation");
@@ -311,7 +348,8 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     progress.phase("");
     report_phase_2(oriented, summary);
     progress.stop();
-    cloud.normals = oriented.normals;
+    cloud.normals.resize(cloud.size());
+    for (std::size_t j = 0; j < order.size(); ++j) cloud.normals[order[j]] = oriented.normals[j];
     Timer timer;
     io::write_points(*output, cloud, write_options);
     summary.say("wrote     " + output->string() + " (" + format_seconds(timer.elapsed()) + "); total " +
@@ -342,6 +380,9 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
   app.add_flag("--with-normals", o->with_normals, "Also write the true outward normals");
   return [o, &global] {
     Summary summary(global.quiet);
+    io::WritePointsOptions write_options;
+    write_options.format = writable_point_format(o->output);
+    check_outputs({}, {o->output});
     const auto shape = make_shape(o->shape);
     PointCloud cloud = shape->sample(o->count, o->seed);
     if (o->noise > 0.0) {
@@ -352,8 +393,9 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
       for (auto& p : cloud.positions) p += Vec3(gauss(rng), gauss(rng), gauss(rng));
     }
     if (!o->with_normals) cloud.normals.clear();
-    io::write_points(o->output, cloud);
-    summary.say("wrote     " + o->output.string() + ": " + plural(cloud.size(), "point") + " on a " + o->shape);
+    io::write_points(o->output, cloud, write_options);
+    summary.say("wrote     " + o->output.string() + ": " + plural(cloud.size(), "point") + " sampled from '" +
+                o->shape + "'");
   };
 }
 

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   CLI::App app{"recon: triangle meshes and oriented normals from unorganized point clouds\n"
                "(Hoppe, DeRose, Duchamp, McDonald, Stuetzle: Surface reconstruction from unorganized points, 1992)"};
   app.require_subcommand(1);
+  app.fallthrough();  // --quiet and --threads may also follow the subcommand
   recon::cli::GlobalOptions global;
   app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
   app.add_option("--threads", global.threads, "Threads for the parallel phases (default: all cores)")
@@ -35,8 +36,13 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "recon: error: " << e.what() << " (see recon --help)\n";
+    return 2;
   }
   try {
     recon::set_thread_count(global.threads);

@@ -1,6 +1,6 @@
-// recon's kd-tree measured against nanoflann on the data phase I sees: a
-// Poisson sample of a torus, every point asking for its k = 15 nearest
-// neighbours (itself included).
+// recon's kd-tree measured against nanoflann on the kind of data phase I
+// sees: a Poisson sample of a torus, every point asking for its k = 15
+// nearest neighbours (itself included).
 //
 // Both trees get the same points in the same order, at n = 100k and 1M:
 //   - "sampled": the order make_torus()->sample() returns them in, which is
@@ -61,7 +61,9 @@ namespace {
 
 using recon::Vec3;
 
-constexpr int k = 15;              // phase I's default neighbourhood
+// The neighbourhood size compared (in Hoppe's 4..20; phase I's own default
+// is TangentPlaneOptions{}.k).
+constexpr int k = 15;
 constexpr std::uint64_t seed = 1;  // same data on every run
 constexpr int our_default_leaf = recon::KdTreeOptions{}.leaf_size;
 constexpr int nanoflann_default_leaf = 10;  // KDTreeSingleIndexAdaptorParams' default

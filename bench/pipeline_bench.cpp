@@ -159,10 +159,12 @@ void phase_one_and_two(const recon::PointCloud& cloud, int threads, const std::s
 
   Row two = new_row(cloud.size(), used, "II orientation" + input);
   std::optional<recon::OrientedNormals<3>> oriented;
-  measured(two, [&] { oriented.emplace(recon::orient_normals<3>(*planes)); });
+  recon::OrientationOptions orientation;
+  orientation.graph.k = planes->k;  // as reconstruct() does
+  measured(two, [&] { oriented.emplace(recon::orient_normals<3>(*planes, orientation)); });
   const auto& graph = oriented->graph;
   two.reported_s = graph.seconds_knn + graph.seconds_emst + graph.seconds_graph + oriented->seconds_mst;
-  two.breakdown = "tree+knn " + fixed(graph.seconds_knn, 3) + ", emst " + fixed(graph.seconds_emst, 3) +
+  two.breakdown = "k " + std::to_string(orientation.graph.k) + ": tree+knn " + fixed(graph.seconds_knn, 3) + ", emst " + fixed(graph.seconds_emst, 3) +
                   ", graph " + fixed(graph.seconds_graph, 3) + ", prim+vote " + fixed(oriented->seconds_mst, 3);
   two.components = std::to_string(oriented->component_count());
   two.normals_right = agreement(oriented->normals, cloud.normals);

@@ -49,9 +49,12 @@ git diff --quiet HEAD -- include src 2>/dev/null || commit="$commit (library has
 # --- kd-tree ---------------------------------------------------------------
 # Two runs, because Google Benchmark's CSV output needs every row of one run
 # to have the same counters: the comparisons, then the leaf-size sweep.
+# Repetitions are interleaved in random order, so that a colleague's build
+# slows ours and nanoflann's runs alike rather than whichever came first.
 kdtree_bench() {  # <filter> <name>
   nice "$build/bench/recon_kdtree_bench" --benchmark_filter="$1" --benchmark_min_time=0.2 \
-    --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true \
+    --benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true \
+    --benchmark_report_aggregates_only=true \
     --benchmark_out="$scratch/$2.csv" --benchmark_out_format=csv >"$scratch/$2.txt" 2>&1
 }
 kdtree_bench "${RECON_BENCH_FILTER:-^(build|knn)_}" compare

@@ -4,6 +4,7 @@
 #include "recon/marching_cubes_table.h"
 #include "recon/timer.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -68,6 +69,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
     result.size[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(cubes);
   }
 
+  std::chrono::steady_clock::duration field_time{};
   std::unordered_map<std::uint64_t, double> corner_value;
   std::unordered_map<std::uint64_t, std::uint32_t> edge_vertex;  // key * 3 + axis -> vertex
   std::unordered_set<std::uint64_t> visited;
@@ -91,7 +93,9 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
   auto value_at = [&](const Index3& corner) {
     const auto [it, inserted] = corner_value.try_emplace(pack(corner), undefined);
     if (inserted) {
+      const auto started = std::chrono::steady_clock::now();
       const std::optional<double> v = f(position(corner));
+      field_time += std::chrono::steady_clock::now() - started;
       if (v) it->second = *v;
     }
     return it->second;
@@ -179,6 +183,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
     if (keep_corners) result.corners.push_back({unpack(key), std::isnan(v) ? 0.0 : v, !std::isnan(v)});
   }
   result.seconds = timer.lap();
+  result.seconds_field = std::chrono::duration<double>(field_time).count();
   return result;
 }
 

@@ -1,10 +1,13 @@
 #include "recon/reconstruct.h"
 
 #include "recon/errors.h"
+#include "recon/spatial_order.h"
 #include "recon/timer.h"
 
 #include <cmath>
 #include <sstream>
+
+#include <unistd.h>
 
 namespace recon {
 
@@ -24,6 +27,16 @@ double lattice_cell(const PointCloud& cloud, const TangentPlanes<3>& planes, con
   return planes.rho;
 }
 
+namespace {
+constexpr double bytes_per_cube = 250.0;  // corner and edge hash entries, visited set, mesh share
+
+std::size_t default_max_cubes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  const double memory = pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 8e9;
+  return static_cast<std::size_t>(0.5 * memory / bytes_per_cube);
+}
+}  // namespace
+
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
@@ -32,21 +45,25 @@ Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions&
   };
   Reconstruction r;
   starting("tangent planes");
-  r.planes = estimate_tangent_planes<3>(cloud.positions, options.planes);
+  r.order = spatial_order(cloud.positions);
+  r.points = permuted<Vec3>(cloud.positions, r.order);
+  r.planes = estimate_tangent_planes<3>(r.points, options.planes);
 
   // Refuse a lattice that would not fit before building anything large.
   const double cell = lattice_cell(cloud, r.planes, options);
-  const double cubes = estimate_visited_cubes(cloud.size(), r.planes.rho, cell);
-  if (cubes > static_cast<double>(options.max_cubes)) {
+  const std::size_t max_cubes = options.max_cubes > 0 ? options.max_cubes : default_max_cubes();
+  const double cubes = estimate_visited_cubes(r.points.size(), r.planes.rho, cell);
+  if (cubes > static_cast<double>(max_cubes)) {
     std::ostringstream message;
-    message << "a cell of " << cell << " would visit about " << static_cast<long long>(cubes)
-            << " lattice cubes (about " << static_cast<long long>(cubes * 250.0 / 1e9 + 0.5)
-            << " GB); the limit is " << options.max_cubes << ": use a larger --cell or a smaller --resolution";
+    message.precision(3);
+    message << "a cell of " << cell << " would visit about " << cubes << " lattice cubes, about "
+            << cubes * bytes_per_cube / 1e9 << " GB, more than the " << static_cast<double>(max_cubes) * bytes_per_cube / 1e9
+            << " GB allowed (half the memory): use a larger --cell or a smaller --resolution";
     throw ResourceLimitError(message.str());
   }
 
   if (options.use_input_normals) {
-    r.normals = cloud.normals;
+    r.normals = permuted<Vec3>(cloud.normals, r.order);
     for (Vec3& n : r.normals) {
       const double norm = n.norm();
       if (!(norm > 0.0) || !std::isfinite(norm))
@@ -73,8 +90,8 @@ Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions&
   starting("contouring");
   MarchingCubesOptions mc;
   mc.cell = cell;
-  mc.max_cubes = options.max_cubes;
-  r.contour = marching_cubes(std::cref(f), cloud.positions, mc, options.keep_corners);
+  mc.max_cubes = max_cubes;
+  r.contour = marching_cubes(std::cref(f), r.points, mc, options.keep_corners);
   return r;
 }
 

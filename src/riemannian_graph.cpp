@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <string>
 
 namespace recon {
@@ -34,16 +35,38 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
     return 1.0 - std::abs(planes.normals[i].dot(planes.normals[j]));
   };
 
-  std::vector<Edge> edges;
-  edges.reserve(n * static_cast<std::size_t>(options.k) + result.emst.size());
-  UnionFind pieces(n);
-  // Both directions of the k-NN relation go in; make_graph merges the pairs
-  // listed from both ends (the symmetric k-NN graph).
-  for (std::uint32_t i = 0; i < n; ++i) {
-    for (const Neighbor& nb : knn.row(i)) {
+  // The graph is laid out directly in CSR form from the k-NN table (no
+  // edge list to sort): row i holds i's own kept neighbours, then the points
+  // that list i without i listing them (the symmetric closure), then EMST
+  // edges that neither lists. i is in row j of the table exactly when
+  // (d2, i) does not come after the row's last entry.
+  const auto k = static_cast<std::size_t>(knn.k);
+  auto listed_by = [&](std::uint32_t j, std::uint32_t i, double d2) {
+    const Neighbor& last = knn.row(j).back();
+    return d2 < last.distance2 || (d2 == last.distance2 && i <= last.index);
+  };
+  std::vector<std::uint8_t> kept(n * k, 0);
+  std::vector<std::uint64_t> degree(n + 1, 0);
+  const auto count = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::uint32_t>(s);
+    const auto row = knn.row(i);
+    for (std::size_t e = 0; e < k; ++e) {
+      const Neighbor& nb = row[e];
       if (nb.index == i || is_gap(i, nb.index, std::sqrt(nb.distance2))) continue;
-      edges.push_back({i, nb.index, cost(i, nb.index)});
-      pieces.unite(i, nb.index);
+      kept[i * k + e] = 1;
+      ++degree[i + 1];
+    }
+  }
+  UnionFind pieces(n);
+  std::vector<Edge> extra;  // rows beyond the table: symmetric closure, EMST, rejoined gaps
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto row = knn.row(i);
+    for (std::size_t e = 0; e < k; ++e) {
+      if (!kept[i * k + e]) continue;
+      pieces.unite(i, row[e].index);
+      if (!listed_by(row[e].index, i, row[e].distance2)) extra.push_back({row[e].index, i, 0.0});
     }
   }
   std::vector<Edge> gaps;
@@ -53,8 +76,12 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       gaps.push_back(e);
       continue;
     }
-    edges.push_back({e.u, e.v, cost(e.u, e.v)});
     pieces.unite(e.u, e.v);
+    const double d2 = e.weight * e.weight;
+    if (!listed_by(e.u, e.v, d2) && !listed_by(e.v, e.u, d2)) {
+      extra.push_back({e.u, e.v, 0.0});
+      extra.push_back({e.v, e.u, 0.0});
+    }
   }
   // Join back pieces too small to be objects, shortest gap first. Pieces only
   // grow, so one pass leaves no small piece that still has a gap edge.
@@ -66,10 +93,33 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
     if (pieces.set_size(e.u) >= min_points && pieces.set_size(e.v) >= min_points) continue;
     if (pieces.unite(e.u, e.v)) {
       ++result.rejoined;
-      edges.push_back({e.u, e.v, cost(e.u, e.v)});
+      extra.push_back({e.u, e.v, 0.0});
+      extra.push_back({e.v, e.u, 0.0});
     }
   }
-  result.graph = make_graph(n, edges);
+  for (const Edge& e : extra) ++degree[e.u + 1];
+
+  Graph& g = result.graph;
+  g.offsets.resize(n + 1);
+  std::partial_sum(degree.begin(), degree.end(), g.offsets.begin());
+  g.targets.resize(g.offsets.back());
+  g.weights.resize(g.offsets.back());
+  std::vector<std::uint64_t> fill(g.offsets.begin(), g.offsets.end() - 1);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto row = knn.row(i);
+    for (std::size_t e = 0; e < k; ++e)
+      if (kept[i * k + e]) g.targets[fill[i]++] = row[e].index;
+  }
+  for (const Edge& e : extra) g.targets[fill[e.u]++] = e.v;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    const auto begin = g.targets.begin() + static_cast<std::ptrdiff_t>(g.offsets[i]);
+    const auto end = g.targets.begin() + static_cast<std::ptrdiff_t>(g.offsets[i + 1]);
+    std::sort(begin, end);
+    for (std::uint64_t e = g.offsets[i]; e < g.offsets[i + 1]; ++e)
+      g.weights[e] = cost(static_cast<std::uint32_t>(i), g.targets[e]);
+  }
   result.components = connected_components(result.graph);
   result.seconds_graph = timer.lap();
   return result;

@@ -5,14 +5,15 @@
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 namespace recon {
-template <int D>
-struct TangentPlanes;
 namespace {
+
+constexpr int max_k = 256;
+
 double median(std::vector<double> values) {
   const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), middle, values.end());
@@ -38,23 +39,25 @@ bool residual_is_noise(std::span<const Vec<D>> points, const TangentPlanes<D>& p
   }
   return median(std::move(residual)) < 1.4 * planes.noise;
 }
+
 }  // namespace
 
 template <int D>
 TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const TangentPlaneOptions& options) {
   const std::size_t n = points.size();
   const int k = options.k;
-  if (k < D)
-    throw InvalidInputError("k = " + std::to_string(k) + " is too small: a neighbourhood needs at least " +
-                            std::to_string(D) + " points (use --k 8 or more)");
+  if (k < D || k > max_k)
+    throw InvalidInputError("k = " + std::to_string(k) + " is out of range: a neighbourhood needs at least " +
+                            std::to_string(D) + " points and at most " + std::to_string(max_k));
   if (options.rho && !(*options.rho > 0.0 && std::isfinite(*options.rho)))
     throw InvalidInputError("rho must be a positive length");
   for (std::size_t i = 0; i < n; ++i)
     if (!points[i].allFinite())
       throw InvalidInputError("point " + std::to_string(i) + " has a non-finite coordinate");
   if (n < static_cast<std::size_t>(k) + 1)
-    throw InvalidInputError("only " + std::to_string(n) + " points; k = " + std::to_string(k) + " needs at least " +
-                            std::to_string(k + 1) + " (lower --k)");
+    throw InvalidInputError("only " + std::to_string(n) + " point" + (n == 1 ? "" : "s") + "; k = " +
+                            std::to_string(k) + " needs at least " + std::to_string(k + 1) +
+                            (n > static_cast<std::size_t>(D) + 1 ? " (lower --k)" : ": too few to fit a surface"));
 
   TangentPlanes<D> result;
   result.k = k;
@@ -67,10 +70,14 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
   // query (ties go to the smaller index), so x_i is a first occurrence
   // exactly when it heads its own row.
   for (std::size_t i = 0; i < n; ++i) result.distinct_points += knn.row(i)[0].index == i ? 1u : 0u;
-  if (result.distinct_points < static_cast<std::size_t>(k) + 1)
-    throw InvalidInputError("only " + std::to_string(result.distinct_points) + " distinct points (of " +
-                            std::to_string(n) + "); k = " + std::to_string(k) + " needs at least " +
-                            std::to_string(k + 1) + " (lower --k)");
+  if (result.distinct_points < static_cast<std::size_t>(k) + 1) {
+    const std::size_t distinct = result.distinct_points;
+    std::string message = "only " + std::to_string(distinct) + " distinct point" + (distinct == 1 ? "" : "s") +
+                          " (of " + std::to_string(n) + "); k = " + std::to_string(k) + " needs at least " +
+                          std::to_string(k + 1);
+    message += distinct > static_cast<std::size_t>(D) + 1 ? " (lower --k)" : ": too few to fit a surface";
+    throw InvalidInputError(message);
+  }
 
   result.origins.resize(n);
   result.normals.resize(n);
@@ -82,17 +89,9 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
   for (std::int64_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     const auto row = knn.row(i);
-    std::array<std::uint32_t, 256> small{};
-    std::vector<std::uint32_t> large;
-    std::span<std::uint32_t> idx;
-    if (row.size() <= small.size()) {
-      idx = std::span<std::uint32_t>(small.data(), row.size());
-    } else {
-      large.resize(row.size());
-      idx = large;
-    }
-    for (std::size_t j = 0; j < row.size(); ++j) idx[j] = row[j].index;
-    const PlaneFit<D> fit = fit_plane<D>(points, idx);
+    std::array<std::uint32_t, max_k> indices;  // k <= max_k: no allocation per point
+    for (std::size_t j = 0; j < row.size(); ++j) indices[j] = row[j].index;
+    const PlaneFit<D> fit = fit_plane<D>(points, std::span<const std::uint32_t>(indices.data(), row.size()));
     result.origins[i] = fit.centroid;
     result.normals[i] = fit.normal;
     result.eigenvalues[i] = fit.eigenvalues;

@@ -60,7 +60,8 @@ struct MarchingCubesResult {
   std::size_t evaluated_corners = 0;
   std::size_t undefined_corners = 0;
   std::vector<LatticeCorner> corners;     ///< every evaluated corner (if keep_corners)
-  double seconds = 0.0;
+  double seconds = 0.0;                   ///< the whole walk, evaluations of f included
+  double seconds_field = 0.0;             ///< of which evaluating f (phase III's share)
 };
 
 /// The function contoured: its value at a point, or nullopt where undefined.

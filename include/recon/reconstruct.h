@@ -19,14 +19,20 @@ struct ReconstructionOptions {
   std::optional<double> cell;              ///< phase IV cube side; default rho (as in Hoppe's paper)
   std::optional<int> resolution;           ///< or: cubes along the longest side of the bounding box
   bool use_input_normals = false;          ///< orient with the cloud's own normals, skipping phase II
-  std::size_t max_cubes = 200'000'000;     ///< refuse larger lattice walks (about 250 bytes a cube)
+  std::size_t max_cubes = 0;               ///< refuse larger lattice walks; 0: what half the physical memory holds
+                                           ///< at about 250 bytes a cube
   bool keep_corners = false;               ///< keep the evaluated lattice corners in the result
   /// Called as each phase starts, with its name ("tangent planes",
   /// "orientation", "signed distance", "contouring"): for progress displays.
   std::function<void(const char* phase)> on_phase;
 };
 
+/// Per-point results (planes, normals, graph vertices) are indexed in
+/// spatial order (spatial_order.h): entry j is input point order[j], at
+/// position points[j].
 struct Reconstruction {
+  std::vector<std::uint32_t> order;            ///< spatial order of the input points
+  std::vector<Vec3> points;                    ///< the input positions in that order
   TangentPlanes<3> planes;
   std::optional<OrientedNormals<3>> oriented;  ///< absent when the input normals were used
   std::vector<Vec3> normals;                   ///< the oriented normals used by phase III

@@ -85,7 +85,7 @@ struct TangentPlanes {
   }
 };
 
-/// Throws InvalidInputError when k < 3 (2D: k < 2), when there are fewer than
+/// Throws InvalidInputError when k < D or k > 256, when there are fewer than
 /// k + 1 distinct points, when a coordinate is not finite, when the given rho
 /// is not positive, or when every neighbourhood is degenerate (all points on
 /// one line, or identical).

@@ -1,0 +1,33 @@
+#pragma once
+// Spatial order: a permutation of points along a Morton (Z-order) curve, so
+// that points close in the array are close in space.
+//
+// Every phase reads per-point arrays by neighbour index. When neighbours are
+// far apart in memory, each read is a cache miss: on a million points in
+// random order, phases I and II run several times slower than on the same
+// points sorted (see docs/benchmarks.md). reconstruct() and the command line
+// therefore sort the cloud first and work in this order.
+
+#include "recon/point_cloud.h"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace recon {
+
+/// order[j] = index of the point that comes j-th along the Z-order curve of
+/// the points' bounding box, quantized to 2^21 cells per axis (points in one
+/// cell keep their input order). Cost: O(n log n), one sort of 64-bit keys.
+[[nodiscard]] std::vector<std::uint32_t> spatial_order(std::span<const Vec3> points);
+
+/// values[order[0]], values[order[1]], ...
+template <class T>
+[[nodiscard]] std::vector<T> permuted(std::span<const T> values, std::span<const std::uint32_t> order) {
+  std::vector<T> out;
+  out.reserve(order.size());
+  for (const std::uint32_t i : order) out.push_back(values[i]);
+  return out;
+}
+
+}  // namespace recon
