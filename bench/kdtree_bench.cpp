@@ -5,9 +5,10 @@
 // Both trees get the same points in the same order, at n = 100k and 1M:
 //   - "sampled": the order make_torus()->sample() returns them in, which is
 //     random: consecutive points are far apart on the surface;
-//   - "morton": sorted along a Morton (Z-order) curve first, so consecutive
-//     points are close: this shows how much of a k-NN loop's time is memory
-//     order rather than search.
+//   - "morton": sorted along a Morton (Z-order) curve first, with
+//     recon::spatial_order as reconstruct() does, so consecutive points are
+//     close: this shows how much of a k-NN loop's time is memory order
+//     rather than search.
 // Our all_knn always visits the points in its own leaf order, whatever the
 // input order; nanoflann's loop visits them in input order. knn_ours_loop
 // runs our single-point knn() in input order too, to tell the search itself
@@ -27,8 +28,8 @@
 #include "recon/kdtree.h"
 #include "recon/parallel.h"
 #include "recon/shapes.h"
+#include "recon/spatial_order.h"
 #include "recon/timer.h"
-#include "spatial_order.h"
 
 #include <benchmark/benchmark.h>
 
@@ -78,7 +79,7 @@ const std::vector<Vec3>& torus_points(std::size_t n, bool morton) {
   auto found = cache.find(key);
   if (found != cache.end()) return found->second;
   std::vector<Vec3> points = recon::make_torus()->sample(n, seed).positions;
-  if (morton) points = recon::bench::permuted(points, recon::bench::morton_order(points));
+  if (morton) points = recon::permuted<Vec3>(points, recon::spatial_order(points));
   return cache.emplace(key, std::move(points)).first->second;
 }
 

@@ -8,10 +8,13 @@
 //   phase II  orient_normals<3> (Riemannian graph, EMST, Prim, vote)
 //   full      reconstruct(): phases I to IV
 // then phases I and II again with one thread, and once more with all cores
-// on the same points sorted along a Morton curve (spatial_order.h), which
-// shows what the random order of the samples costs. Prints one markdown table
-// row per step: wall time (our own Timer around the call), the time the
-// phase reports itself (its seconds_* fields, broken down), peak memory,
+// on the same points sorted along a Morton curve (recon::spatial_order, as
+// reconstruct() does before phase I), which shows what the random order of
+// the samples costs when the phases are called directly. Prints one markdown table
+// row per step: wall time (our own Timer around the call), "cores" (process
+// CPU time / wall time: how many cores the step really got, which shows when
+// the machine was busy), the time the phase reports itself (its seconds_*
+// fields, broken down), peak memory,
 // components, mesh size, and how many oriented normals agree with the true
 // ones (dot > 0).
 //
@@ -26,16 +29,18 @@
 #include "recon/parallel.h"
 #include "recon/reconstruct.h"
 #include "recon/shapes.h"
+#include "recon/spatial_order.h"
 #include "recon/tangent_planes.h"
 #include "recon/timer.h"
-#include "spatial_order.h"
 
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <exception>
 #include <fstream>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -83,6 +88,7 @@ struct Row {
   int threads = 0;
   std::string step;
   double wall_s = 0.0;      // our Timer around the call
+  double cpu_s = 0.0;       // process CPU time during the call (all threads)
   double reported_s = 0.0;  // sum of the result's seconds_* fields
   std::string breakdown;    // those fields, named
   std::optional<double> start_mib, peak_mib;
@@ -106,23 +112,29 @@ std::string fixed(double value, int decimals) {
 std::string mib(const std::optional<double>& value) { return value ? fixed(*value, 0) : "n/a"; }
 
 void print_header() {
-  std::printf("| points | threads | step | wall s | reported s | breakdown (s) | RSS before MiB | peak RSS MiB |"
-              " components | mesh V | mesh F | normals right |\n");
-  std::printf("|---:|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| points | threads | step | wall s | cores | reported s | breakdown (s) | RSS before MiB |"
+              " peak RSS MiB | components | mesh V | mesh F | normals right |\n");
+  std::printf("|---:|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
 }
 
 void print_row(const Row& row) {
-  std::printf("| %zu | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", row.points, row.threads,
-              row.step.c_str(), fixed(row.wall_s, 3).c_str(), fixed(row.reported_s, 3).c_str(),
+  std::printf("| %zu | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", row.points, row.threads,
+              row.step.c_str(), fixed(row.wall_s, 3).c_str(),
+              fixed(row.wall_s > 0.0 ? row.cpu_s / row.wall_s : 0.0, 1).c_str(), fixed(row.reported_s, 3).c_str(),
               row.breakdown.c_str(), mib(row.start_mib).c_str(), mib(row.peak_mib).c_str(), row.components.c_str(),
               row.mesh_vertices.c_str(), row.mesh_faces.c_str(), row.normals_right.c_str());
   std::fflush(stdout);
 }
 
-// Fraction of normals pointing the same way as the true ones, and how many do not.
-std::string agreement(const std::vector<Vec3>& normals, const std::vector<Vec3>& truth) {
+// Fraction of normals pointing the same way as the true ones, and how many
+// do not. normals[j] belongs to input point order[j] (identity when empty).
+std::string agreement(const std::vector<Vec3>& normals, const std::vector<Vec3>& truth,
+                      std::span<const std::uint32_t> order = {}) {
   std::size_t right = 0;
-  for (std::size_t i = 0; i < normals.size(); ++i) right += normals[i].dot(truth[i]) > 0.0 ? 1u : 0u;
+  for (std::size_t j = 0; j < normals.size(); ++j) {
+    const std::size_t i = order.empty() ? j : order[j];
+    right += normals[j].dot(truth[i]) > 0.0 ? 1u : 0u;
+  }
   return fixed(static_cast<double>(right) / static_cast<double>(normals.size()), 6) + " (" +
          std::to_string(normals.size() - right) + " wrong)";
 }
@@ -141,8 +153,10 @@ void measured(Row& row, Step&& step) {
   reset_peak_memory();
   row.start_mib = status_mib("VmRSS");
   recon::Timer timer;
+  const std::clock_t cpu_start = std::clock();
   step();
   row.wall_s = timer.elapsed();
+  row.cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   row.peak_mib = status_mib("VmHWM");
 }
 
@@ -186,7 +200,7 @@ void full_reconstruction(const recon::PointCloud& cloud) {
   row.components = std::to_string(r->oriented->component_count());
   row.mesh_vertices = std::to_string(r->contour.mesh.vertices.size());
   row.mesh_faces = std::to_string(r->contour.mesh.triangles.size());
-  row.normals_right = agreement(r->normals, cloud.normals);
+  row.normals_right = agreement(r->normals, cloud.normals, r->order);  // reconstruct() works in spatial order
   print_row(row);
 }
 
@@ -234,9 +248,9 @@ int main(int argc, char** argv) {
       full_reconstruction(cloud);
       phase_one_and_two(cloud, 1);
       recon::PointCloud sorted;
-      const std::vector<std::uint32_t> order = recon::bench::morton_order(cloud.positions);
-      sorted.positions = recon::bench::permuted(cloud.positions, order);
-      sorted.normals = recon::bench::permuted(cloud.normals, order);
+      const std::vector<std::uint32_t> order = recon::spatial_order(cloud.positions);
+      sorted.positions = recon::permuted<Vec3>(cloud.positions, order);
+      sorted.normals = recon::permuted<Vec3>(cloud.normals, order);
       phase_one_and_two(sorted, 0, ", Morton-sorted input");
     }
   } catch (const std::exception& e) {

@@ -3,7 +3,7 @@
 # (machine, commit, summary tables, raw output) to bench/results/latest.txt;
 # prints the markdown summary tables too.
 #
-#   bench/run.sh                      # about 5 minutes on 2 cores
+#   bench/run.sh                      # about 4 minutes on 2 cores, plus the build
 #   RECON_BENCH_REPS=3 bench/run.sh   # more repetitions (default and least 2; the
 #                                     # tables show the fastest repetition)
 #   RECON_BENCH_SKIP_BUILD=1 bench/run.sh

@@ -53,7 +53,7 @@ struct KnnTable {
 };
 
 struct KdTreeOptions {
-  int leaf_size = 8;  ///< most points in a leaf; measured in bench/kdtree_bench.cpp
+  int leaf_size = 16;  ///< most points in a leaf; 16 measured fastest (docs/benchmarks.md)
 };
 
 template <int D>
