@@ -77,7 +77,7 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       continue;
     }
     pieces.unite(e.u, e.v);
-    const double d2 = e.weight * e.weight;
+    const double d2 = (planes.origins[e.v] - planes.origins[e.u]).squaredNorm();  // as the tree computed it
     if (!listed_by(e.u, e.v, d2) && !listed_by(e.v, e.u, d2)) {
       extra.push_back({e.u, e.v, 0.0});
       extra.push_back({e.v, e.u, 0.0});
