@@ -220,4 +220,19 @@ void check_mesh_for_writing(std::string_view file, const Mesh& mesh) {
   }
 }
 
+void append_vec3_text(std::string& out, const Vec3& v) {
+  append_number(out, v.x());
+  out += ' ';
+  append_number(out, v.y());
+  out += ' ';
+  append_number(out, v.z());
+}
+
+Vec3 parse_vec3(std::string_view file, std::size_t line, const std::string_view* tokens, const char* const names[3]) {
+  const double x = parse_coordinate(file, line, tokens[0], names[0]);
+  const double y = parse_coordinate(file, line, tokens[1], names[1]);
+  const double z = parse_coordinate(file, line, tokens[2], names[2]);
+  return {x, y, z};
+}
+
 }  // namespace recon::io::detail

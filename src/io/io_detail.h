@@ -71,6 +71,15 @@ enum class NumberStatus { ok, not_a_number, overflow };
 void append_number(std::string& out, double value);
 /// Appends an unsigned integer in decimal.
 void append_integer(std::string& out, std::uint64_t value);
+/// Appends "x y z" with append_number.
+void append_vec3_text(std::string& out, const Vec3& v);
+
+/// Field names used in messages about a position or a normal.
+inline constexpr const char* position_names[3] = {"x", "y", "z"};
+inline constexpr const char* normal_names[3] = {"nx", "ny", "nz"};
+/// Three coordinates from tokens[0..2] with parse_coordinate.
+[[nodiscard]] Vec3 parse_vec3(std::string_view file, std::size_t line, const std::string_view* tokens,
+                              const char* const names[3]);
 
 // ---------------------------------------------------------------------------
 // Binary scalars

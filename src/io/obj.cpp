@@ -37,14 +37,8 @@ Vec3 parse_three(std::string_view file, std::size_t line, Fields& fields, std::s
     if (!fields.next(tokens[k]))
       fail_at_line(file, line, "a '" + std::string(keyword) + "' line needs 3 numbers, found " + std::to_string(k));
   }
-  const double x = parse_coordinate(file, line, tokens[0], names[0]);
-  const double y = parse_coordinate(file, line, tokens[1], names[1]);
-  const double z = parse_coordinate(file, line, tokens[2], names[2]);
-  return {x, y, z};
+  return parse_vec3(file, line, tokens.data(), names);
 }
-
-constexpr const char* position_names[3] = {"x", "y", "z"};
-constexpr const char* normal_names[3] = {"nx", "ny", "nz"};
 
 ObjContent parse_obj(std::string_view file, std::string_view content, bool faces) {
   ObjContent obj;
@@ -134,11 +128,7 @@ void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
   out += " triangles\n";
   for (const Vec3& v : mesh.vertices) {
     out += "v ";
-    append_number(out, v.x());
-    out += ' ';
-    append_number(out, v.y());
-    out += ' ';
-    append_number(out, v.z());
+    append_vec3_text(out, v);
     out += '\n';
     writer.flush_if_full();
   }

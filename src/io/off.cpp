@@ -200,11 +200,7 @@ void write_off_mesh(std::ostream& stream, const Mesh& mesh) {
   out += std::to_string(mesh.triangles.size());
   out += " 0\n";
   for (const Vec3& v : mesh.vertices) {
-    append_number(out, v.x());
-    out += ' ';
-    append_number(out, v.y());
-    out += ' ';
-    append_number(out, v.z());
+    append_vec3_text(out, v);
     out += '\n';
     writer.flush_if_full();
   }

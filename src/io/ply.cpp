@@ -456,14 +456,6 @@ void append_vec3_binary(std::string& out, const Vec3& v) {
   append_little_endian(out, v.z());
 }
 
-void append_vec3_text(std::string& out, const Vec3& v) {
-  append_number(out, v.x());
-  out += ' ';
-  append_number(out, v.y());
-  out += ' ';
-  append_number(out, v.z());
-}
-
 std::string header_start(bool ascii, std::size_t vertices) {
   std::string header = "ply\nformat ";
   header += ascii ? "ascii" : "binary_little_endian";

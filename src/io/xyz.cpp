@@ -49,15 +49,6 @@ std::size_t split_numbers(std::string_view file, std::size_t line_number, std::s
   }
 }
 
-Vec3 parse_vec3(std::string_view file, std::size_t line, const std::string_view* tokens, const char* const names[3]) {
-  const double x = parse_coordinate(file, line, tokens[0], names[0]);
-  const double y = parse_coordinate(file, line, tokens[1], names[1]);
-  const double z = parse_coordinate(file, line, tokens[2], names[2]);
-  return {x, y, z};
-}
-
-constexpr const char* position_names[3] = {"x", "y", "z"};
-constexpr const char* normal_names[3] = {"nx", "ny", "nz"};
 
 }  // namespace
 
@@ -135,19 +126,11 @@ void write_xyz_points(std::ostream& stream, const PointCloud& cloud) {
   std::string& out = writer.buffer();
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Vec3& p = cloud.positions[i];
-    append_number(out, p.x());
-    out += ' ';
-    append_number(out, p.y());
-    out += ' ';
-    append_number(out, p.z());
+    append_vec3_text(out, p);
     if (cloud.has_normals()) {
       const Vec3& v = cloud.normals[i];
       out += ' ';
-      append_number(out, v.x());
-      out += ' ';
-      append_number(out, v.y());
-      out += ' ';
-      append_number(out, v.z());
+      append_vec3_text(out, v);
     }
     out += '\n';
     writer.flush_if_full();
