@@ -94,9 +94,8 @@ io::PointFormat writable_point_format(const std::filesystem::path& path) {
 // Options of phases I and II.
 struct PhaseOptions {
   int k = TangentPlaneOptions{}.k;
-  bool k_given = false;
   std::optional<double> rho;
-  CLI::Option* k_option = nullptr;
+  CLI::Option* k_option = nullptr;  // to tell a given k from the default
 };
 
 void add_phase_options(CLI::App& app, PhaseOptions& p) {
@@ -105,14 +104,15 @@ void add_phase_options(CLI::App& app, PhaseOptions& p) {
                               "automatically for noisy data unless given)")
                    ->check(CLI::Range(3, 256));
   app.add_option("--rho", p.rho,
-                 "Sampling density: the largest gap between neighbouring samples (default: estimated per point)")
+                 "Sampling density: every point of the surface is within this distance of a sample (default: "
+                 "estimated per point)")
       ->check(CLI::PositiveNumber);
 }
 
 TangentPlaneOptions phase_1_options(const PhaseOptions& p) {
   TangentPlaneOptions options;
   options.k = p.k;
-  options.adapt_k = !p.k_given;
+  options.adapt_k = p.k_option->count() == 0;
   options.rho = p.rho;
   return options;
 }
@@ -249,7 +249,6 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     write_options.format = io::mesh_format_from_path(o->output);  // fail early on a bad extension
     write_options.ascii = o->ascii;
     check_outputs(o->in.path, {o->output, o->stats});
-    o->phases.k_given = o->phases.k_option->count() > 0;
     const PointCloud cloud = read_input(o->in, summary);
 
     ReconstructionOptions options;
@@ -304,7 +303,7 @@ Command add_info(CLI::App& app, const GlobalOptions& global) {
     try {
       const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
       out << "duplicates    " << cloud.size() - planes.distinct_points << " (exact copies of an earlier point)\n";
-      out << "rho           " << format_length(planes.rho) << " (median radius of a k-neighbourhood, k = " << *k << ")\n";
+      out << "rho           " << format_length(planes.rho) << " (median of the local estimates, k = " << *k << ")\n";
       out << "degenerate    " << planes.degenerate << " neighbourhoods with no unique normal";
     } catch (const InvalidInputError& e) {
       out << "rho           not available: " << e.what();
@@ -331,7 +330,6 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     write_options.format = writable_point_format(*output);  // fail early on a bad extension
     write_options.ascii = *ascii;
     check_outputs(in->path, {*output, *stats});
-    phases->k_given = phases->k_option->count() > 0;
     PointCloud cloud = read_input(*in, summary);
     Progress progress(!global.quiet);
     progress.phase("phase I, tangent planes");
