@@ -142,10 +142,9 @@ void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary&
 
 void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   const auto& g = oriented.graph;
-  std::vector<std::size_t> sizes(g.components.sizes.begin(), g.components.sizes.end());
   std::ostringstream line;
   line << "phase II  orientation: " << plural(oriented.component_count(), "component");
-  std::vector<std::size_t> shown = sizes;
+  std::vector<std::uint32_t> shown = g.components.sizes;
   std::sort(shown.rbegin(), shown.rend());
   line << " (";
   for (std::size_t c = 0; c < shown.size() && c < 8; ++c) line << (c ? ", " : "") << shown[c];
@@ -156,7 +155,7 @@ void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   Json& s = summary.stats()["orientation"];
   s["components"] = oriented.component_count();
   Json::Array size_list;
-  for (std::size_t v : sizes) size_list.emplace_back(v);
+  for (std::uint32_t v : g.components.sizes) size_list.emplace_back(static_cast<std::size_t>(v));
   s["component_sizes"] = Json(size_list);
   s["graph_edges"] = g.graph.edge_count();
   s["gap_edges"] = g.gap_emst_edges;

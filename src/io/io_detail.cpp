@@ -40,30 +40,30 @@ std::string read_file(const std::filesystem::path& path) {
   return content;
 }
 
-void fail_at_line(std::string_view file, std::size_t line, std::string_view what) {
+namespace {
+// "FILE" + separator + location + ": " + what, thrown as a ParseError.
+[[noreturn]] void throw_parse_error(std::string_view file, std::string_view location, std::string_view what,
+                                    std::string_view separator) {
   std::string message(file);
-  message += ':';
-  message += std::to_string(line);
+  if (!location.empty()) {
+    message += separator;
+    message += location;
+  }
   message += ": ";
   message += what;
   throw ParseError(message);
+}
+}  // namespace
+
+void fail_at_line(std::string_view file, std::size_t line, std::string_view what) {
+  throw_parse_error(file, std::to_string(line), what, ":");
 }
 
 void fail_at_byte(std::string_view file, std::size_t offset, std::string_view what) {
-  std::string message(file);
-  message += ": byte ";
-  message += std::to_string(offset);
-  message += ": ";
-  message += what;
-  throw ParseError(message);
+  throw_parse_error(file, "byte " + std::to_string(offset), what, ": ");
 }
 
-void fail_in_file(std::string_view file, std::string_view what) {
-  std::string message(file);
-  message += ": ";
-  message += what;
-  throw ParseError(message);
-}
+void fail_in_file(std::string_view file, std::string_view what) { throw_parse_error(file, {}, what, {}); }
 
 std::string excerpt(std::string_view text) {
   constexpr std::size_t max_length = 40;

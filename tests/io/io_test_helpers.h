@@ -4,6 +4,7 @@
 // checks on exception messages.
 
 #include "recon/errors.h"
+#include "recon/io/point_io.h"
 #include "recon/point_cloud.h"
 
 #include <gtest/gtest.h>
@@ -134,6 +135,11 @@ std::string message_of(F&& f) {
   }
   ADD_FAILURE() << "threw nothing";
   return {};
+}
+
+/// The message of the ParseError that reading `path` as a point cloud throws.
+inline std::string point_read_error(const std::filesystem::path& path) {
+  return message_of<ParseError>([&] { static_cast<void>(read_points(path)); });
 }
 
 }  // namespace recon::io::testing

@@ -16,13 +16,10 @@ namespace {
 
 using testing::Bytes;
 using testing::message_of;
+using testing::point_read_error;
 using testing::random_cloud;
 using testing::TempFolder;
 using testing::write_file;
-
-std::string read_error(const std::filesystem::path& path) {
-  return message_of<ParseError>([&] { static_cast<void>(read_points(path)); });
-}
 
 TEST(PlyReader, AsciiWithCommentsOtherPropertiesAndFacesFirst) {
   TempFolder folder;
@@ -201,7 +198,7 @@ TEST(PlyReader, HeaderErrorsNameTheLine) {
   };
   for (const HeaderCase& c : cases) {
     write_file(folder / "e.ply", c.content);
-    const std::string message = read_error(folder / "e.ply");
+    const std::string message = point_read_error(folder / "e.ply");
     EXPECT_CONTAINS(message, c.where);
     EXPECT_CONTAINS(message, c.what);
   }
@@ -225,7 +222,7 @@ TEST(PlyReader, AsciiBodyErrorsNameTheLine) {
   };
   for (const HeaderCase& c : cases) {
     write_file(folder / "e.ply", header + c.content);
-    const std::string message = read_error(folder / "e.ply");
+    const std::string message = point_read_error(folder / "e.ply");
     EXPECT_CONTAINS(message, c.where);
     EXPECT_CONTAINS(message, c.what);
   }
@@ -240,7 +237,7 @@ TEST(PlyReader, TruncatedBinarySaysWhichVertexAndByte) {
   const std::size_t body = bytes.size();
   bytes.put(1.0F).put(2.0F).put(3.0F).put(4.0F).put(5.0F).put(6.0F).put(7.0F).put(8.0F);
   write_file(folder / "t.ply", bytes.str());
-  const std::string message = read_error(folder / "t.ply");
+  const std::string message = point_read_error(folder / "t.ply");
   EXPECT_CONTAINS(message, "t.ply: byte " + std::to_string(body + 24) + ":");
   EXPECT_CONTAINS(message, "inside vertex 2");
   EXPECT_CONTAINS(message, "promises 3 'vertex'");
@@ -257,7 +254,7 @@ TEST(PlyReader, TruncatedBinaryListElement) {
   bytes.put<std::uint8_t>(3).put(0).put(0).put(0);
   bytes.put<std::uint8_t>(3).put(0).put(0);
   write_file(folder / "t.ply", bytes.str());
-  const std::string message = read_error(folder / "t.ply");
+  const std::string message = point_read_error(folder / "t.ply");
   EXPECT_CONTAINS(message, "t.ply: byte " + std::to_string(second_face) + ":");
   EXPECT_CONTAINS(message, "inside face 1");
 }
@@ -272,7 +269,7 @@ TEST(PlyReader, NonFiniteBinaryValueSaysWhere) {
     bytes.put(1.0).put(2.0F).put(3.0);
     bytes.put(1.0).put(std::numeric_limits<float>::signaling_NaN()).put(3.0);
     write_file(folder / "n.ply", bytes.str());
-    const std::string message = read_error(folder / "n.ply");
+    const std::string message = point_read_error(folder / "n.ply");
     EXPECT_CONTAINS(message, "n.ply: byte " + std::to_string(body + 20 + 8) + ":");
     EXPECT_CONTAINS(message, "vertex 1: y");
   }
@@ -284,12 +281,12 @@ TEST(PlyReader, HugeCountsInTheHeaderAllocateNothing) {
       "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000000\nproperty double x\n"
       "property double y\nproperty double z\nend_header\n0123456789";
   write_file(folder / "b.ply", binary);
-  EXPECT_CONTAINS(read_error(folder / "b.ply"), "b.ply: byte ");
+  EXPECT_CONTAINS(point_read_error(folder / "b.ply"), "b.ply: byte ");
   const std::string ascii =
       "ply\nformat ascii 1.0\nelement vertex 1000000000000000\nproperty double x\n"
       "property double y\nproperty double z\nend_header\n1 2 3\n";
   write_file(folder / "a.ply", ascii);
-  EXPECT_CONTAINS(read_error(folder / "a.ply"), "a.ply:8:");
+  EXPECT_CONTAINS(point_read_error(folder / "a.ply"), "a.ply:8:");
   const std::string list =
       "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty double x\n"
       "property double y\nproperty double z\nproperty uint count\nelement face 1\n"
@@ -297,7 +294,7 @@ TEST(PlyReader, HugeCountsInTheHeaderAllocateNothing) {
   Bytes bytes;
   bytes.text(list).put(1.0).put(2.0).put(3.0).put<std::uint32_t>(0).put<std::uint32_t>(4000000000U).put(0);
   write_file(folder / "l.ply", bytes.str());
-  EXPECT_CONTAINS(read_error(folder / "l.ply"), "l.ply: byte ");
+  EXPECT_CONTAINS(point_read_error(folder / "l.ply"), "l.ply: byte ");
 }
 
 }  // namespace

@@ -19,6 +19,7 @@ namespace {
 
 using testing::Bytes;
 using testing::message_of;
+using testing::point_read_error;
 using testing::random_cloud;
 using testing::TempFolder;
 using testing::write_file;
@@ -122,7 +123,7 @@ TEST(PointIoErrors, EmptyFile) {
   TempFolder folder;
   for (const char* name : {"e.ply", "e.xyz", "e.pts", "e.obj", "e.off", "e.pcd"}) {
     write_file(folder / name, "");
-    const std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / name)); });
+    const std::string message = point_read_error(folder / name);
     EXPECT_CONTAINS(message, name);
     EXPECT_CONTAINS(message, "empty");
   }
@@ -142,7 +143,7 @@ TEST(PointIoErrors, NoPoints) {
   };
   for (const auto& [name, content] : files) {
     write_file(folder / name, content);
-    const std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / name)); });
+    const std::string message = point_read_error(folder / name);
     EXPECT_CONTAINS(message, name);
     EXPECT_CONTAINS(message, "no points");
   }
@@ -207,7 +208,7 @@ TEST(PointIoXyz, Errors) {
   };
   for (const Case& c : errors) {
     write_file(folder / "e.xyz", c.content);
-    const std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.xyz")); });
+    const std::string message = point_read_error(folder / "e.xyz");
     EXPECT_CONTAINS(message, c.where);
     EXPECT_CONTAINS(message, c.what);
   }
@@ -264,22 +265,22 @@ TEST(PointIoPts, RoundTripThroughHoppeText) {
 TEST(PointIoPts, Errors) {
   TempFolder folder;
   write_file(folder / "e.pts", "p 1 2 3\np 1 2\n");
-  std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.pts")); });
+  std::string message = point_read_error(folder / "e.pts");
   EXPECT_CONTAINS(message, "e.pts:2:");
   EXPECT_CONTAINS(message, "found 2");
 
   write_file(folder / "e.pts", "# c\np 1 2 3\n4 5 6\n");
-  message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.pts")); });
+  message = point_read_error(folder / "e.pts");
   EXPECT_CONTAINS(message, "e.pts:3:");
   EXPECT_CONTAINS(message, "line 2");
 
   write_file(folder / "e.pts", "p 1 2 3\npoint 5 6 7\n");
-  message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.pts")); });
+  message = point_read_error(folder / "e.pts");
   EXPECT_CONTAINS(message, "e.pts:2:");
   EXPECT_CONTAINS(message, "'point'");
 
   write_file(folder / "e.pts", "p 1 2 3\np 1 inf 3\n");
-  message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.pts")); });
+  message = point_read_error(folder / "e.pts");
   EXPECT_CONTAINS(message, "e.pts:2:");
   EXPECT_CONTAINS(message, "non-finite");
 }
@@ -323,11 +324,11 @@ TEST(PointIoObj, RoundTripThroughText) {
 TEST(PointIoObj, Errors) {
   TempFolder folder;
   write_file(folder / "e.obj", "v 1 2 3\n# c\nv 1 2\n");
-  std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.obj")); });
+  std::string message = point_read_error(folder / "e.obj");
   EXPECT_CONTAINS(message, "e.obj:3:");
   EXPECT_CONTAINS(message, "3 numbers");
   write_file(folder / "e.obj", "v 1 2 3\nvn a 0 1\n");
-  message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.obj")); });
+  message = point_read_error(folder / "e.obj");
   EXPECT_CONTAINS(message, "e.obj:2:");
   EXPECT_CONTAINS(message, "'a'");
 }
@@ -393,7 +394,7 @@ TEST(PointIoOff, Errors) {
   };
   for (const Case& c : errors) {
     write_file(folder / "e.off", c.content);
-    const std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.off")); });
+    const std::string message = point_read_error(folder / "e.off");
     EXPECT_CONTAINS(message, c.where);
     EXPECT_CONTAINS(message, c.what);
   }
@@ -486,7 +487,7 @@ TEST(PointIoPcd, Errors) {
   };
   for (const Case& c : errors) {
     write_file(folder / "e.pcd", c.content);
-    const std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "e.pcd")); });
+    const std::string message = point_read_error(folder / "e.pcd");
     EXPECT_CONTAINS(message, c.where);
     EXPECT_CONTAINS(message, c.what);
   }
@@ -500,7 +501,7 @@ TEST(PointIoPcd, TruncatedBinarySaysWhere) {
   for (int i = 0; i < 2; ++i) bytes.put(1.0F).put(2.0F).put(3.0F);
   bytes.put(1.0F);
   write_file(folder / "t.pcd", bytes.str());
-  const std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "t.pcd")); });
+  const std::string message = point_read_error(folder / "t.pcd");
   EXPECT_CONTAINS(message, "t.pcd: byte " + std::to_string(data_start + 24) + ":");
   EXPECT_CONTAINS(message, "point 2");
 }
@@ -513,7 +514,7 @@ TEST(PointIoPcd, InfinityInBinarySaysWhere) {
   bytes.put(1.0F).put(2.0F).put(3.0F);
   bytes.put(1.0F).put(std::numeric_limits<float>::infinity()).put(3.0F);
   write_file(folder / "i.pcd", bytes.str());
-  const std::string message = message_of<ParseError>([&] { static_cast<void>(read_points(folder / "i.pcd")); });
+  const std::string message = point_read_error(folder / "i.pcd");
   EXPECT_CONTAINS(message, "i.pcd: byte " + std::to_string(data_start + 16) + ":");
   EXPECT_CONTAINS(message, "point 1");
 }
