@@ -8,6 +8,7 @@
 #include "recon/io/point_io.h"
 #include "recon/mesh.h"
 #include "recon/reconstruct.h"
+#include "recon/resource_usage.h"
 #include "recon/orientation.h"
 #include "recon/parallel.h"
 #include "recon/shapes.h"
@@ -40,6 +41,39 @@ void add_input(CLI::App& app, InputOptions& in) {
   app.add_option("input", in.path, "Point cloud (.ply .xyz .txt .pts .obj .off .pcd)")->required();
   app.add_option("--format", in.format, "Input format when the extension does not say: ply, xyz, pts, obj, off, pcd");
 }
+
+// Peak memory per step for --stats: the process's peak is reset as each step
+// starts and read when the next one does (resource_usage.h).
+class StepMemory {
+ public:
+  void start(const std::string& step) {
+    finish();
+    step_ = step;
+    reset_peak_resident();
+  }
+  /// Ends the last step and writes "memory": {"peak_mib": {step: MiB, ...},
+  /// "peak_mib_total": the largest} into the statistics.
+  void report(Summary& summary) {
+    finish();
+    if (peaks_.empty()) return;
+    Json& m = summary.stats()["memory"];
+    double largest = 0.0;
+    for (const auto& [step, mib] : peaks_) {
+      m["peak_mib"][step] = mib;
+      largest = std::max(largest, mib);
+    }
+    m["peak_mib_total"] = largest;
+  }
+
+ private:
+  void finish() {
+    if (step_.empty()) return;
+    if (const auto peak = peak_resident_bytes()) peaks_.emplace_back(step_, static_cast<double>(*peak) / (1024.0 * 1024.0));
+    step_.clear();
+  }
+  std::string step_;
+  std::vector<std::pair<std::string, double>> peaks_;
+};
 
 PointCloud read_input(const InputOptions& in, Summary& summary) {
   Timer timer;
@@ -126,7 +160,7 @@ void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary&
        << (planes.rho_given ? " (given)" : " (estimated, median of local values)") << ", "
        << plural(points - planes.distinct_points, "duplicate") << ", "
        << plural(planes.degenerate, "degenerate neighbourhood") << " ("
-       << format_seconds(planes.seconds_knn + planes.seconds_pca) << ")";
+       << format_seconds(planes.seconds_tree + planes.seconds_knn_pca + planes.seconds_spacing) << ")";
   summary.say(line.str());
   Json& s = summary.stats()["tangent_planes"];
   s["k"] = planes.k;
@@ -136,8 +170,9 @@ void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary&
   s["rho_estimated"] = !planes.rho_given;
   s["distinct_points"] = planes.distinct_points;
   s["degenerate_neighbourhoods"] = planes.degenerate;
-  s["seconds_knn"] = planes.seconds_knn;
-  s["seconds_pca"] = planes.seconds_pca;
+  s["seconds_tree"] = planes.seconds_tree;
+  s["seconds_knn_pca"] = planes.seconds_knn_pca;
+  s["seconds_spacing"] = planes.seconds_spacing;
 }
 
 void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
@@ -150,7 +185,7 @@ void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   for (std::size_t c = 0; c < shown.size() && c < 8; ++c) line << (c ? ", " : "") << shown[c];
   if (shown.size() > 8) line << ", ...";
   line << " points), graph of " << plural(g.graph.edge_count(), "edge") << ", " << plural(oriented.flip_count, "flip")
-       << " (" << format_seconds(g.seconds_knn + g.seconds_emst + g.seconds_graph + oriented.seconds_mst) << ")";
+       << " (" << format_seconds(g.seconds_tree + g.seconds_emst + g.seconds_graph + oriented.seconds_mst) << ")";
   summary.say(line.str());
   Json& s = summary.stats()["orientation"];
   s["components"] = oriented.component_count();
@@ -161,7 +196,7 @@ void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   s["gap_edges"] = g.gap_emst_edges;
   s["rejoined_pieces"] = g.rejoined;
   s["flips"] = oriented.flip_count;
-  s["seconds_knn"] = g.seconds_knn;
+  s["seconds_tree"] = g.seconds_tree;
   s["seconds_emst"] = g.seconds_emst;
   s["seconds_graph"] = g.seconds_graph;
   s["seconds_mst"] = oriented.seconds_mst;
@@ -248,7 +283,10 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     write_options.format = io::mesh_format_from_path(o->output);  // fail early on a bad extension
     write_options.ascii = o->ascii;
     check_outputs(o->in.path, {o->output, o->stats});
-    const PointCloud cloud = read_input(o->in, summary);
+    StepMemory memory;
+    memory.start("read");
+    PointCloud cloud = read_input(o->in, summary);
+    const std::size_t points = cloud.size();
 
     ReconstructionOptions options;
     options.planes = phase_1_options(o->phases);
@@ -257,11 +295,14 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     options.resolution = o->resolution;
     options.use_input_normals = o->use_normals;
     Progress progress(!global.quiet);
-    options.on_phase = [&progress](const char* phase) { progress.phase(phase); };
-    const Reconstruction r = reconstruct(cloud, options);
+    options.on_phase = [&progress, &memory](const char* phase) {
+      progress.phase(phase);
+      memory.start(phase);
+    };
+    const Reconstruction r = reconstruct(std::move(cloud), options);
     progress.stop();
 
-    report_phase_1(r.planes, cloud.size(), summary);
+    report_phase_1(r.planes, points, summary);
     if (r.oriented) {
       report_phase_2(*r.oriented, summary);
     } else {
@@ -269,8 +310,10 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     }
     report_phases_3_4(r, summary);
     report_mesh(r.contour.mesh, summary);
+    memory.start("write");
     Timer timer;
     io::write_mesh(o->output, r.contour.mesh, write_options);
+    memory.report(summary);
     summary.say("wrote     " + o->output.string() + " (" + format_seconds(timer.elapsed()) + "); total " +
                 format_seconds(total.elapsed()));
     summary.stats()["output"]["file"] = o->output.string();
@@ -329,9 +372,12 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     write_options.format = writable_point_format(*output);  // fail early on a bad extension
     write_options.ascii = *ascii;
     check_outputs(in->path, {*output, *stats});
+    StepMemory memory;
+    memory.start("read");
     PointCloud cloud = read_input(*in, summary);
     Progress progress(!global.quiet);
     progress.phase("phase I, tangent planes");
+    memory.start("tangent planes");
     // Work in spatial order (much faster on large clouds); write in the input's.
     const std::vector<std::uint32_t> order = spatial_order(cloud.positions);
     const std::vector<Vec3> points = permuted<Vec3>(cloud.positions, order);
@@ -339,16 +385,17 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     progress.phase("");
     report_phase_1(planes, cloud.size(), summary);
     progress.phase("phase II, orientation");
-    OrientationOptions orientation;
-    orientation.graph.k = planes.k;
-    const auto oriented = orient_normals<3>(planes, orientation);
+    memory.start("orientation");
+    const auto oriented = orient_normals<3>(planes);
     progress.phase("");
     report_phase_2(oriented, summary);
     progress.stop();
+    memory.start("write");
     cloud.normals.resize(cloud.size());
     for (std::size_t j = 0; j < order.size(); ++j) cloud.normals[order[j]] = oriented.normals[j];
     Timer timer;
     io::write_points(*output, cloud, write_options);
+    memory.report(summary);
     summary.say("wrote     " + output->string() + " (" + format_seconds(timer.elapsed()) + "); total " +
                 format_seconds(total.elapsed()));
     summary.stats()["output"]["file"] = output->string();
@@ -368,7 +415,10 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
     std::filesystem::path output;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("shape", o->shape, "sphere, torus, ellipsoid, box, or two (a sphere beside a torus)")->required();
+  app.add_option("shape", o->shape,
+                 "sphere, torus, ellipsoid, box, two (a sphere beside a torus), or terrain (a scan-like open "
+                 "height field on a jittered grid)")
+      ->required();
   app.add_option("-o,--output", o->output, "Point cloud to write (.ply or .xyz)")->required();
   app.add_option("-n,--points", o->count, "Number of points")->default_val(o->count)->check(CLI::Range(1, 1 << 30));
   app.add_option("--seed", o->seed, "Random seed")->default_val(o->seed);

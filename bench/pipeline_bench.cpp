@@ -167,18 +167,17 @@ void phase_one_and_two(const recon::PointCloud& cloud, int threads, const std::s
   Row one = new_row(cloud.size(), used, "I tangent planes" + input);
   std::optional<recon::TangentPlanes<3>> planes;
   measured(one, [&] { planes.emplace(recon::estimate_tangent_planes<3>(cloud.positions)); });
-  one.reported_s = planes->seconds_knn + planes->seconds_pca;
-  one.breakdown = "k " + std::to_string(planes->k) + ": tree+knn " + fixed(planes->seconds_knn, 3) + ", pca " + fixed(planes->seconds_pca, 3);
+  one.reported_s = planes->seconds_tree + planes->seconds_knn_pca + planes->seconds_spacing;
+  one.breakdown = "k " + std::to_string(planes->k) + ": tree " + fixed(planes->seconds_tree, 3) + ", knn+pca " +
+                  fixed(planes->seconds_knn_pca, 3) + ", spacing " + fixed(planes->seconds_spacing, 3);
   print_row(one);
 
   Row two = new_row(cloud.size(), used, "II orientation" + input);
   std::optional<recon::OrientedNormals<3>> oriented;
-  recon::OrientationOptions orientation;
-  orientation.graph.k = planes->k;  // as reconstruct() does
-  measured(two, [&] { oriented.emplace(recon::orient_normals<3>(*planes, orientation)); });
+  measured(two, [&] { oriented.emplace(recon::orient_normals<3>(*planes)); });
   const auto& graph = oriented->graph;
-  two.reported_s = graph.seconds_knn + graph.seconds_emst + graph.seconds_graph + oriented->seconds_mst;
-  two.breakdown = "k " + std::to_string(orientation.graph.k) + ": tree+knn " + fixed(graph.seconds_knn, 3) + ", emst " + fixed(graph.seconds_emst, 3) +
+  two.reported_s = graph.seconds_tree + graph.seconds_emst + graph.seconds_graph + oriented->seconds_mst;
+  two.breakdown = "tree " + fixed(graph.seconds_tree, 3) + ", emst " + fixed(graph.seconds_emst, 3) +
                   ", graph " + fixed(graph.seconds_graph, 3) + ", prim+vote " + fixed(oriented->seconds_mst, 3);
   two.components = std::to_string(oriented->component_count());
   two.normals_right = agreement(oriented->normals, cloud.normals);
@@ -192,15 +191,15 @@ void full_reconstruction(const recon::PointCloud& cloud) {
   measured(row, [&] { r.emplace(recon::reconstruct(cloud)); });
   const auto& planes = r->planes;
   const auto& graph = r->oriented->graph;
-  const double one = planes.seconds_knn + planes.seconds_pca;
-  const double two = graph.seconds_knn + graph.seconds_emst + graph.seconds_graph + r->oriented->seconds_mst;
+  const double one = planes.seconds_tree + planes.seconds_knn_pca + planes.seconds_spacing;
+  const double two = graph.seconds_tree + graph.seconds_emst + graph.seconds_graph + r->oriented->seconds_mst;
   row.reported_s = one + two + r->seconds_distance_setup + r->contour.seconds;
   row.breakdown = "I " + fixed(one, 3) + ", II " + fixed(two, 3) + ", III setup " +
                   fixed(r->seconds_distance_setup, 3) + ", III+IV marching cubes " + fixed(r->contour.seconds, 3);
   row.components = std::to_string(r->oriented->component_count());
   row.mesh_vertices = std::to_string(r->contour.mesh.vertices.size());
   row.mesh_faces = std::to_string(r->contour.mesh.triangles.size());
-  row.normals_right = agreement(r->normals, cloud.normals, r->order);  // reconstruct() works in spatial order
+  row.normals_right = agreement(r->oriented->normals, cloud.normals, r->order);  // reconstruct() works in spatial order
   print_row(row);
 }
 

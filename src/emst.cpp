@@ -1,5 +1,6 @@
 #include "recon/emst.h"
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -24,60 +25,79 @@ struct Candidate {
   }
 };
 
+// Lowers `bound` to `value` if smaller; safe from many threads.
+void lower(double& bound, double value) {
+  std::atomic_ref<double> shared(bound);
+  double current = shared.load(std::memory_order_relaxed);
+  while (value < current && !shared.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
+  }
+}
+
 }  // namespace
 
 template <int D>
 std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::span<const Vec<D>> points,
-                                                  const KnnTable* knn) {
+                                                  const EmstHints& hints) {
   const std::size_t n = points.size();
   std::vector<Edge> edges;
   if (n < 2) return edges;
   edges.reserve(n - 1);
+  const bool hinted = hints.lists != nullptr && hints.lists->size() == n && hints.certain_radius2.size() == n;
   UnionFind sets(n);
   std::vector<std::int32_t> label(n);
   std::vector<Candidate> per_point(n);
   std::vector<Candidate> per_component(n);
-  std::vector<std::uint8_t> needs_query(n);
+  std::vector<double> bound(n);  // per component: the best squared length known so far
+  std::vector<std::uint8_t> interior(n, 0);
   const auto count = static_cast<std::int64_t>(n);
 
   while (sets.set_count() > 1) {
     for (std::uint32_t i = 0; i < n; ++i) label[i] = static_cast<std::int32_t>(sets.find(i));
     const std::vector<std::int32_t> node_label = tree.node_labels(label);
 
-    // 1. Answers the k-NN lists give for free.
+    // 1. What the lists give for free: the first entry of another component
+    //    is the point's nearest outside point. A point whose whole list is
+    //    in its own component stays so (components only merge): it is not
+    //    scanned again.
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::uint32_t>(s);
       per_point[i] = Candidate{};
-      needs_query[i] = 1;
-      if (knn == nullptr) continue;
-      for (const Neighbor& nb : knn->row(i)) {
-        if (label[nb.index] != label[i]) {
-          per_point[i] = Candidate::make(nb.distance2, i, nb.index);
-          needs_query[i] = 0;
-          break;
-        }
+      if (!hinted || interior[i]) continue;
+      bool outside = false;
+      for (const std::uint32_t j : hints.lists->row(i)) {
+        if (label[j] == label[i]) continue;
+        per_point[i] = Candidate::make((points[j] - points[i]).squaredNorm(), i, j);
+        outside = true;
+        break;
       }
+      if (!outside) interior[i] = 1;
     }
+    std::fill(per_component.begin(), per_component.end(), Candidate{});
     auto reduce = [&] {
       for (std::uint32_t i = 0; i < n; ++i) {
         Candidate& best = per_component[static_cast<std::size_t>(label[i])];
         if (per_point[i] < best) best = per_point[i];
       }
     };
-    std::fill(per_component.begin(), per_component.end(), Candidate{});
     reduce();
+    for (std::size_t c = 0; c < n; ++c) bound[c] = per_component[c].d2;
 
-    // 2. Tree queries where the list did not settle it and could still beat
-    //    the component's best so far.
+    // 2. Tree queries where a point could still beat its component's best:
+    //    bounded by that best, which the queries lower as they go (only the
+    //    work depends on the order, not the answer: the reduction below
+    //    keeps the least candidate under the strict order).
 #pragma omp parallel for schedule(dynamic, 1024)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::uint32_t>(s);
-      if (!needs_query[i]) continue;
-      const Candidate& bound = per_component[static_cast<std::size_t>(label[i])];
-      if (knn != nullptr && knn->row(i).back().distance2 > bound.d2) continue;
-      const Neighbor nb = tree.nearest_with_other_label(points[i], label[i], label, node_label, bound.d2);
-      if (nb.index != KdTree<D>::no_child) per_point[i] = Candidate::make(nb.distance2, i, nb.index);
+      double& best = bound[static_cast<std::size_t>(label[i])];
+      const double limit = std::atomic_ref<double>(best).load(std::memory_order_relaxed);
+      if (hinted && (per_point[i].valid() || hints.certain_radius2[i] > limit)) continue;
+      const Neighbor nb = tree.nearest_with_other_label(points[i], label[i], label, node_label, limit);
+      if (nb.index == KdTree<D>::no_child) continue;
+      const Candidate c = Candidate::make(nb.distance2, i, nb.index);
+      if (c < per_point[i]) per_point[i] = c;
+      lower(best, nb.distance2);
     }
     reduce();
 
@@ -89,9 +109,25 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
   return edges;
 }
 
+template <int D>
+std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::span<const Vec<D>> points,
+                                                  const KnnTable& knn) {
+  NeighborLists lists;
+  lists.k = knn.k;
+  lists.indices.reserve(knn.entries.size());
+  for (const Neighbor& nb : knn.entries) lists.indices.push_back(nb.index);
+  std::vector<double> radius2(knn.size());
+  for (std::size_t i = 0; i < radius2.size(); ++i) radius2[i] = knn.row(i).back().distance2;
+  return euclidean_minimum_spanning_tree<D>(tree, points, EmstHints{&lists, radius2});
+}
+
 template std::vector<Edge> euclidean_minimum_spanning_tree<2>(const KdTree<2>&, std::span<const Vec<2>>,
-                                                              const KnnTable*);
+                                                              const EmstHints&);
 template std::vector<Edge> euclidean_minimum_spanning_tree<3>(const KdTree<3>&, std::span<const Vec<3>>,
-                                                              const KnnTable*);
+                                                              const EmstHints&);
+template std::vector<Edge> euclidean_minimum_spanning_tree<2>(const KdTree<2>&, std::span<const Vec<2>>,
+                                                              const KnnTable&);
+template std::vector<Edge> euclidean_minimum_spanning_tree<3>(const KdTree<3>&, std::span<const Vec<3>>,
+                                                              const KnnTable&);
 
 }  // namespace recon

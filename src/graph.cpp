@@ -70,23 +70,41 @@ bool UnionFind::unite(std::uint32_t a, std::uint32_t b) {
   return true;
 }
 
+Graph with_edges(const Graph& graph, std::span<const Edge> edges) {
+  const std::size_t n = graph.vertex_count();
+  const bool weighted = !graph.weights.empty();
+  std::vector<Edge> all;
+  all.reserve(graph.targets.size() / 2 + edges.size());
+  for (std::uint32_t v = 0; v < n; ++v)
+    for (std::uint64_t e = graph.offsets[v]; e < graph.offsets[v + 1]; ++e)
+      if (v < graph.targets[e]) all.push_back({v, graph.targets[e], weighted ? graph.weights[e] : 0.0});
+  all.insert(all.end(), edges.begin(), edges.end());
+  Graph g = make_graph(n, all);
+  if (!weighted) g.weights.clear();
+  return g;
+}
+
+// Breadth-first search from each vertex not yet labelled, in index order.
 Components connected_components(const Graph& graph) {
   const std::size_t n = graph.vertex_count();
-  UnionFind sets(n);
-  for (std::uint32_t v = 0; v < n; ++v)
-    for (std::uint32_t w : graph.neighbors(v))
-      if (v < w) sets.unite(v, w);
+  constexpr std::uint32_t unlabelled = UINT32_MAX;
   Components c;
-  c.label.assign(n, 0);
-  std::vector<std::uint32_t> label_of_root(n, UINT32_MAX);
-  for (std::uint32_t v = 0; v < n; ++v) {
-    std::uint32_t& l = label_of_root[sets.find(v)];
-    if (l == UINT32_MAX) {
-      l = static_cast<std::uint32_t>(c.sizes.size());
-      c.sizes.push_back(0);
-    }
-    c.label[v] = l;
-    ++c.sizes[l];
+  c.label.assign(n, unlabelled);
+  std::vector<std::uint32_t> queue;
+  queue.reserve(n);
+  for (std::uint32_t start = 0; start < n; ++start) {
+    if (c.label[start] != unlabelled) continue;
+    const auto l = static_cast<std::uint32_t>(c.sizes.size());
+    queue.clear();
+    queue.push_back(start);
+    c.label[start] = l;
+    for (std::size_t head = 0; head < queue.size(); ++head)
+      for (const std::uint32_t w : graph.neighbors(queue[head]))
+        if (c.label[w] == unlabelled) {
+          c.label[w] = l;
+          queue.push_back(w);
+        }
+    c.sizes.push_back(static_cast<std::uint32_t>(queue.size()));
   }
   return c;
 }

@@ -52,20 +52,46 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
   std::vector<std::pair<Point, std::uint32_t>> items(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i], static_cast<std::uint32_t>(i)};
 
-  nodes_.reserve(2 * points.size() / static_cast<std::size_t>(options_.leaf_size) + 1);
+  // The shape of the tree depends only on the sizes (each node splits its
+  // points into halves of sizes m / 2 and m - m / 2), so every subtree's node
+  // count is known in advance: node ids are pre-order positions computed,
+  // not appended, and the subtrees are built in parallel as OpenMP tasks.
+  const auto leaf = static_cast<std::uint32_t>(options_.leaf_size);
+  struct Shape {
+    std::uint32_t leaf;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> memo;  // size -> nodes, for every size in the tree
+    // Fills the memo: the recursion meets every size the tree has (at most
+    // two per level).
+    std::uint32_t count(std::uint32_t size) {
+      if (size <= leaf) return 1;
+      for (const auto& [s, c] : memo)
+        if (s == size) return c;
+      const std::uint32_t c = 1 + count(size / 2) + count(size - size / 2);
+      memo.emplace_back(size, c);
+      return c;
+    }
+    [[nodiscard]] std::uint32_t nodes(std::uint32_t size) const {
+      if (size <= leaf) return 1;
+      for (const auto& [s, c] : memo)
+        if (s == size) return c;
+      return 0;  // not reached: count() saw every size
+    }
+    [[nodiscard]] int depth(std::uint32_t size) const { return size <= leaf ? 0 : 1 + depth(size - size / 2); }
+  } shape{leaf, {}};
+  const auto n = static_cast<std::uint32_t>(points.size());
+  nodes_.resize(shape.count(n));
+  depth_ = shape.depth(n);
   struct Builder {
     KdTree& tree;
     std::vector<std::pair<Point, std::uint32_t>>& items;
+    const Shape& shape;
 
-    std::uint32_t build(std::uint32_t begin, std::uint32_t end, int depth) {
-      const auto id = static_cast<std::uint32_t>(tree.nodes_.size());
-      tree.nodes_.emplace_back();
-      tree.depth_ = std::max(tree.depth_, depth);
+    void build(std::uint32_t id, std::uint32_t begin, std::uint32_t end) {
       Node node;
       node.begin = begin;
       node.end = end;
       for (auto t = begin; t < end; ++t) node.box.extend(items[t].first);
-      if (end - begin > static_cast<std::uint32_t>(tree.options_.leaf_size)) {
+      if (end - begin > shape.leaf) {
         const Point extent = node.box.extent();
         int axis = 0;
         for (int a = 1; a < D; ++a)
@@ -74,16 +100,28 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
         std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
                          [axis](const auto& a, const auto& b) { return a.first[axis] < b.first[axis]; });
         node.axis = axis;
-        node.left = build(begin, mid, depth + 1);
-        node.right = build(mid, end, depth + 1);
+        node.left = id + 1;
+        node.right = id + 1 + shape.nodes(mid - begin);
+        if (end - begin > 65536) {
+#pragma omp task default(shared) firstprivate(node, begin, mid)
+          build(node.left, begin, mid);
+#pragma omp task default(shared) firstprivate(node, mid, end)
+          build(node.right, mid, end);
+#pragma omp taskwait
+        } else {
+          build(node.left, begin, mid);
+          build(node.right, mid, end);
+        }
         node.left_max = tree.nodes_[node.left].box.max[axis];
         node.right_min = tree.nodes_[node.right].box.min[axis];
       }
       tree.nodes_[id] = node;
-      return id;
     }
   };
-  Builder{*this, items}.build(0, static_cast<std::uint32_t>(items.size()), 0);
+  Builder builder{*this, items, shape};
+#pragma omp parallel
+#pragma omp single
+  builder.build(0, 0, n);
 
   points_.resize(items.size());
   order_.resize(items.size());

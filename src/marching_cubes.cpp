@@ -4,12 +4,13 @@
 #include "recon/marching_cubes_table.h"
 #include "recon/timer.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
-#include <unordered_map>
-#include <unordered_set>
+#include <exception>
 
 namespace recon {
 namespace {
@@ -47,6 +48,69 @@ double estimate_visited_cubes(std::size_t samples, double spacing, double cell) 
   return 3.0 * area / (cell * cell) + static_cast<double>(samples);
 }
 
+namespace {
+
+// The corners met by the walk, in the order first met ("slots"), found by
+// lattice key through an open-addressing hash table (linear probing). A slot
+// holds the corner's value of f, the mesh vertex on each of the three
+// lattice edges leaving the corner in the + direction, whether f has been
+// evaluated there, and whether the cube whose lowest corner it is has been
+// visited. One table does the work of a
+// corner map, an edge map and a visited set.
+class CornerTable {
+ public:
+  static constexpr std::uint32_t no_vertex = UINT32_MAX;
+
+  CornerTable() : table_(1024, empty) {}
+
+  [[nodiscard]] std::size_t size() const { return keys_.size(); }
+  [[nodiscard]] std::uint64_t key(std::uint32_t slot) const { return keys_[slot]; }
+
+  /// The slot of `key`, created (not evaluated, no vertices) if new.
+  std::uint32_t find_or_insert(std::uint64_t key) {
+    if (2 * (keys_.size() + 1) > table_.size()) grow();
+    std::size_t h = hash(key);
+    while (true) {
+      const std::uint32_t slot = table_[h];
+      if (slot == empty) break;
+      if (keys_[slot] == key) return slot;
+      h = (h + 1) & (table_.size() - 1);
+    }
+    const auto slot = static_cast<std::uint32_t>(keys_.size());
+    table_[h] = slot;
+    keys_.push_back(key);
+    value.push_back(undefined);
+    vertex.push_back({no_vertex, no_vertex, no_vertex});
+    flags.push_back(0);
+    return slot;
+  }
+
+  std::vector<double> value;
+  std::vector<std::array<std::uint32_t, 3>> vertex;
+  static constexpr std::uint8_t visited_cube = 1, evaluated = 2;
+  std::vector<std::uint8_t> flags;
+
+ private:
+  static constexpr std::uint32_t empty = UINT32_MAX;
+  [[nodiscard]] std::size_t hash(std::uint64_t key) const {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
+  }
+  void grow() {
+    table_.assign(table_.size() * 2, empty);
+    ++bits_;
+    for (std::uint32_t slot = 0; slot < keys_.size(); ++slot) {
+      std::size_t h = hash(keys_[slot]);
+      while (table_[h] != empty) h = (h + 1) & (table_.size() - 1);
+      table_[h] = slot;
+    }
+  }
+  std::vector<std::uint32_t> table_;
+  std::vector<std::uint64_t> keys_;
+  int bits_ = 10;
+};
+
+}  // namespace
+
 MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
                                    const MarchingCubesOptions& options, bool keep_corners) {
   if (!(options.cell > 0.0) || !std::isfinite(options.cell))
@@ -69,11 +133,6 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
     result.size[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(cubes);
   }
 
-  std::chrono::steady_clock::duration field_time{};
-  std::unordered_map<std::uint64_t, double> corner_value;
-  std::unordered_map<std::uint64_t, std::uint32_t> edge_vertex;  // key * 3 + axis -> vertex
-  std::unordered_set<std::uint64_t> visited;
-  std::vector<std::uint64_t> queue;
   auto position = [&](const Index3& i) {
     return Vec3(result.origin.x() + i[0] * options.cell, result.origin.y() + i[1] * options.cell,
                 result.origin.z() + i[2] * options.cell);
@@ -83,22 +142,25 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
       if (cube[a] < 0 || cube[a] >= result.size[a]) return false;
     return true;
   };
+
+  // The walk is breadth-first, one wave (the cubes at the same number of
+  // steps from the seeds) at a time: first every corner the wave needs and
+  // has not met is evaluated, in parallel (f is by far the costliest part),
+  // then the wave's cubes are processed in order, producing triangles and
+  // the next wave. The order of cubes, and so the mesh, is the same for any
+  // number of threads.
+  CornerTable corners;
+  std::size_t visited = 0;
+  std::vector<std::uint64_t> wave, next;
   auto visit = [&](const Index3& cube) {
-    if (!inside_lattice(cube) || !visited.insert(pack(cube)).second) return;
-    if (visited.size() > options.max_cubes)
+    if (!inside_lattice(cube)) return;
+    const std::uint32_t slot = corners.find_or_insert(pack(cube));
+    if (corners.flags[slot] & CornerTable::visited_cube) return;
+    corners.flags[slot] |= CornerTable::visited_cube;
+    if (++visited > options.max_cubes)
       throw ResourceLimitError("the lattice walk passed " + std::to_string(options.max_cubes) +
                                " cubes: use a larger --cell or a smaller --resolution");
-    queue.push_back(pack(cube));
-  };
-  auto value_at = [&](const Index3& corner) {
-    const auto [it, inserted] = corner_value.try_emplace(pack(corner), undefined);
-    if (inserted) {
-      const auto started = std::chrono::steady_clock::now();
-      const std::optional<double> v = f(position(corner));
-      field_time += std::chrono::steady_clock::now() - started;
-      if (v) it->second = *v;
-    }
-    return it->second;
+    next.push_back(pack(cube));
   };
 
   for (const Vec3& p : seeds) {
@@ -107,80 +169,119 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
       cube[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(std::floor((p[a] - result.origin[a]) / options.cell));
     visit(cube);
   }
-  result.seed_cubes = visited.size();
+  result.seed_cubes = visited;
 
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const Index3 cube = unpack(queue[head]);
-    std::array<double, 8> value;
-    bool complete = true;
-    unsigned config = 0;
-    for (int c = 0; c < 8; ++c) {
-      value[static_cast<std::size_t>(c)] = value_at(corner_of_cube(cube, c));
-      if (std::isnan(value[static_cast<std::size_t>(c)])) complete = false;
-      if (value[static_cast<std::size_t>(c)] < 0.0) config |= 1u << c;
-    }
-    if (!complete) {
-      ++result.undefined_cubes;
-      continue;
-    }
-    const mc::CubeCase& cube_case = mc::cube_case(config);
-    // Vertices: one per crossed lattice edge, shared through edge_vertex;
-    // then the centres of the loops that need one (private to this cube).
-    std::array<std::uint32_t, 12 + 4> vertex{};
-    for (int l = 0; l < cube_case.loop_count; ++l) {
-      const auto& loop = cube_case.loops[static_cast<std::size_t>(l)];
-      Vec3 centre = Vec3::Zero();
-      for (int j = 0; j < loop.size; ++j) {
-        const int e = loop.edges[static_cast<std::size_t>(j)];
-        const auto ends = mc::edge_corners(e);
-        const Index3 lower = corner_of_cube(cube, ends[0]);
-        const auto [it, inserted] =
-            edge_vertex.try_emplace(pack(lower) * 3 + static_cast<std::uint64_t>(mc::edge_axis(e)),
-                                    static_cast<std::uint32_t>(result.mesh.vertices.size()));
-        if (inserted) {
-          const double v0 = value[static_cast<std::size_t>(ends[0])], v1 = value[static_cast<std::size_t>(ends[1])];
-          const double t = std::clamp(v0 / (v0 - v1), vertex_margin, 1.0 - vertex_margin);
-          Vec3 p = position(lower);
-          p[mc::edge_axis(e)] += t * options.cell;
-          result.mesh.vertices.push_back(p);
+  std::vector<std::array<std::uint32_t, 8>> cube_slots;
+  std::vector<std::uint32_t> fresh;
+  std::chrono::steady_clock::duration field_time{};
+  while (!next.empty()) {
+    wave.swap(next);
+    next.clear();
+    cube_slots.resize(wave.size());
+    fresh.clear();
+    for (std::size_t w = 0; w < wave.size(); ++w) {
+      const Index3 cube = unpack(wave[w]);
+      for (int c = 0; c < 8; ++c) {
+        const std::uint32_t slot = corners.find_or_insert(pack(corner_of_cube(cube, c)));
+        cube_slots[w][static_cast<std::size_t>(c)] = slot;
+        if (!(corners.flags[slot] & CornerTable::evaluated)) {
+          corners.flags[slot] |= CornerTable::evaluated;
+          fresh.push_back(slot);
         }
-        vertex[static_cast<std::size_t>(e)] = it->second;
-        centre += result.mesh.vertices[it->second];
-      }
-      if (loop.centred) {
-        vertex[static_cast<std::size_t>(mc::loop_centre + l)] = static_cast<std::uint32_t>(result.mesh.vertices.size());
-        result.mesh.vertices.push_back(centre / loop.size);
       }
     }
-    for (int t = 0; t < cube_case.triangle_count; ++t) {
-      const auto& corners = cube_case.triangles[static_cast<std::size_t>(t)];
-      result.mesh.triangles.push_back({vertex[corners[0]], vertex[corners[1]], vertex[corners[2]]});
+    const auto started = std::chrono::steady_clock::now();
+    std::exception_ptr failure;
+    const auto fresh_count = static_cast<std::int64_t>(fresh.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::int64_t s = 0; s < fresh_count; ++s) {
+      const std::uint32_t slot = fresh[static_cast<std::size_t>(s)];
+      try {
+        const std::optional<double> v = f(position(unpack(corners.key(slot))));
+        corners.value[slot] = v ? *v : undefined;
+      } catch (...) {
+#pragma omp critical(recon_marching_cubes_failure)
+        if (!failure) failure = std::current_exception();
+      }
     }
+    if (failure) std::rethrow_exception(failure);
+    field_time += std::chrono::steady_clock::now() - started;
 
-    // Continue through every face the surface crosses, or touches at a
-    // corner where f = 0 (the surface may go on in the neighbour only).
-    for (int a = 0; a < 3; ++a) {
-      for (int s = 0; s < 2; ++s) {
-        int inside = 0;
-        bool touches = false;
-        for (int c = 0; c < 8; ++c) {
-          if (((c >> a) & 1) != s) continue;
-          if ((config >> c) & 1u) ++inside;
-          if (value[static_cast<std::size_t>(c)] == 0.0) touches = true;
+    for (std::size_t w = 0; w < wave.size(); ++w) {
+      const Index3 cube = unpack(wave[w]);
+      const auto& slots = cube_slots[w];
+      std::array<double, 8> value;
+      bool complete = true;
+      unsigned config = 0;
+      for (std::size_t c = 0; c < 8; ++c) {
+        value[c] = corners.value[slots[c]];
+        if (std::isnan(value[c])) complete = false;
+        if (value[c] < 0.0) config |= 1u << c;
+      }
+      if (!complete) {
+        ++result.undefined_cubes;
+        continue;
+      }
+      const mc::CubeCase& cube_case = mc::cube_case(config);
+      // Vertices: one per crossed lattice edge, kept in the slot of the
+      // edge's lower corner (shared with the neighbouring cubes); then the
+      // centres of the loops that need one (private to this cube).
+      std::array<std::uint32_t, 12 + 4> vertex{};
+      for (int l = 0; l < cube_case.loop_count; ++l) {
+        const auto& loop = cube_case.loops[static_cast<std::size_t>(l)];
+        Vec3 centre = Vec3::Zero();
+        for (int j = 0; j < loop.size; ++j) {
+          const int e = loop.edges[static_cast<std::size_t>(j)];
+          const auto ends = mc::edge_corners(e);
+          const int axis = mc::edge_axis(e);
+          std::uint32_t& id = corners.vertex[slots[static_cast<std::size_t>(ends[0])]][static_cast<std::size_t>(axis)];
+          if (id == CornerTable::no_vertex) {
+            id = static_cast<std::uint32_t>(result.mesh.vertices.size());
+            const double v0 = value[static_cast<std::size_t>(ends[0])], v1 = value[static_cast<std::size_t>(ends[1])];
+            const double t = std::clamp(v0 / (v0 - v1), vertex_margin, 1.0 - vertex_margin);
+            Vec3 p = position(corner_of_cube(cube, ends[0]));
+            p[axis] += t * options.cell;
+            result.mesh.vertices.push_back(p);
+          }
+          vertex[static_cast<std::size_t>(e)] = id;
+          centre += result.mesh.vertices[id];
         }
-        if ((inside == 0 || inside == 4) && !touches) continue;
-        Index3 next = cube;
-        next[static_cast<std::size_t>(a)] += s == 0 ? -1 : 1;
-        visit(next);
+        if (loop.centred) {
+          vertex[static_cast<std::size_t>(mc::loop_centre + l)] = static_cast<std::uint32_t>(result.mesh.vertices.size());
+          result.mesh.vertices.push_back(centre / loop.size);
+        }
+      }
+      for (int t = 0; t < cube_case.triangle_count; ++t) {
+        const auto& tri = cube_case.triangles[static_cast<std::size_t>(t)];
+        result.mesh.triangles.push_back({vertex[tri[0]], vertex[tri[1]], vertex[tri[2]]});
+      }
+
+      // Continue through every face the surface crosses, or touches at a
+      // corner where f = 0 (the surface may go on in the neighbour only).
+      for (int a = 0; a < 3; ++a) {
+        for (int s = 0; s < 2; ++s) {
+          int inside = 0;
+          bool touches = false;
+          for (int c = 0; c < 8; ++c) {
+            if (((c >> a) & 1) != s) continue;
+            if ((config >> c) & 1u) ++inside;
+            if (value[static_cast<std::size_t>(c)] == 0.0) touches = true;
+          }
+          if ((inside == 0 || inside == 4) && !touches) continue;
+          Index3 neighbour = cube;
+          neighbour[static_cast<std::size_t>(a)] += s == 0 ? -1 : 1;
+          visit(neighbour);
+        }
       }
     }
   }
 
-  result.visited_cubes = visited.size();
-  result.evaluated_corners = corner_value.size();
-  for (const auto& [key, v] : corner_value) {
+  result.visited_cubes = visited;
+  result.evaluated_corners = corners.size();
+  for (std::uint32_t slot = 0; slot < corners.size(); ++slot) {
+    const double v = corners.value[slot];
     if (std::isnan(v)) ++result.undefined_corners;
-    if (keep_corners) result.corners.push_back({unpack(key), std::isnan(v) ? 0.0 : v, !std::isnan(v)});
+    if (keep_corners) result.corners.push_back({unpack(corners.key(slot)), std::isnan(v) ? 0.0 : v, !std::isnan(v)});
   }
   result.seconds = timer.lap();
   result.seconds_field = std::chrono::duration<double>(field_time).count();

@@ -20,7 +20,10 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const Orientat
     std::uint32_t& r = roots[components.label[i]];
     if (r == UINT32_MAX || planes.origins[i][D - 1] > planes.origins[r][D - 1]) r = i;
   }
-  result.tree = prim_minimum_spanning_forest(result.graph.graph, roots);
+  const Graph& g = result.graph.graph;
+  result.tree = prim_minimum_spanning_forest(g, roots, [&](std::uint32_t v, std::uint64_t e) {
+    return orientation_cost<D>(planes.normals[v], planes.normals[g.targets[e]]);
+  });
 
   result.normals = planes.normals;
   result.flipped.assign(n, 0);
@@ -38,20 +41,25 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const Orientat
   // noise tilts a normal that one edge can be wrong. A normal that points
   // against most of its graph neighbours is turned round, from the signs of
   // the previous round (so the outcome does not depend on visiting order).
-  const Graph& g = result.graph.graph;
+  std::vector<std::uint8_t> turn(n);
+  const auto count = static_cast<std::int64_t>(n);
   for (int round = 0; round < options.vote_rounds; ++round) {
-    std::vector<std::uint32_t> turn;
-    for (std::uint32_t v = 0; v < n; ++v) {
+    std::size_t turned = 0;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : turned)
+    for (std::int64_t s = 0; s < count; ++s) {
+      const auto v = static_cast<std::uint32_t>(s);
       double agreement = 0.0;
-      for (std::uint32_t u : g.neighbors(v)) agreement += result.normals[v].dot(result.normals[u]);
-      if (agreement < 0.0) turn.push_back(v);
+      for (const std::uint32_t u : g.neighbors(v)) agreement += result.normals[v].dot(result.normals[u]);
+      turn[v] = agreement < 0.0 ? 1 : 0;
+      turned += turn[v];
     }
-    if (turn.empty()) break;
-    for (std::uint32_t v : turn) {
-      result.normals[v] = -result.normals[v];
-      result.flipped[v] ^= 1;
-    }
-    result.vote_flips += turn.size();
+    if (turned == 0) break;
+    for (std::size_t v = 0; v < n; ++v)
+      if (turn[v]) {
+        result.normals[v] = -result.normals[v];
+        result.flipped[v] ^= 1;
+      }
+    result.vote_flips += turned;
   }
   result.flip_count = static_cast<std::size_t>(std::count(result.flipped.begin(), result.flipped.end(), 1));
   result.seconds_mst = timer.lap();

@@ -71,7 +71,8 @@ PlaneFit<D> fit_plane(std::span<const Vec<D>> points, std::span<const std::uint3
   Mat<D> cov = Mat<D>::Zero();
   for (std::size_t j = 0; j < count; ++j) {
     const Vec<D> d = at(j) - centroid;
-    cov.template triangularView<Eigen::Upper>() += d * d.transpose();
+    for (int r = 0; r < D; ++r)  // upper triangle only: symmetric_eigen reads no more
+      for (int c = r; c < D; ++c) cov(r, c) += d[r] * d[c];
   }
   cov /= static_cast<double>(count);
   const SymmetricEigen<D> eig = symmetric_eigen<D>(cov);

@@ -1,17 +1,17 @@
 #include "recon/reconstruct.h"
 
 #include "recon/errors.h"
+#include "recon/resource_usage.h"
 #include "recon/spatial_order.h"
 #include "recon/timer.h"
 
 #include <cmath>
 #include <sstream>
 
-#include <unistd.h>
 
 namespace recon {
 
-double lattice_cell(const PointCloud& cloud, const TangentPlanes<3>& planes, const ReconstructionOptions& options) {
+double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes, const ReconstructionOptions& options) {
   if (options.cell && options.resolution)
     throw InvalidInputError("give either a cell size or a resolution, not both");
   if (options.cell) {
@@ -21,7 +21,7 @@ double lattice_cell(const PointCloud& cloud, const TangentPlanes<3>& planes, con
   }
   if (options.resolution) {
     if (*options.resolution < 1) throw InvalidInputError("the resolution must be at least 1 cube");
-    const Box<3> box = bounding_box<3>(cloud.positions);
+    const Box<3> box = bounding_box<3>(points);
     return box.extent().maxCoeff() / *options.resolution;
   }
   return planes.rho;
@@ -31,13 +31,17 @@ namespace {
 constexpr double bytes_per_cube = 250.0;  // corner and edge hash entries, visited set, mesh share
 
 std::size_t default_max_cubes() {
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  const double memory = pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 8e9;
+  const std::size_t physical = physical_memory_bytes();
+  const double memory = physical > 0 ? static_cast<double>(physical) : 8e9;
   return static_cast<std::size_t>(0.5 * memory / bytes_per_cube);
 }
 }  // namespace
 
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
+  return reconstruct(PointCloud(cloud), options);
+}
+
+Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options) {
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
   auto starting = [&](const char* phase) {
@@ -47,10 +51,13 @@ Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions&
   starting("tangent planes");
   r.order = spatial_order(cloud.positions);
   r.points = permuted<Vec3>(cloud.positions, r.order);
+  cloud.positions = {};
+  if (options.use_input_normals) r.input_normals = permuted<Vec3>(cloud.normals, r.order);
+  cloud.normals = {};
   r.planes = estimate_tangent_planes<3>(r.points, options.planes);
 
   // Refuse a lattice that would not fit before building anything large.
-  const double cell = lattice_cell(cloud, r.planes, options);
+  const double cell = lattice_cell(r.points, r.planes, options);
   const std::size_t max_cubes = options.max_cubes > 0 ? options.max_cubes : default_max_cubes();
   const double cubes = estimate_visited_cubes(r.points.size(), r.planes.rho, cell);
   if (cubes > static_cast<double>(max_cubes)) {
@@ -63,8 +70,7 @@ Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions&
   }
 
   if (options.use_input_normals) {
-    r.normals = permuted<Vec3>(cloud.normals, r.order);
-    for (Vec3& n : r.normals) {
+    for (Vec3& n : r.input_normals) {
       const double norm = n.norm();
       if (!(norm > 0.0) || !std::isfinite(norm))
         throw InvalidInputError("the input normals include a zero or non-finite one; run without using them");
@@ -73,16 +79,14 @@ Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions&
     r.origin_tree.emplace(std::span<const Vec3>(r.planes.origins));
   } else {
     starting("orientation");
-    OrientationOptions orientation = options.orientation;
-    orientation.graph.k = r.planes.k;
-    r.oriented = orient_normals<3>(r.planes, orientation);
-    r.normals = r.oriented->normals;
+    r.oriented = orient_normals<3>(r.planes, options.orientation);
   }
+  r.planes.neighbors = {};
   const KdTree<3>& origin_tree = r.oriented ? r.oriented->graph.origin_tree : *r.origin_tree;
 
   starting("signed distance");
   Timer timer;
-  const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals, origin_tree, options.distance);
+  const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), origin_tree, options.distance);
   r.delta = f.delta();
   r.delta_given = f.delta_given();
   r.seconds_distance_setup = timer.lap();

@@ -5,122 +5,186 @@
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 #include <string>
 
 namespace recon {
+namespace {
+
+// The samples in input order (the tree keeps them in its own order), and
+// how far phase I's lists reach for certain: every sample closer to x_i than
+// the farthest listed one is listed (the float radius is shaded down so that
+// rounding cannot overstate it).
+template <int D>
+std::vector<Vec<D>> samples_of(const TangentPlanes<D>& planes) {
+  std::vector<Vec<D>> x(planes.origins.size());
+  const auto tree_points = planes.point_tree.points();
+  const auto tree_order = planes.point_tree.order();
+  for (std::size_t t = 0; t < x.size(); ++t) x[tree_order[t]] = tree_points[t];
+  return x;
+}
+
+std::vector<double> certain_radii2(std::span<const float> radius) {
+  std::vector<double> radius2(radius.size());
+  for (std::size_t i = 0; i < radius.size(); ++i) {
+    const double r = static_cast<double>(radius[i]) * (1.0 - 1e-6);
+    radius2[i] = r * r;
+  }
+  return radius2;
+}
+
+}  // namespace
 
 template <int D>
 RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const RiemannianGraphOptions& options) {
   const std::size_t n = planes.origins.size();
-  if (options.k < 1 || static_cast<std::size_t>(options.k) > n)
-    throw InvalidInputError("k = " + std::to_string(options.k) + " for the Riemannian graph, but there are " +
-                            std::to_string(n) + " points");
+  const int lists_k = planes.neighbors.k;
+  if (options.k < 0 || options.k > lists_k || planes.neighbors.size() != n)
+    throw InvalidInputError("k = " + std::to_string(options.k) + " for the Riemannian graph, but phase I kept " +
+                            std::to_string(lists_k) + " neighbours per point");
+  const auto k = static_cast<std::size_t>(options.k > 0 ? options.k : lists_k);
   RiemannianGraph<D> result;
   Timer timer;
   const std::span<const Vec<D>> origins(planes.origins);
   result.origin_tree = KdTree<D>(origins, options.tree);
-  const KnnTable knn = result.origin_tree.all_knn(options.k);
-  result.seconds_knn = timer.lap();
-  result.emst = euclidean_minimum_spanning_tree<D>(result.origin_tree, origins, &knn);
+  result.seconds_tree = timer.lap();
+  {
+    const std::vector<Vec<D>> samples = samples_of(planes);
+    const std::vector<double> radius2 = certain_radii2(planes.radius);
+    result.emst = euclidean_minimum_spanning_tree<D>(planes.point_tree, samples, EmstHints{&planes.neighbors, radius2});
+  }
   result.seconds_emst = timer.lap();
 
-  auto is_gap = [&](std::uint32_t i, std::uint32_t j, double length) {
-    if (!(length > options.gap_factor * std::max(planes.local_gap[i], planes.local_gap[j]))) return false;
-    const Vec<D> direction = (planes.origins[j] - planes.origins[i]) / length;
-    return std::max(std::abs(direction.dot(planes.normals[i])), std::abs(direction.dot(planes.normals[j]))) > 0.25;
+  // (Raw pointers: the loops below run over every list entry.)
+  const Vec<D>* const origin = planes.origins.data();
+  const Vec<D>* const normal = planes.normals.data();
+  const float* const local_gap = planes.local_gap.data();
+  const std::uint32_t* const list = planes.neighbors.indices.data();
+  const auto stride = static_cast<std::size_t>(lists_k);
+  const double gap_factor = options.gap_factor;
+  auto is_gap = [=](std::uint32_t i, std::uint32_t j) {
+    const Vec<D> d = origin[j] - origin[i];
+    const double reach = gap_factor * static_cast<double>(std::max(local_gap[i], local_gap[j]));
+    const double length2 = d.squaredNorm();
+    if (!(length2 > reach * reach)) return false;
+    const Vec<D> direction = d / std::sqrt(length2);
+    return std::max(std::abs(direction.dot(normal[i])), std::abs(direction.dot(normal[j]))) > 0.25;
   };
-  auto cost = [&](std::uint32_t i, std::uint32_t j) {
-    return 1.0 - std::abs(planes.normals[i].dot(planes.normals[j]));
+  auto row = [=](std::uint32_t i) { return std::span<const std::uint32_t>(list + i * stride, k); };
+  auto lists = [=](std::uint32_t i, std::uint32_t j) {  // x_j in the first k of N(x_i)
+    const std::uint32_t* r = list + i * stride;
+    for (std::size_t e = 0; e < k; ++e)
+      if (r[e] == j) return true;
+    return false;
   };
 
-  // The graph is laid out directly in CSR form from the k-NN table (no
-  // edge list to sort): row i holds i's own kept neighbours, then the points
-  // that list i without i listing them (the symmetric closure), then EMST
-  // edges that neither lists. i is in row j of the table exactly when
-  // (d2, i) does not come after the row's last entry.
-  const auto k = static_cast<std::size_t>(knn.k);
-  auto listed_by = [&](std::uint32_t j, std::uint32_t i, double d2) {
-    const Neighbor& last = knn.row(j).back();
-    return d2 < last.distance2 || (d2 == last.distance2 && i <= last.index);
-  };
-  std::vector<std::uint8_t> kept(n * k, 0);
-  std::vector<std::uint64_t> degree(n + 1, 0);
+  // The graph is laid out directly in CSR form (no edge list to sort). Row
+  // i holds, in this order: i's own kept neighbours (nearest first), the
+  // points that list i without i listing them (the symmetric closure, by
+  // index), and the EMST edges that neither lists. A first pass marks, per
+  // list entry, whether the edge is kept and whether it must also be
+  // written into the other row; the rows are then filled in parallel, and
+  // the closure part of each sorted, so the graph does not depend on the
+  // thread count.
+  const std::size_t words = (k + 31) / 32;  // 2 bits per entry: kept, reverse
+  std::vector<std::uint64_t> marks(n * words, 0);
+  std::vector<std::uint32_t> own(n, 0), degree(n, 0);
   const auto count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 4096)
   for (std::int64_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::uint32_t>(s);
-    const auto row = knn.row(i);
+    const auto r = row(i);
     for (std::size_t e = 0; e < k; ++e) {
-      const Neighbor& nb = row[e];
-      if (nb.index == i || is_gap(i, nb.index, std::sqrt(nb.distance2))) continue;
-      kept[i * k + e] = 1;
-      ++degree[i + 1];
+      const std::uint32_t j = r[e];
+      if (j == i || is_gap(i, j)) continue;
+      ++own[i];
+      std::uint64_t bits = 1;
+      if (!lists(j, i)) {
+        bits |= 2;
+        std::atomic_ref<std::uint32_t>(degree[j]).fetch_add(1, std::memory_order_relaxed);
+      }
+      marks[i * words + e / 32] |= bits << (2 * (e % 32));
     }
   }
-  UnionFind pieces(n);
-  std::vector<Edge> extra;  // rows beyond the table: symmetric closure, EMST, rejoined gaps
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const auto row = knn.row(i);
-    for (std::size_t e = 0; e < k; ++e) {
-      if (!kept[i * k + e]) continue;
-      pieces.unite(i, row[e].index);
-      if (!listed_by(row[e].index, i, row[e].distance2)) extra.push_back({row[e].index, i, 0.0});
-    }
-  }
+  std::vector<Edge> extra;  // EMST edges that neither end lists
   std::vector<Edge> gaps;
   for (const Edge& e : result.emst) {
-    if (is_gap(e.u, e.v, e.weight)) {
+    if (is_gap(e.u, e.v)) {
       ++result.gap_emst_edges;
       gaps.push_back(e);
-      continue;
-    }
-    pieces.unite(e.u, e.v);
-    const double d2 = (planes.origins[e.v] - planes.origins[e.u]).squaredNorm();  // as the tree computed it
-    if (!listed_by(e.u, e.v, d2) && !listed_by(e.v, e.u, d2)) {
-      extra.push_back({e.u, e.v, 0.0});
-      extra.push_back({e.v, e.u, 0.0});
+    } else if (!lists(e.u, e.v) && !lists(e.v, e.u)) {
+      extra.push_back(e);
     }
   }
-  // Join back pieces too small to be objects, shortest gap first. Pieces only
-  // grow, so one pass leaves no small piece that still has a gap edge.
-  const std::size_t min_points = options.min_component_points > 0
-                                     ? static_cast<std::size_t>(options.min_component_points)
-                                     : 2 * static_cast<std::size_t>(options.k);
-  std::sort(gaps.begin(), gaps.end(), [](const Edge& a, const Edge& b) { return a.weight < b.weight; });
-  for (const Edge& e : gaps) {
-    if (pieces.set_size(e.u) >= min_points && pieces.set_size(e.v) >= min_points) continue;
-    if (pieces.unite(e.u, e.v)) {
-      ++result.rejoined;
-      extra.push_back({e.u, e.v, 0.0});
-      extra.push_back({e.v, e.u, 0.0});
-    }
+  std::vector<std::uint32_t> extra_degree(n, 0);
+  for (const Edge& e : extra) {
+    ++extra_degree[e.u];
+    ++extra_degree[e.v];
   }
-  for (const Edge& e : extra) ++degree[e.u + 1];
 
   Graph& g = result.graph;
-  g.offsets.resize(n + 1);
-  std::partial_sum(degree.begin(), degree.end(), g.offsets.begin());
+  g.offsets.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) g.offsets[i + 1] = g.offsets[i] + own[i] + degree[i] + extra_degree[i];
   g.targets.resize(g.offsets.back());
-  g.weights.resize(g.offsets.back());
-  std::vector<std::uint64_t> fill(g.offsets.begin(), g.offsets.end() - 1);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const auto row = knn.row(i);
-    for (std::size_t e = 0; e < k; ++e)
-      if (kept[i * k + e]) g.targets[fill[i]++] = row[e].index;
+  // degree[i] now counts the closure entries written into row i.
+  std::fill(degree.begin(), degree.end(), 0u);
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (std::int64_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::uint32_t>(s);
+    const auto r = row(i);
+    std::uint64_t write = g.offsets[i];
+    for (std::size_t e = 0; e < k; ++e) {
+      const std::uint64_t bits = marks[i * words + e / 32] >> (2 * (e % 32));
+      if (bits & 1) g.targets[write++] = r[e];
+      if (bits & 2) {
+        const std::uint32_t j = r[e];
+        const std::uint32_t slot = std::atomic_ref<std::uint32_t>(degree[j]).fetch_add(1, std::memory_order_relaxed);
+        g.targets[g.offsets[j] + own[j] + slot] = i;
+      }
+    }
   }
-  for (const Edge& e : extra) g.targets[fill[e.u]++] = e.v;
-#pragma omp parallel for schedule(static)
+  marks = {};
+#pragma omp parallel for schedule(dynamic, 4096)
   for (std::int64_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    const auto begin = g.targets.begin() + static_cast<std::ptrdiff_t>(g.offsets[i]);
-    const auto end = g.targets.begin() + static_cast<std::ptrdiff_t>(g.offsets[i + 1]);
-    std::sort(begin, end);
-    for (std::uint64_t e = g.offsets[i]; e < g.offsets[i + 1]; ++e)
-      g.weights[e] = cost(static_cast<std::uint32_t>(i), g.targets[e]);
+    const auto begin = g.targets.begin() + static_cast<std::ptrdiff_t>(g.offsets[i] + own[i]);
+    std::sort(begin, begin + static_cast<std::ptrdiff_t>(degree[i]));
   }
-  result.components = connected_components(result.graph);
+  for (const Edge& e : extra) {
+    g.targets[g.offsets[e.u] + own[e.u] + degree[e.u]++] = e.v;
+    g.targets[g.offsets[e.v] + own[e.v] + degree[e.v]++] = e.u;
+  }
+  own = {};
+  degree = {};
+  extra_degree = {};
+  result.components = connected_components(g);
+
+  // Join back pieces too small to be objects, shortest gap first. Pieces only
+  // grow, so one pass leaves no small piece that still has a gap edge.
+  if (!gaps.empty()) {
+    const std::size_t min_points = options.min_component_points > 0
+                                       ? static_cast<std::size_t>(options.min_component_points)
+                                       : 2 * static_cast<std::size_t>(lists_k);
+    const std::vector<std::uint32_t>& piece = result.components.label;
+    UnionFind pieces(result.components.sizes.size());
+    std::vector<std::uint32_t> size = result.components.sizes;
+    std::sort(gaps.begin(), gaps.end(), [](const Edge& a, const Edge& b) { return a.weight < b.weight; });
+    std::vector<Edge> joins;
+    for (const Edge& e : gaps) {
+      const std::uint32_t a = pieces.find(piece[e.u]), b = pieces.find(piece[e.v]);
+      if (a == b || (size[a] >= min_points && size[b] >= min_points)) continue;
+      pieces.unite(a, b);
+      size[pieces.find(a)] = size[a] + size[b];
+      joins.push_back(e);
+    }
+    if (!joins.empty()) {
+      result.rejoined = joins.size();
+      g = with_edges(g, joins);
+      result.components = connected_components(g);
+    }
+  }
   result.seconds_graph = timer.lap();
   return result;
 }

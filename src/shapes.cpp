@@ -189,7 +189,69 @@ class Union final : public Shape {
   std::unique_ptr<Shape> a_, b_;
 };
 
+// A wavy height field z = h(x, y) over a square, sampled on a jittered grid:
+// what a range scanner looking down at a landscape records (regular
+// spacing, an open surface with one boundary). nx = ceil(sqrt(n)) samples per
+// row, spacing s = 2 / nx, rows filled in turn (the last may be partial).
+class Terrain final : public Shape {
+ public:
+  PointCloud sample(std::size_t n, std::uint64_t seed) const override {
+    Rng rng(seed);
+    PointCloud cloud;
+    cloud.positions.reserve(n);
+    cloud.normals.reserve(n);
+    const auto nx = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(n))));
+    const double s = 2.0 / static_cast<double>(nx);
+    std::uniform_real_distribution<double> jitter(-0.15 * s, 0.15 * s);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = -1.0 + (static_cast<double>(i % nx) + 0.5) * s + jitter(rng);
+      const double y = -1.0 + (static_cast<double>(i / nx) + 0.5) * s + jitter(rng);
+      cloud.positions.emplace_back(x, y, height(x, y));
+      cloud.normals.push_back(normal(x, y));
+    }
+    return cloud;
+  }
+  // The nearest point of the surface over [-1, 1]^2, by projected
+  // Gauss-Newton on (x, y) from p's own (x, y): the slopes are gentle.
+  double distance(const Vec3& p) const override {
+    double x = std::clamp(p.x(), -1.0, 1.0), y = std::clamp(p.y(), -1.0, 1.0);
+    for (int iteration = 0; iteration < 20; ++iteration) {
+      const Vec3 r = Vec3(x, y, height(x, y)) - p;
+      const Vec3 tx(1.0, 0.0, dx(x, y)), ty(0.0, 1.0, dy(x, y));
+      // Solve the 2 x 2 normal equations [a b; b c] step = -(tx.r, ty.r).
+      const double a = tx.dot(tx), b = tx.dot(ty), c = ty.dot(ty), det = a * c - b * b;
+      const double gx = -tx.dot(r), gy = -ty.dot(r);
+      const double sx = (c * gx - b * gy) / det, sy = (a * gy - b * gx) / det;
+      x = std::clamp(x + sx, -1.0, 1.0);
+      y = std::clamp(y + sy, -1.0, 1.0);
+      if (std::abs(sx) + std::abs(sy) < 1e-14) break;
+    }
+    return (Vec3(x, y, height(x, y)) - p).norm();
+  }
+  double area() const override {
+    // Midpoint rule on a 512 x 512 grid (the integrand is smooth).
+    constexpr int m = 512;
+    const double h = 2.0 / m;
+    double sum = 0.0;
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j) {
+        const double x = -1.0 + (i + 0.5) * h, y = -1.0 + (j + 0.5) * h;
+        sum += std::sqrt(1.0 + dx(x, y) * dx(x, y) + dy(x, y) * dy(x, y));
+      }
+    return sum * h * h;
+  }
+  int euler_characteristic() const override { return 1; }  // a disc
+
+ private:
+  static double height(double x, double y) { return 0.15 * std::sin(2.0 * x) * std::cos(3.0 * y) + 0.05 * std::sin(5.0 * x + 4.0 * y); }
+  static double dx(double x, double y) { return 0.3 * std::cos(2.0 * x) * std::cos(3.0 * y) + 0.25 * std::cos(5.0 * x + 4.0 * y); }
+  static double dy(double x, double y) { return -0.45 * std::sin(2.0 * x) * std::sin(3.0 * y) + 0.2 * std::cos(5.0 * x + 4.0 * y); }
+  static Vec3 normal(double x, double y) { return Vec3(-dx(x, y), -dy(x, y), 1.0).normalized(); }
+};
+
 }  // namespace
+
+std::unique_ptr<Shape> make_terrain() { return std::make_unique<Terrain>(); }
 
 std::unique_ptr<Shape> make_sphere(double radius, Vec3 centre) { return std::make_unique<Sphere>(radius, centre); }
 std::unique_ptr<Shape> make_torus(double major, double minor) {
@@ -212,7 +274,8 @@ std::unique_ptr<Shape> make_shape(const std::string& name) {
   if (name == "ellipsoid") return make_ellipsoid();
   if (name == "box") return make_box();
   if (name == "two") return make_sphere_and_torus();
-  throw InvalidInputError("unknown shape '" + name + "' (known: sphere, torus, ellipsoid, box, two)");
+  if (name == "terrain") return make_terrain();
+  throw InvalidInputError("unknown shape '" + name + "' (known: sphere, torus, ellipsoid, box, two, terrain)");
 }
 
 }  // namespace recon

@@ -13,11 +13,12 @@ std::optional<double> SignedDistance<D>::operator()(const Vec<D>& p) const {
   const Vec<D>& n = normals_[i];
   const double f = (p - planes_->origins[i]).dot(n);
   const Vec<D> foot = p - f * n;
-  const double reach = planes_->local_rho[i] + delta_;
+  const auto rho = static_cast<double>(planes_->local_rho[i]);
+  const double reach = rho + delta_;
   if (planes_->point_tree.nearest(foot).distance2 <= reach * reach) return f;
   // Near a sharp corner the projection onto one face's plane can overshoot
   // the data while p is plainly close to it (see the header).
-  if (planes_->point_tree.nearest(p).distance2 <= std::pow(0.5 * planes_->local_rho[i] + reach + std::abs(f), 2)) return f;
+  if (planes_->point_tree.nearest(p).distance2 <= std::pow(0.5 * rho + reach + std::abs(f), 2)) return f;
   return std::nullopt;
 }
 

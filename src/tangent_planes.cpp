@@ -63,46 +63,60 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
   result.k = k;
   Timer timer;
   result.point_tree = KdTree<D>(points, options.tree);
-  const KnnTable knn = result.point_tree.all_knn(k);
-  result.seconds_knn = timer.lap();
+  result.seconds_tree = timer.lap();
 
-  // A row's first entry is the smallest index among exact copies of the
-  // query (ties go to the smaller index), so x_i is a first occurrence
-  // exactly when it heads its own row.
-  for (std::size_t i = 0; i < n; ++i) result.distinct_points += knn.row(i)[0].index == i ? 1u : 0u;
-  if (result.distinct_points < static_cast<std::size_t>(k) + 1) {
-    const std::size_t distinct = result.distinct_points;
+  // One pass per point: its k nearest neighbours, then the plane through
+  // them. Points are visited in the tree's leaf order, so consecutive
+  // queries touch the same nodes and the same neighbourhoods.
+  const auto kk = static_cast<std::size_t>(k);
+  result.neighbors.k = k;
+  result.neighbors.indices.resize(n * kk);
+  result.origins.resize(n);
+  result.normals.resize(n);
+  result.eigenvalues.resize(n);
+  result.radius.resize(n);
+  std::vector<float> nn_distance(n, 0.0f);  // to the nearest distinct sample
+  std::size_t degenerate = 0, distinct = 0;
+  const auto count = static_cast<std::int64_t>(n);
+  const std::span<const std::uint32_t> leaf_order = result.point_tree.order();
+  const std::span<const Vec<D>> tree_points = result.point_tree.points();
+#pragma omp parallel reduction(+ : degenerate, distinct)
+  {
+    std::array<Neighbor, max_k> found;  // k <= max_k: no allocation per point
+#pragma omp for schedule(dynamic, 1024)
+    for (std::int64_t t = 0; t < count; ++t) {
+      const auto i = static_cast<std::size_t>(leaf_order[static_cast<std::size_t>(t)]);
+      const std::span<Neighbor> row_found(found.data(), kk);
+      result.point_tree.knn(tree_points[static_cast<std::size_t>(t)], row_found);
+      std::uint32_t* row = result.neighbors.indices.data() + i * kk;
+      for (std::size_t j = 0; j < kk; ++j) row[j] = found[j].index;
+      // A row's first entry is the smallest index among exact copies of the
+      // query (ties go to the smaller index), so x_i is a first occurrence
+      // exactly when it heads its own row.
+      if (row[0] == i) ++distinct;
+      const PlaneFit<D> fit = fit_plane<D>(points, std::span<const std::uint32_t>(row, kk));
+      result.origins[i] = fit.centroid;
+      result.normals[i] = fit.normal;
+      result.eigenvalues[i] = fit.eigenvalues.template cast<float>();
+      // No unique normal when the two smallest spreads are both negligible
+      // against the largest (the neighbourhood is a line or a point).
+      if (fit.eigenvalues[1] <= 1e-12 * fit.eigenvalues[D - 1]) ++degenerate;
+      result.radius[i] = static_cast<float>(std::sqrt(found[kk - 1].distance2));
+      for (std::size_t j = 0; j < kk; ++j)
+        if (found[j].distance2 > 0.0) {
+          nn_distance[i] = static_cast<float>(std::sqrt(found[j].distance2));
+          break;
+        }
+    }
+  }
+  result.seconds_knn_pca = timer.lap();
+  result.distinct_points = distinct;
+  if (distinct < kk + 1) {
     std::string message = "only " + std::to_string(distinct) + " distinct point" + (distinct == 1 ? "" : "s") +
                           " (of " + std::to_string(n) + "); k = " + std::to_string(k) + " needs at least " +
                           std::to_string(k + 1);
     message += distinct > static_cast<std::size_t>(D) + 1 ? " (lower --k)" : ": too few to fit a surface";
     throw InvalidInputError(message);
-  }
-
-  result.origins.resize(n);
-  result.normals.resize(n);
-  result.eigenvalues.resize(n);
-  std::vector<double> nn_distance(n, 0.0);
-  std::size_t degenerate = 0;
-  const auto count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : degenerate)
-  for (std::int64_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
-    const auto row = knn.row(i);
-    std::array<std::uint32_t, max_k> indices;  // k <= max_k: no allocation per point
-    for (std::size_t j = 0; j < row.size(); ++j) indices[j] = row[j].index;
-    const PlaneFit<D> fit = fit_plane<D>(points, std::span<const std::uint32_t>(indices.data(), row.size()));
-    result.origins[i] = fit.centroid;
-    result.normals[i] = fit.normal;
-    result.eigenvalues[i] = fit.eigenvalues;
-    // No unique normal when the two smallest spreads are both negligible
-    // against the largest (the neighbourhood is a line or a point).
-    if (fit.eigenvalues[1] <= 1e-12 * fit.eigenvalues[D - 1]) ++degenerate;
-    for (const Neighbor& nb : row)
-      if (nb.distance2 > 0.0) {
-        nn_distance[i] = std::sqrt(nb.distance2);
-        break;
-      }
   }
   result.degenerate = degenerate;
   if (degenerate == n)
@@ -114,31 +128,36 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
   if (options.rho) {
     result.rho_given = true;
     result.rho = result.gap = *options.rho;
-    std::fill(result.local_rho.begin(), result.local_rho.end(), *options.rho);
-    std::fill(result.local_gap.begin(), result.local_gap.end(), *options.rho);
+    std::fill(result.local_rho.begin(), result.local_rho.end(), static_cast<float>(*options.rho));
+    std::fill(result.local_gap.begin(), result.local_gap.end(), static_cast<float>(*options.rho));
   } else {
     // How irregular the spacing is: the coefficient of variation of each
     // nearest-neighbour distance over the mean of its neighbourhood's (so a
     // density that varies smoothly does not count). Random samples give
     // about 0.5, scanners' grids 0.05 to 0.15.
-    std::vector<double> relative(n, 1.0);
+    // (Summed serially afterwards: a parallel reduction's rounding would
+    // depend on the thread count, and the output must not.)
+    std::vector<float> relative(n, 1.0f);
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
-      const auto row = knn.row(i);
-      double widest = 0.0, sum = 0.0;
-      for (const Neighbor& nb : row) {
-        widest = std::max(widest, nn_distance[nb.index]);
-        sum += nn_distance[nb.index];
+      float widest = 0.0f;
+      double sum = 0.0;
+      for (std::uint32_t j : result.neighbors.row(i)) {
+        widest = std::max(widest, nn_distance[j]);
+        sum += static_cast<double>(nn_distance[j]);
       }
       result.local_gap[i] = widest;
-      if (sum > 0.0) relative[i] = nn_distance[i] * static_cast<double>(row.size()) / sum;
+      if (sum > 0.0) relative[i] = static_cast<float>(static_cast<double>(nn_distance[i]) * static_cast<double>(kk) / sum);
     }
-    double mean = 0.0, variance = 0.0;
-    for (double r : relative) mean += r;
-    mean /= static_cast<double>(n);
-    for (double r : relative) variance += (r - mean) * (r - mean);
-    result.irregularity = std::sqrt(variance / static_cast<double>(n)) / mean;
+    double sum_relative = 0.0, sum_relative2 = 0.0;
+    for (const float r : relative) {
+      sum_relative += static_cast<double>(r);
+      sum_relative2 += static_cast<double>(r) * static_cast<double>(r);
+    }
+    const double mean = sum_relative / static_cast<double>(n);
+    const double variance = std::max(0.0, sum_relative2 / static_cast<double>(n) - mean * mean);
+    result.irregularity = std::sqrt(variance) / mean;
     // rho_i, the radius within which every surface point has a sample:
     // 1.5 gap_i for a regular grid (its holes are at most ~0.7 spacing wide,
     // with room for scan lines farther apart than the points along them),
@@ -148,25 +167,25 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
-      const double radius = std::sqrt(knn.row(i).back().distance2);
-      const double regular = std::min(1.5 * result.local_gap[i], radius);
-      result.local_rho[i] = regular + w * (radius - regular);
+      const auto radius = static_cast<double>(result.radius[i]);
+      const double regular = std::min(1.5 * static_cast<double>(result.local_gap[i]), radius);
+      result.local_rho[i] = static_cast<float>(regular + w * (radius - regular));
     }
-    result.rho = median(result.local_rho);
-    result.gap = median(result.local_gap);
+    result.rho = median(std::vector<double>(result.local_rho.begin(), result.local_rho.end()));
+    result.gap = median(std::vector<double>(result.local_gap.begin(), result.local_gap.end()));
     // A neighbourhood made only of copies of one point has no spacing to
     // measure: give it the typical one.
     for (std::size_t i = 0; i < n; ++i) {
-      if (result.local_rho[i] == 0.0) result.local_rho[i] = result.rho;
-      if (result.local_gap[i] == 0.0) result.local_gap[i] = result.gap;
+      if (result.local_rho[i] == 0.0f) result.local_rho[i] = static_cast<float>(result.rho);
+      if (result.local_gap[i] == 0.0f) result.local_gap[i] = static_cast<float>(result.gap);
     }
   }
   {
     std::vector<double> residual(n);
-    for (std::size_t i = 0; i < n; ++i) residual[i] = std::sqrt(result.eigenvalues[i][0]);
+    for (std::size_t i = 0; i < n; ++i) residual[i] = std::sqrt(static_cast<double>(result.eigenvalues[i][0]));
     result.noise = median(std::move(residual));
   }
-  result.seconds_pca = timer.lap();
+  result.seconds_spacing = timer.lap();
   result.k_requested = k;
 
   constexpr double noise_limit = 0.1;  // noise / rho above which k is raised
@@ -180,8 +199,9 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
     if (static_cast<std::size_t>(raised.k) + 1 <= result.distinct_points) {
       TangentPlanes<D> again = estimate_tangent_planes<D>(points, raised);
       again.k_requested = k;
-      again.seconds_knn += result.seconds_knn;
-      again.seconds_pca += result.seconds_pca;
+      again.seconds_tree += result.seconds_tree;
+      again.seconds_knn_pca += result.seconds_knn_pca;
+      again.seconds_spacing += result.seconds_spacing;
       return again;
     }
   }

@@ -492,9 +492,10 @@ TEST_F(CliReconstruct, TorusIsClosedGenusOneAndStatsMatchTheFile) {
   ASSERT_TRUE(total.has_value()) << json;
   const std::vector<std::pair<const char*, const char*>> timings = {
       {"input", "seconds"},              // reading
-      {"tangent_planes", "seconds_knn"}, // phase I
-      {"tangent_planes", "seconds_pca"},
-      {"orientation", "seconds_knn"},    // phase II
+      {"tangent_planes", "seconds_tree"},    // phase I
+      {"tangent_planes", "seconds_knn_pca"},
+      {"tangent_planes", "seconds_spacing"},
+      {"orientation", "seconds_tree"},       // phase II
       {"orientation", "seconds_emst"},
       {"orientation", "seconds_graph"},
       {"orientation", "seconds_mst"},

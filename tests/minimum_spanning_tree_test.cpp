@@ -1,6 +1,8 @@
 #include "recon/minimum_spanning_tree.h"
 
 #include "recon/emst.h"
+#include "recon/riemannian_graph.h"
+#include "recon/shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -123,7 +125,7 @@ void check_emst(std::size_t n, std::uint32_t seed, bool clustered, bool with_knn
   if (n > 10) pts[n - 1] = pts[n / 2];  // an exact duplicate
   const KdTree<D> tree(pts, {4});
   const KnnTable knn = tree.all_knn(static_cast<int>(std::min<std::size_t>(6, n)));
-  auto got = euclidean_minimum_spanning_tree<D>(tree, pts, with_knn ? &knn : nullptr);
+  auto got = with_knn ? euclidean_minimum_spanning_tree<D>(tree, pts, knn) : euclidean_minimum_spanning_tree<D>(tree, pts);
   auto expected = brute_force_emst<D>(pts);
   ASSERT_EQ(got.size(), n - 1);
   auto by_ends = [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); };
@@ -148,6 +150,33 @@ TEST(EuclideanMst, EqualsBruteForceMst2D) {
   for (std::size_t n : {2u, 40u, 2000u}) check_emst<2>(n, static_cast<std::uint32_t>(n + 7), false, true);
 }
 
+// Phase II's EMST is hinted by phase I's neighbourhoods, kept as indices
+// with float radii: still exact, with noise, lone outliers and duplicates.
+TEST(EuclideanMst, RiemannianGraphEmstEqualsBruteForce) {
+  for (const std::uint32_t seed : {5u, 6u}) {
+    PointCloud cloud = make_torus()->sample(2500, seed);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0.0, 0.01);
+    for (Vec3& p : cloud.positions) p += Vec3(noise(rng), noise(rng), noise(rng));
+    cloud.positions[7] = Vec3(3.0, 0.0, 0.0);  // lone outliers
+    cloud.positions[8] = Vec3(0.0, 0.0, 0.9);
+    cloud.positions[9] = cloud.positions[10];
+    TangentPlaneOptions options;
+    options.k = 10;
+    const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
+    auto got = build_riemannian_graph<3>(planes).emst;
+    auto expected = brute_force_emst<3>(cloud.positions);
+    ASSERT_EQ(got.size(), expected.size());
+    auto by_ends = [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); };
+    std::sort(got.begin(), got.end(), by_ends);
+    std::sort(expected.begin(), expected.end(), by_ends);
+    for (std::size_t e = 0; e < got.size(); ++e) {
+      ASSERT_EQ(got[e].u, expected[e].u) << "edge " << e;
+      ASSERT_EQ(got[e].v, expected[e].v) << "edge " << e;
+    }
+  }
+}
+
 TEST(EuclideanMst, GridWithManyEqualLengthsIsATree) {
   // All edges of a grid have the same length: only the tie-breaking order
   // keeps Borůvka from closing cycles.
@@ -156,7 +185,7 @@ TEST(EuclideanMst, GridWithManyEqualLengthsIsATree) {
     for (int j = 0; j < 20; ++j) pts.emplace_back(i, j, 0.0);
   const KdTree<3> tree(pts);
   const KnnTable knn = tree.all_knn(5);
-  const auto edges = euclidean_minimum_spanning_tree<3>(tree, pts, &knn);
+  const auto edges = euclidean_minimum_spanning_tree<3>(tree, pts, knn);
   ASSERT_EQ(edges.size(), pts.size() - 1);
   UnionFind sets(pts.size());
   for (const Edge& e : edges) {

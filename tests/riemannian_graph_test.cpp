@@ -1,58 +1,72 @@
 #include "recon/riemannian_graph.h"
 
 #include "recon/emst.h"
+#include "recon/errors.h"
 #include "recon/shapes.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 namespace recon {
 namespace {
 
 // Oracle: the same graph through the plain edge list and make_graph:
-// symmetric k-NN pairs of the origins plus the EMST, less the pairs the
-// header's gap rule removes (long, and leaving the surface).
+// symmetric pairs of phase I's neighbourhoods plus the EMST of the samples
+// (computed without hints), less the pairs the header's gap rule removes
+// (long, and leaving the surface).
 TEST(RiemannianGraph, EqualsTheSymmetricKnnGraphPlusEmst) {
   const PointCloud cloud = make_torus()->sample(3000, 41);
   TangentPlaneOptions options;
   options.k = 12;
   const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
-  RiemannianGraphOptions graph_options;
-  graph_options.k = 12;
-  const auto rg = build_riemannian_graph<3>(planes, graph_options);
+  const auto rg = build_riemannian_graph<3>(planes);
   ASSERT_EQ(rg.gap_emst_edges, 0u);
   ASSERT_EQ(rg.components.sizes.size(), 1u);
 
-  const KdTree<3> tree(planes.origins);
-  const KnnTable knn = tree.all_knn(12);
+  const KdTree<3> tree(cloud.positions);
   std::vector<Edge> edges;
-  auto cost = [&](std::uint32_t i, std::uint32_t j) {
-    return 1.0 - std::abs(planes.normals[i].dot(planes.normals[j]));
-  };
   auto gap = [&](std::uint32_t i, std::uint32_t j) {
     const Vec3 d = planes.origins[j] - planes.origins[i];
-    if (d.norm() <= 1.5 * std::max(planes.local_gap[i], planes.local_gap[j])) return false;
+    if (d.norm() <= 1.5 * static_cast<double>(std::max(planes.local_gap[i], planes.local_gap[j]))) return false;
     return std::max(std::abs(d.normalized().dot(planes.normals[i])), std::abs(d.normalized().dot(planes.normals[j]))) >
            0.25;
   };
   std::size_t gaps = 0;
   for (std::uint32_t i = 0; i < planes.origins.size(); ++i)
-    for (const Neighbor& nb : knn.row(i)) {
-      if (nb.index == i) continue;
-      if (gap(i, nb.index)) {
+    for (const std::uint32_t j : planes.neighbors.row(i)) {
+      if (j == i) continue;
+      if (gap(i, j)) {
         ++gaps;
         continue;
       }
-      edges.push_back({i, nb.index, cost(i, nb.index)});
+      edges.push_back({i, j, 0.0});
     }
   std::printf("k-NN pairs left out as gaps: %zu of %zu\n", gaps, edges.size() + gaps);
-  for (const Edge& e : euclidean_minimum_spanning_tree<3>(tree, planes.origins, &knn))
-    edges.push_back({e.u, e.v, cost(e.u, e.v)});
+  for (const Edge& e : euclidean_minimum_spanning_tree<3>(tree, cloud.positions)) edges.push_back({e.u, e.v, 0.0});
   const Graph expected = make_graph(planes.origins.size(), edges);
 
   EXPECT_EQ(rg.graph.offsets, expected.offsets);
-  EXPECT_EQ(rg.graph.targets, expected.targets);
-  ASSERT_EQ(rg.graph.weights.size(), expected.weights.size());
-  for (std::size_t e = 0; e < expected.weights.size(); ++e) EXPECT_DOUBLE_EQ(rg.graph.weights[e], expected.weights[e]);
+  Graph sorted = rg.graph;  // same neighbours, in whatever order the rows keep them
+  for (std::size_t v = 0; v < sorted.vertex_count(); ++v)
+    std::sort(sorted.targets.begin() + static_cast<std::ptrdiff_t>(sorted.offsets[v]),
+              sorted.targets.begin() + static_cast<std::ptrdiff_t>(sorted.offsets[v + 1]));
+  EXPECT_EQ(sorted.targets, expected.targets);
+  EXPECT_TRUE(rg.graph.weights.empty());  // costs come from the normals
+
+  // A smaller k takes the first k of each neighbourhood.
+  RiemannianGraphOptions smaller;
+  smaller.k = 6;
+  const auto rg6 = build_riemannian_graph<3>(planes, smaller);
+  EXPECT_LT(rg6.graph.edge_count(), rg.graph.edge_count());
+  for (std::uint32_t i = 0; i < planes.origins.size(); ++i)
+    for (const std::uint32_t j : planes.neighbors.row(i).first(6)) {
+      if (j == i || gap(i, j)) continue;
+      const auto row = rg6.graph.neighbors(i);
+      EXPECT_NE(std::find(row.begin(), row.end(), j), row.end()) << i << " " << j;
+    }
+  smaller.k = 13;
+  EXPECT_THROW((void)build_riemannian_graph<3>(planes, smaller), InvalidInputError);
 }
 
 TEST(RiemannianGraph, SeparatesTwoObjectsButNotRandomGaps) {

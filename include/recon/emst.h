@@ -7,13 +7,17 @@
 // join the tree at once; the number of components at least halves per round,
 // so there are at most log2(n) rounds. The shortest outside edge of a
 // component is the best, over its points, of each point's nearest point with
-// another component label:
-//   - when the point's k-nearest-neighbour list (if given) holds a point of
-//     another component, the first such entry IS that nearest outside point;
-//   - otherwise every outside point is farther than the list's last entry, so
-//     the point is skipped when that already exceeds the component's best;
-//   - only the rest query the kd-tree, skipping subtrees whose points all
-//     belong to the querying component.
+// another component label. Hints make most of those searches unnecessary:
+// given, per point, its nearest neighbours in (distance, index) order and a
+// radius within which the list is complete (every point closer is listed),
+//   - the first listed point of another component IS the nearest outside
+//     point;
+//   - a point whose radius already exceeds its component's best edge is
+//     skipped: nothing outside its list can be closer than that radius;
+//   - only the rest query the kd-tree, bounded by the component's best so far,
+//     skipping subtrees whose points all belong to the querying component.
+// A k-NN table is such a hint (its radius is the k-th distance); phase II
+// passes phase I's neighbourhoods.
 // Edges are compared by (length, smaller endpoint, larger endpoint), a strict
 // total order, so the tree is unique and equals what Prim or Kruskal on the
 // complete graph give under the same order. Cost about O(n log n) per round.
@@ -26,12 +30,27 @@
 
 namespace recon {
 
+/// Optional hints (see above). lists->row(i): points nearest to point i, in
+/// (squared distance, index) order as the kd-tree returns them;
+/// certain_radius2[i]: every point at squared distance below it from point i
+/// is in lists->row(i). Hints that break these promises can make the tree
+/// wrong.
+struct EmstHints {
+  const NeighborLists* lists = nullptr;
+  std::span<const double> certain_radius2;
+};
+
 /// Returns the n - 1 edges (n - 1 for n >= 1 points; none for n <= 1), with
-/// weight = Euclidean length. `tree` must have been built over `points`;
-/// `knn`, when given, must be tree.all_knn(k) for some k.
+/// weight = Euclidean length. `tree` must have been built over `points`.
 template <int D>
 [[nodiscard]] std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree,
                                                                 std::span<const Vec<D>> points,
-                                                                const KnnTable* knn = nullptr);
+                                                                const EmstHints& hints = {});
+
+/// The same, with hints from tree.all_knn(k) for some k.
+template <int D>
+[[nodiscard]] std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree,
+                                                                std::span<const Vec<D>> points,
+                                                                const KnnTable& knn);
 
 }  // namespace recon

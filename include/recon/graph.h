@@ -3,9 +3,13 @@
 // union-find for connected components.
 //
 // CSR: the neighbours of vertex v are targets[offsets[v] .. offsets[v+1]),
-// with their edge weights at the same positions in `weights`. Every edge
-// {u, v} is stored twice, once in each row. Rows are sorted by target.
-// Memory: 8 bytes per vertex + 12 bytes per directed edge.
+// with their edge weights at the same positions in `weights`, or no stored
+// weights at all when the user computes them from the vertices (the
+// Riemannian graph does: its costs come from the normals). Every edge
+// {u, v} is stored twice, once in each row. make_graph sorts each row by
+// target; other builders may choose another fixed order (the Riemannian
+// graph lists a vertex's nearest neighbours first).
+// Memory: 8 bytes per vertex + 4 bytes per directed edge (+ 8 with weights).
 
 #include <cstdint>
 #include <span>
@@ -22,7 +26,7 @@ struct Edge {
 struct Graph {
   std::vector<std::uint64_t> offsets;  ///< vertex_count() + 1 entries
   std::vector<std::uint32_t> targets;
-  std::vector<double> weights;
+  std::vector<double> weights;          ///< empty, or one per target
 
   [[nodiscard]] std::size_t vertex_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   /// Undirected edges (each is stored twice).
@@ -39,6 +43,12 @@ struct Graph {
 /// are dropped; an edge listed more than once is kept once, with the smallest
 /// of its weights. Throws InvalidInputError for an endpoint out of range.
 [[nodiscard]] Graph make_graph(std::size_t vertex_count, std::span<const Edge> edges);
+
+/// `graph` with the undirected `edges` added (rows stay sorted; an edge
+/// already present is not repeated). Weights are kept when the graph has
+/// them, taken from the new edges. Throws InvalidInputError for an endpoint
+/// out of range.
+[[nodiscard]] Graph with_edges(const Graph& graph, std::span<const Edge> edges);
 
 /// Disjoint sets with path halving and union by size.
 class UnionFind {

@@ -52,6 +52,19 @@ struct KnnTable {
   }
 };
 
+/// Neighbour indices only, without distances (4 bytes an entry): row i
+/// (entries [i*k, (i+1)*k)) lists k points for point i, nearest first.
+/// Phase I keeps the neighbourhood of every point in this form.
+struct NeighborLists {
+  int k = 0;
+  std::vector<std::uint32_t> indices;  ///< n * k
+
+  [[nodiscard]] std::size_t size() const { return k == 0 ? 0 : indices.size() / static_cast<std::size_t>(k); }
+  [[nodiscard]] std::span<const std::uint32_t> row(std::size_t i) const {
+    return {indices.data() + i * static_cast<std::size_t>(k), static_cast<std::size_t>(k)};
+  }
+};
+
 struct KdTreeOptions {
   int leaf_size = 16;  ///< most points in a leaf; 16 measured fastest (docs/benchmarks.md)
 };
@@ -117,6 +130,8 @@ class KdTree {
 
   /// Nodes in pre-order; nodes()[0] is the root.
   [[nodiscard]] const std::vector<Node>& nodes() const { return nodes_; }
+  /// The points in tree (leaf) order: tree position t holds input point order()[t].
+  [[nodiscard]] std::span<const Point> points() const { return points_; }
   /// Input index of the point at tree position t (leaf order).
   [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }
   [[nodiscard]] int depth() const { return depth_; }

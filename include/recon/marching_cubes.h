@@ -7,7 +7,7 @@
 // walk starts from the cubes that contain a sample and moves to a
 // neighbouring cube only across a face whose four corners do not all have
 // the same sign: the surface goes through that face, so it continues in the
-// neighbour. Corner values are computed once and kept in a hash map, so time
+// neighbour. Corner values are computed once and kept in a hash table, so time
 // and memory grow with the area of the surface, not the volume of the box.
 //
 // Per cube: if a corner is undefined (phase III), the cube yields nothing and
@@ -65,6 +65,7 @@ struct MarchingCubesResult {
 };
 
 /// The function contoured: its value at a point, or nullopt where undefined.
+/// It is called from several threads at once (one wave of corners at a time).
 using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 
 /// Estimated cubes a walk will visit for `samples` points on a surface

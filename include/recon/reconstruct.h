@@ -29,14 +29,20 @@ struct ReconstructionOptions {
 
 /// Per-point results (planes, normals, graph vertices) are indexed in
 /// spatial order (spatial_order.h): entry j is input point order[j], at
-/// position points[j].
+/// position points[j]. planes.neighbors is released once phase II has built
+/// its graph from it (it is the largest array of the run).
 struct Reconstruction {
   std::vector<std::uint32_t> order;            ///< spatial order of the input points
   std::vector<Vec3> points;                    ///< the input positions in that order
   TangentPlanes<3> planes;
   std::optional<OrientedNormals<3>> oriented;  ///< absent when the input normals were used
-  std::vector<Vec3> normals;                   ///< the oriented normals used by phase III
+  std::vector<Vec3> input_normals;             ///< the input's own normals (unit, spatial order), when used
   std::optional<KdTree<3>> origin_tree;        ///< built here when phase II did not
+
+  /// The oriented normals phase III used.
+  [[nodiscard]] std::span<const Vec3> normals() const {
+    return oriented ? std::span<const Vec3>(oriented->normals) : std::span<const Vec3>(input_normals);
+  }
   double delta = 0.0;
   bool delta_given = false;
   MarchingCubesResult contour;                 ///< the mesh and the lattice statistics
@@ -47,9 +53,12 @@ struct Reconstruction {
 /// parameters, ResourceLimitError for a lattice too large), and
 /// InvalidInputError when use_input_normals is set but the cloud has none.
 [[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
+/// The same, consuming the cloud: its arrays are released as soon as they
+/// are copied in spatial order, which lowers the peak memory.
+[[nodiscard]] Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options = {});
 
-/// The cube side that `options` asks for, given the phase I result.
-[[nodiscard]] double lattice_cell(const PointCloud& cloud, const TangentPlanes<3>& planes,
+/// The cube side that `options` asks for, given the points and the phase I result.
+[[nodiscard]] double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes,
                                   const ReconstructionOptions& options);
 
 }  // namespace recon

@@ -2,14 +2,24 @@
 // The Riemannian graph of phase II: which tangent planes are neighbours,
 // and how costly it is to carry an orientation from one to the other.
 //
-// Vertices are the tangent-plane origins o_i. Edges are the union of
-//   - the Euclidean minimum spanning tree of the o_i (it connects every
-//     piece of surface, however sparse), and
-//   - the symmetric k-NN graph of the o_i (it gives the orientation a choice
-//     of paths, so it can go around sharp creases rather than across them).
-// An edge costs 1 - |n_i . n_j|: near 0 between nearly parallel planes,
-// where propagating the orientation is safe; near 1 between perpendicular
-// ones, where it is a guess.
+// Vertices are the tangent planes. Edges are the union of
+//   - the Euclidean minimum spanning tree (it connects every piece of
+//     surface, however sparse), and
+//   - the symmetric k-NN graph (it gives the orientation a choice of paths,
+//     so it can go around sharp creases rather than across them): i and j
+//     are joined when x_j is in the k-neighbourhood N(x_i) that plane i was
+//     fitted to, or x_i in N(x_j).
+// Hoppe's paper builds both over the origins o_i. Here both are built over
+// the samples x_i, whose neighbourhoods phase I has already found: an origin
+// is the centroid of its sample's neighbourhood, a fraction of a spacing
+// away, so the two graphs differ only in near-ties, and reusing phase I's
+// lists saves a second k-NN search over all the points, more than half of
+// this phase's time (docs/benchmarks.md). CGAL's Hoppe orientation makes the
+// same choice. The gap test below measures edges between origins.
+// An edge costs 1 - |n_i . n_j| (orientation_cost): near 0 between nearly
+// parallel planes, where propagating the orientation is safe; near 1
+// between perpendicular ones, where it is a guess. Costs are computed from
+// the normals when needed, not stored (8 bytes an edge saved).
 //
 // Separate objects. Orientation must not be carried across the gap between
 // two objects: where two surfaces face each other, their normals are nearly
@@ -31,30 +41,37 @@
 #include "recon/kdtree.h"
 #include "recon/tangent_planes.h"
 
+#include <cmath>
 #include <vector>
 
 namespace recon {
 
+/// The cost of carrying an orientation across an edge.
+template <int D>
+[[nodiscard]] inline double orientation_cost(const Vec<D>& n_i, const Vec<D>& n_j) {
+  return 1.0 - std::abs(n_i.dot(n_j));
+}
+
 struct RiemannianGraphOptions {
-  int k = 20;                ///< neighbours per origin (itself included) for the k-NN edges
+  int k = 0;                 ///< k-NN edges from the first k of each neighbourhood (itself included); 0: all
   double gap_factor = 1.5;   ///< a gap is longer than this many local gaps (and leaves the surface)
-  int min_component_points = 0;  ///< smaller pieces are joined back; 0 = 2 k
+  int min_component_points = 0;  ///< smaller pieces are joined back; 0 = 2 k (phase I's k)
   KdTreeOptions tree{};      ///< kd-tree over the origins
 };
 
 template <int D>
 struct RiemannianGraph {
-  Graph graph;                    ///< kept edges, weight 1 - |n_i . n_j|
-  std::vector<Edge> emst;         ///< every EMST edge of the origins, weight = length
+  Graph graph;                    ///< kept edges (no stored weights: see orientation_cost)
+  std::vector<Edge> emst;         ///< every EMST edge of the samples, weight = length
   Components components;          ///< pieces of the data (over the kept edges)
   std::size_t gap_emst_edges = 0; ///< EMST edges found to be gaps (before small pieces rejoin)
   std::size_t rejoined = 0;       ///< small pieces joined back
-  KdTree<D> origin_tree;          ///< over the origins; phase III queries it
-  double seconds_knn = 0.0, seconds_emst = 0.0, seconds_graph = 0.0;
+  KdTree<D> origin_tree;          ///< over the origins, for phase III (built here, timed as seconds_tree)
+  double seconds_tree = 0.0, seconds_emst = 0.0, seconds_graph = 0.0;
 };
 
 /// Precondition: planes comes from estimate_tangent_planes (normals unit).
-/// Throws InvalidInputError when k exceeds the number of points.
+/// Throws InvalidInputError when k is negative or exceeds phase I's k.
 template <int D>
 [[nodiscard]] RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes,
                                                         const RiemannianGraphOptions& options = {});

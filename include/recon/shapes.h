@@ -5,7 +5,8 @@
 // its true surface, so results can be checked against the truth.
 //
 // Sampling is uniform by area (a Poisson sample: random, with the clumps and
-// gaps of random data) and reproducible from `seed`.
+// gaps of random data), except the terrain's, which is grid-like as a
+// scanner's; all are reproducible from `seed`.
 
 #include "recon/point_cloud.h"
 
@@ -39,7 +40,15 @@ class Shape {
 /// Sphere and torus side by side, `gap` apart at their closest.
 [[nodiscard]] std::unique_ptr<Shape> make_sphere_and_torus(double gap = 0.5);
 
-/// By name: "sphere", "torus", "ellipsoid", "box", "two" (sphere + torus).
+/// A scan-like open surface: the wavy height field
+/// z = 0.15 sin 2x cos 3y + 0.05 sin(5x + 4y) over [-1, 1]^2, sampled on a
+/// grid with 15 % jitter (rows of ceil(sqrt n) points; the last row may be
+/// partial) rather than uniformly at random. One boundary, Euler
+/// characteristic 1.
+[[nodiscard]] std::unique_ptr<Shape> make_terrain();
+
+/// By name: "sphere", "torus", "ellipsoid", "box", "two" (sphere + torus),
+/// "terrain".
 /// Throws InvalidInputError for another name.
 [[nodiscard]] std::unique_ptr<Shape> make_shape(const std::string& name);
 

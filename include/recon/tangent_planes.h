@@ -58,13 +58,24 @@ struct TangentPlaneOptions {
   KdTreeOptions tree{};                ///< kd-tree over the input points
 };
 
+// Storage. Positions, origins and normals are double: coordinates of
+// geo-referenced scans need its 16 digits, and normals are compared by sign
+// of dot products. The per-point measures (eigenvalues, rho_i, gap_i, the
+// neighbourhood radius) are float: they are compared against each other and
+// against lengths with tolerances far above float's 7 digits, and float
+// halves their memory. The neighbourhoods are kept (4 bytes an entry) because
+// phase II builds its graph from them.
+
 template <int D>
 struct TangentPlanes {
+  using Values = Eigen::Matrix<float, D, 1>;
   std::vector<Vec<D>> origins;      ///< o_i, centroid of the neighbourhood of x_i
   std::vector<Vec<D>> normals;      ///< n_i, unit, unoriented
-  std::vector<Vec<D>> eigenvalues;  ///< covariance eigenvalues, ascending
-  std::vector<double> local_rho;    ///< rho_i (see above), or the given rho
-  std::vector<double> local_gap;    ///< gap_i (see above), or the given rho
+  std::vector<Values> eigenvalues;  ///< covariance eigenvalues, ascending
+  std::vector<float> local_rho;     ///< rho_i (see above), or the given rho
+  std::vector<float> local_gap;     ///< gap_i (see above), or the given rho
+  std::vector<float> radius;        ///< distance from x_i to the farthest point of N(x_i)
+  NeighborLists neighbors;          ///< N(x_i), nearest first (x_i, or an earlier exact copy, first)
   double rho = 0.0;                 ///< median of local_rho, or the given rho
   double gap = 0.0;                 ///< median of local_gap, or the given rho
   double irregularity = 0.0;        ///< spread of the spacing: ~0.5 random, ~0.1 scanner grids
@@ -75,13 +86,15 @@ struct TangentPlanes {
   std::size_t distinct_points = 0;  ///< points that are not exact copies of an earlier one
   std::size_t degenerate = 0;       ///< neighbourhoods with no unique normal (collinear / coincident)
   KdTree<D> point_tree;             ///< over the input points; phase III queries it
-  double seconds_knn = 0.0, seconds_pca = 0.0;
+  double seconds_tree = 0.0;        ///< building point_tree
+  double seconds_knn_pca = 0.0;     ///< the k-NN queries and plane fits (one pass)
+  double seconds_spacing = 0.0;     ///< gap_i, rho_i, noise
 
   /// lambda_0 / (lambda_0 + ... ): 0 for a perfectly flat neighbourhood,
   /// 1/D for an isotropic blob.
   [[nodiscard]] double surface_variation(std::size_t i) const {
-    const double sum = eigenvalues[i].sum();
-    return sum > 0.0 ? eigenvalues[i][0] / sum : 0.0;
+    const auto sum = static_cast<double>(eigenvalues[i].sum());
+    return sum > 0.0 ? static_cast<double>(eigenvalues[i][0]) / sum : 0.0;
   }
 };
 
