@@ -18,6 +18,14 @@
 //   build_*        tree construction only
 //   knn_*          all k-NN (tree built before the timed loop); threads = 1
 //                  or 2 (OpenMP, the same dynamic schedule for both trees)
+//   planes_*       phase I's floor: build + k-NN + PCA plane fit for every
+//                  point, Morton order, 1 and 2 threads. Ours is the whole of
+//                  estimate_tangent_planes (k = 15, no k adaptation: it also
+//                  keeps the neighbour lists and measures the spacing);
+//                  the reference is nanoflann's knnSearch + centroid and
+//                  covariance + Eigen's closed-form 3x3 eigen-solver
+//                  (SelfAdjointEigenSolver::computeDirect), the fastest
+//                  pairing a user would write.
 //   leaf_sweep_*   build + all_knn(15) on 1M points, one thread, per leaf
 //                  size: the measurement behind KdTreeOptions::leaf_size
 //                  (ours on the sampled order, nanoflann on the Morton one)
@@ -28,6 +36,7 @@
 #include "recon/kdtree.h"
 #include "recon/parallel.h"
 #include "recon/shapes.h"
+#include "recon/tangent_planes.h"
 #include "recon/spatial_order.h"
 #include "recon/timer.h"
 
@@ -46,6 +55,7 @@
 #pragma GCC diagnostic ignored "-Wdouble-promotion"
 #include <nanoflann.hpp>
 #pragma GCC diagnostic pop
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -278,6 +288,66 @@ void leaf_sweep_nanoflann(benchmark::State& state) {
 }
 
 // ---------------------------------------------------------------------------
+// Phase I: k-NN + PCA
+
+void planes_ours(benchmark::State& state) {
+  const auto& points = torus_points(static_cast<std::size_t>(state.range(0)), true);
+  recon::set_thread_count(static_cast<int>(state.range(1)));
+  recon::TangentPlaneOptions options;
+  options.k = k;
+  options.adapt_k = false;
+  for (auto _ : state) {
+    const auto planes = recon::estimate_tangent_planes<3>(points, options);
+    benchmark::DoNotOptimize(planes.normals.data());
+    benchmark::ClobberMemory();
+  }
+  set_rate(state, points.size());
+}
+
+void planes_nanoflann_eigen(benchmark::State& state) {
+  const auto& points = torus_points(static_cast<std::size_t>(state.range(0)), true);
+  recon::set_thread_count(static_cast<int>(state.range(1)));
+  const PointsAdaptor adaptor{points};
+  const auto kk = static_cast<std::size_t>(k);
+  for (auto _ : state) {
+    const NanoflannTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(nanoflann_default_leaf));
+    std::vector<Vec3> origins(points.size()), normals(points.size()), eigenvalues(points.size());
+    const auto count = static_cast<std::int64_t>(points.size());
+#ifdef _OPENMP
+#pragma omp parallel
+#endif
+    {
+      std::vector<std::uint32_t> index(kk);
+      std::vector<double> distance2(kk);
+#ifdef _OPENMP
+#pragma omp for schedule(dynamic, 4096)
+#endif
+      for (std::int64_t s = 0; s < count; ++s) {
+        const auto i = static_cast<std::size_t>(s);
+        tree.knnSearch(points[i].data(), kk, index.data(), distance2.data());
+        Vec3 centroid = Vec3::Zero();
+        for (const std::uint32_t j : index) centroid += points[j];
+        centroid /= static_cast<double>(kk);
+        Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+        for (const std::uint32_t j : index) {
+          const Vec3 d = points[j] - centroid;
+          covariance += d * d.transpose();
+        }
+        covariance /= static_cast<double>(kk);
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+        solver.computeDirect(covariance);
+        origins[i] = centroid;
+        normals[i] = solver.eigenvectors().col(0);
+        eigenvalues[i] = solver.eigenvalues();
+      }
+    }
+    benchmark::DoNotOptimize(normals.data());
+    benchmark::ClobberMemory();
+  }
+  set_rate(state, points.size());
+}
+
+// ---------------------------------------------------------------------------
 // Before timing anything: both trees must find the same neighbours (the same
 // distances; indices may differ between equidistant points, which nanoflann
 // does not order).
@@ -334,6 +404,12 @@ BENCHMARK(knn_nanoflann)
 BENCHMARK(knn_ours_loop)
     ->ArgsProduct({{100'000, 1'000'000}, {1}, {0, 1}})
     ->ArgNames({"n", "threads", "morton"})
+    ->Apply(common);
+
+BENCHMARK(planes_ours)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->ArgNames({"n", "threads"})->Apply(common);
+BENCHMARK(planes_nanoflann_eigen)
+    ->ArgsProduct({{100'000, 1'000'000}, {1, 2}})
+    ->ArgNames({"n", "threads"})
     ->Apply(common);
 
 // Ours on the sampled order (what phase I gets from recon::Shape); nanoflann

@@ -18,28 +18,31 @@ SymmetricEigen<D> symmetric_eigen(const Mat<D>& input) {
       if (off <= 1e-36 * scale * scale) break;
       for (int p = 0; p < D; ++p) {
         for (int q = p + 1; q < D; ++q) {
-          if (a(p, q) == 0.0) continue;
+          const double apq = a(p, q);
+          if (apq == 0.0) continue;
           // Rotation angle theta with tan(2 theta) = 2 a_pq / (a_qq - a_pp);
           // t = tan(theta) taken as the smaller root for stability.
-          const double theta = (a(q, q) - a(p, p)) / (2.0 * a(p, q));
+          const double theta = (a(q, q) - a(p, p)) / (2.0 * apq);
           const double t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
           const double c = 1.0 / std::sqrt(t * t + 1.0);
           const double s = t * c;
-          // A <- J^T A J, V <- V J, with J the rotation in the (p, q) plane.
+          const double tau = s / (1.0 + c);  // c = 1 - s tau: updates as small corrections
+          // A <- J^T A J, V <- V J, with J the rotation in the (p, q) plane:
+          // a_pq becomes 0, the diagonal moves by t a_pq, and only the
+          // entries in rows/columns p and q change.
+          a(p, p) -= t * apq;
+          a(q, q) += t * apq;
+          a(p, q) = a(q, p) = 0.0;
           for (int r = 0; r < D; ++r) {
-            const double arp = a(r, p), arq = a(r, q);
-            a(r, p) = c * arp - s * arq;
-            a(r, q) = s * arp + c * arq;
+            if (r == p || r == q) continue;
+            const double g = a(r, p), h = a(r, q);
+            a(r, p) = a(p, r) = g - s * (h + g * tau);
+            a(r, q) = a(q, r) = h + s * (g - h * tau);
           }
           for (int r = 0; r < D; ++r) {
-            const double apr = a(p, r), aqr = a(q, r);
-            a(p, r) = c * apr - s * aqr;
-            a(q, r) = s * apr + c * aqr;
-          }
-          for (int r = 0; r < D; ++r) {
-            const double vrp = v(r, p), vrq = v(r, q);
-            v(r, p) = c * vrp - s * vrq;
-            v(r, q) = s * vrp + c * vrq;
+            const double g = v(r, p), h = v(r, q);
+            v(r, p) = g - s * (h + g * tau);
+            v(r, q) = h + s * (g - h * tau);
           }
         }
       }

@@ -508,6 +508,16 @@ TEST_F(CliReconstruct, TorusIsClosedGenusOneAndStatsMatchTheFile) {
     EXPECT_GT(*seconds, 0.0) << section << "." << key;
     EXPECT_LE(*seconds, *total) << section << "." << key;
   }
+  // Every step's peak memory (the process's, where /proc allows it): at
+  // least what the program itself occupies, and none above the overall peak.
+  if (const std::optional<double> peak = stat(json, "memory", "peak_mib_total")) {
+    for (const char* step : {"read", "tangent planes", "orientation", "signed distance", "contouring", "write"}) {
+      const std::optional<double> mib = stat(json, "peak_mib", step);
+      ASSERT_TRUE(mib.has_value()) << step << " missing in\n" << json;
+      EXPECT_GT(*mib, 1.0) << step;
+      EXPECT_LE(*mib, *peak) << step;
+    }
+  }
   EXPECT_EQ(entries(), (std::vector<std::string>{"m.ply", "st.json", "t.ply"}));
 }
 
@@ -687,18 +697,24 @@ TEST_F(CliInfo, ReportsDuplicatesAndPointCount) {
 
 // ---------------------------------------------------------------- determinism
 
-TEST_F(CliDeterminism, ThreadCountDoesNotChangeTheMesh) {
-  ASSERT_NO_FATAL_FAILURE(generate("torus", 5000, "t.ply"));
-  for (const std::string threads : {"1", "2"})
-    ASSERT_TRUE(succeeded(
-        recon({"--quiet", "--threads", threads, "reconstruct", "t.ply", "-o", "m" + threads + ".ply", "--stats",
-               threads + ".json"})));
-  // The option took effect, so the comparison is between different runs.
-  EXPECT_EQ(stat_count(read_bytes(at("1.json")), "", "threads"), 1);
-  EXPECT_EQ(stat_count(read_bytes(at("2.json")), "", "threads"), 2);
-  const std::string one = read_bytes(at("m1.ply"));
-  EXPECT_GT(one.size(), 1000U);
-  EXPECT_TRUE(one == read_bytes(at("m2.ply"))) << "--threads 1 and --threads 2 wrote different meshes";
+// Large enough that every parallel part really splits its work (kd-tree
+// build tasks above 65536 points, OpenMP chunks of 4096, several lattice
+// waves), and three threads on any machine, so the split differs from two.
+TEST_F(CliDeterminism, ThreadCountDoesNotChangeTheOutput) {
+  ASSERT_NO_FATAL_FAILURE(generate("two", 150000, "t.ply"));
+  for (const std::string threads : {"1", "2", "3"}) {
+    ASSERT_TRUE(succeeded(recon({"--quiet", "--threads", threads, "reconstruct", "t.ply", "-o", "m" + threads + ".ply",
+                                 "--stats", threads + ".json"})));
+    ASSERT_TRUE(succeeded(recon({"--quiet", "--threads", threads, "normals", "t.ply", "-o", "n" + threads + ".ply"})));
+    // The option took effect, so the comparison is between different runs.
+    EXPECT_EQ(stat_count(read_bytes(at(threads + ".json")), "", "threads"), std::stol(threads));
+  }
+  const std::string mesh = read_bytes(at("m1.ply")), normals = read_bytes(at("n1.ply"));
+  EXPECT_GT(mesh.size(), 100000U);
+  for (const std::string threads : {"2", "3"}) {
+    EXPECT_TRUE(mesh == read_bytes(at("m" + threads + ".ply"))) << "--threads " << threads << " wrote another mesh";
+    EXPECT_TRUE(normals == read_bytes(at("n" + threads + ".ply"))) << "--threads " << threads << " wrote other normals";
+  }
 }
 
 // ---------------------------------------------------------------- real data

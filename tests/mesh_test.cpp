@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <random>
 
 namespace recon {
 namespace {
@@ -277,6 +280,34 @@ TEST(MeshTopology, IndexOutOfRangeThrows) {
   Mesh mesh = tetrahedron();
   mesh.triangles.push_back({0, 1, 7});
   EXPECT_THROW(static_cast<void>(analyze_topology(mesh)), InvalidInputError);
+}
+
+// Against brute force: the minimum over a fine barycentric grid of the
+// triangle is at least the exact distance, and exceeds it by no more than the
+// grid can miss (half a grid step times the longest edge).
+TEST(PointTriangleDistance, AgreesWithADenseSampleOfTheTriangle) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  constexpr int steps = 200;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    const Vec3 p = 1.5 * Vec3(u(rng), u(rng), u(rng));
+    double sampled = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= steps; ++i)
+      for (int j = 0; i + j <= steps; ++j) {
+        const double s = static_cast<double>(i) / steps, t = static_cast<double>(j) / steps;
+        sampled = std::min(sampled, (a + s * (b - a) + t * (c - a) - p).norm());
+      }
+    const double exact = point_triangle_distance(p, a, b, c);
+    const double slack = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()}) / steps;
+    EXPECT_LE(exact, sampled + 1e-12) << trial;
+    EXPECT_GE(exact, sampled - slack) << trial;
+  }
+  // On the triangle itself, and straight above its interior.
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_NEAR(point_triangle_distance(Vec3(0.2, 0.2, 0.0), a, b, c), 0.0, 1e-15);
+  EXPECT_DOUBLE_EQ(point_triangle_distance(Vec3(0.2, 0.2, 0.5), a, b, c), 0.5);
+  EXPECT_DOUBLE_EQ(point_triangle_distance(Vec3(2.0, 0.0, 0.0), a, b, c), 1.0);
 }
 
 }  // namespace

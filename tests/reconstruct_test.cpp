@@ -46,6 +46,36 @@ void expect_closed_shape(const Outcome& o, std::size_t components, long euler) {
   EXPECT_LT(o.mean_error, 0.001 * o.diagonal);
 }
 
+// A scan-like open surface (grid sampling, one boundary): one disc, close to
+// the true height field, its boundary no farther out than the undefined rule
+// allows (1.5 rho + delta past the outermost samples).
+TEST(Reconstruct, ScanLikeTerrainIsOneOpenDisc) {
+  const auto shape = make_terrain();
+  const PointCloud cloud = shape->sample(60000, 27);
+  // The shape's own distance: 0 on its samples, h along the normal.
+  for (std::size_t i = 0; i < cloud.size(); i += 997) {
+    EXPECT_LT(shape->distance(cloud.positions[i]), 1e-9);
+    EXPECT_NEAR(shape->distance(cloud.positions[i] + 0.01 * cloud.normals[i]), 0.01, 1e-5);
+  }
+  const auto o = reconstruct_shape(*shape, cloud);
+  EXPECT_EQ(o.topology.components, 1u);
+  EXPECT_EQ(o.topology.boundary_loops, 1u);
+  EXPECT_EQ(o.topology.euler_characteristic, 1);
+  EXPECT_EQ(o.topology.non_manifold_edges, 0u);
+  EXPECT_EQ(o.topology.inconsistent_edges, 0u);
+  EXPECT_LT(o.mean_error, 0.001 * o.diagonal);
+  const Box<3> box = bounding_box<3>(cloud.positions);
+  const double reach = 1.5 * o.r.planes.rho + o.r.delta + o.r.contour.cell;  // a cube's diagonal share aside
+  for (const Vec3& v : o.r.contour.mesh.vertices) {
+    EXPECT_GE(v.x(), box.min.x() - reach);
+    EXPECT_LE(v.x(), box.max.x() + reach);
+    EXPECT_GE(v.y(), box.min.y() - reach);
+    EXPECT_LE(v.y(), box.max.y() + reach);
+  }
+  // Normals all face up (+z), the side a scanner above would see.
+  for (const Vec3& n : o.r.normals()) EXPECT_GT(n.z(), 0.0);
+}
+
 TEST(Reconstruct, Sphere) {
   const auto shape = make_sphere();
   const auto o = reconstruct_shape(*shape, shape->sample(20000, 21));
@@ -242,29 +272,6 @@ TEST(ReconstructRealData, HotdogsAreTwoObjects) {
   EXPECT_EQ(t.components, 2u);
   EXPECT_TRUE(t.watertight());
   for (const auto& c : t.component_list) EXPECT_GT(c.signed_volume, 0.0);
-}
-
-// Distance from a point to a triangle (closest point by regions of the
-// triangle's plane: interior, edges, corners).
-double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.norm();
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + ab * (d1 / (d1 - d3)))).norm();
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + ac * (d2 / (d2 - d6)))).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return (p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))))).norm();
-  const double denom = 1.0 / (va + vb + vc);
-  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
 }
 
 TEST(ReconstructRealData, BunnyStaysCloseToItsOwnSurface) {

@@ -50,4 +50,8 @@ struct MeshTopology {
 
 [[nodiscard]] MeshTopology analyze_topology(const Mesh& mesh);
 
+/// Euclidean distance from p to the triangle abc (to its closest point,
+/// found by the regions of the triangle's plane: interior, edges, corners).
+[[nodiscard]] double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
 }  // namespace recon
