@@ -12,7 +12,6 @@
 #include "recon/orientation.h"
 #include "recon/parallel.h"
 #include "recon/shapes.h"
-#include "recon/spatial_order.h"
 #include "recon/tangent_planes.h"
 #include "recon/timer.h"
 
@@ -184,19 +183,18 @@ void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   line << " (";
   for (std::size_t c = 0; c < shown.size() && c < 8; ++c) line << (c ? ", " : "") << shown[c];
   if (shown.size() > 8) line << ", ...";
-  line << " points), graph of " << plural(g.graph.edge_count(), "edge") << ", " << plural(oriented.flip_count, "flip")
-       << " (" << format_seconds(g.seconds_tree + g.seconds_emst + g.seconds_graph + oriented.seconds_mst) << ")";
+  line << " points), graph of " << plural(g.edge_count, "edge") << ", " << plural(oriented.flip_count, "flip")
+       << " (" << format_seconds(g.seconds_emst + g.seconds_graph + oriented.seconds_mst) << ")";
   summary.say(line.str());
   Json& s = summary.stats()["orientation"];
   s["components"] = oriented.component_count();
   Json::Array size_list;
   for (std::uint32_t v : g.components.sizes) size_list.emplace_back(static_cast<std::size_t>(v));
   s["component_sizes"] = Json(size_list);
-  s["graph_edges"] = g.graph.edge_count();
+  s["graph_edges"] = g.edge_count;
   s["gap_edges"] = g.gap_emst_edges;
   s["rejoined_pieces"] = g.rejoined;
   s["flips"] = oriented.flip_count;
-  s["seconds_tree"] = g.seconds_tree;
   s["seconds_emst"] = g.seconds_emst;
   s["seconds_graph"] = g.seconds_graph;
   s["seconds_mst"] = oriented.seconds_mst;
@@ -294,6 +292,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     options.cell = o->cell;
     options.resolution = o->resolution;
     options.use_input_normals = o->use_normals;
+    options.keep_graph = false;  // only the counts are reported
     Progress progress(!global.quiet);
     options.on_phase = [&progress, &memory](const char* phase) {
       progress.phase(phase);
@@ -301,6 +300,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     };
     const Reconstruction r = reconstruct(std::move(cloud), options);
     progress.stop();
+    memory.start("summary");  // the mesh's topology, for the report below
 
     report_phase_1(r.planes, points, summary);
     if (r.oriented) {
@@ -378,10 +378,12 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     Progress progress(!global.quiet);
     progress.phase("phase I, tangent planes");
     memory.start("tangent planes");
-    // Work in spatial order (much faster on large clouds); write in the input's.
-    const std::vector<std::uint32_t> order = spatial_order(cloud.positions);
-    const std::vector<Vec3> points = permuted<Vec3>(cloud.positions, order);
-    const auto planes = estimate_tangent_planes<3>(points, phase_1_options(*phases));
+    // Work in the kd-tree's leaf order (much faster on large clouds, and no
+    // second copy of the points); write in the input's.
+    const TangentPlaneOptions options = phase_1_options(*phases);
+    KdTree<3> tree(cloud.positions, options.tree);
+    const std::vector<std::uint32_t> order = tree.renumber_by_leaf_order();
+    const auto planes = estimate_tangent_planes<3>(std::move(tree), options);
     progress.phase("");
     report_phase_1(planes, cloud.size(), summary);
     progress.phase("phase II, orientation");

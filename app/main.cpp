@@ -12,7 +12,18 @@
 #include <map>
 #include <new>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // Arrays of a megabyte or more get their own pages and give them back when
+  // freed. (By default glibc raises this threshold after the first large
+  // free, and the phases' large temporaries then stay resident: about 10 %
+  // more peak memory on a million points, measured.)
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
   CLI::App app{"recon: triangle meshes and oriented normals from unorganized point clouds\n"
                "(Hoppe, DeRose, Duchamp, McDonald, Stuetzle: Surface reconstruction from unorganized points, 1992)"};
   app.require_subcommand(1);

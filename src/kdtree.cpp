@@ -21,12 +21,14 @@ bool before(double d2_a, std::uint32_t i_a, double d2_b, std::uint32_t i_b) {
 struct KnnCollector {
   std::span<Neighbor> out;
   std::size_t count = 0;
+  double limit = infinity;  // nothing farther is wanted (a known upper bound on the k-th distance)
 
-  [[nodiscard]] double bound() const { return count < out.size() ? infinity : out.back().distance2; }
+  [[nodiscard]] double bound() const { return count < out.size() ? limit : out.back().distance2; }
   void offer(std::uint32_t index, double d2) {
     if (count == out.size()) {
       if (!before(d2, index, out.back().distance2, out.back().index)) return;
     } else {
+      if (d2 > limit) return;
       ++count;
     }
     std::size_t i = count - 1;
@@ -45,6 +47,9 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
   if (options.leaf_size < 1) throw InvalidInputError("kd-tree leaf size must be at least 1");
   if (points.size() >= no_child)
     throw InvalidInputError("kd-tree: " + std::to_string(points.size()) + " points is more than the 2^32 - 1 supported");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite())
+      throw InvalidInputError("point " + std::to_string(i) + " has a non-finite coordinate");
   if (points.empty()) return;
 
   // Build over (point, input index) pairs so that the median selection moves
@@ -80,6 +85,7 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
   } shape{leaf, {}};
   const auto n = static_cast<std::uint32_t>(points.size());
   nodes_.resize(shape.count(n));
+  boxes_.resize(nodes_.size());
   depth_ = shape.depth(n);
   struct Builder {
     KdTree& tree;
@@ -90,9 +96,11 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
       Node node;
       node.begin = begin;
       node.end = end;
-      for (auto t = begin; t < end; ++t) node.box.extend(items[t].first);
+      Box<D> box;
+      for (auto t = begin; t < end; ++t) box.extend(items[t].first);
+      tree.boxes_[id] = box;
       if (end - begin > shape.leaf) {
-        const Point extent = node.box.extent();
+        const Point extent = box.extent();
         int axis = 0;
         for (int a = 1; a < D; ++a)
           if (extent[a] > extent[axis]) axis = a;
@@ -112,8 +120,8 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
           build(node.left, begin, mid);
           build(node.right, mid, end);
         }
-        node.left_max = tree.nodes_[node.left].box.max[axis];
-        node.right_min = tree.nodes_[node.right].box.min[axis];
+        node.left_max = tree.boxes_[node.left].max[axis];
+        node.right_min = tree.boxes_[node.right].min[axis];
       }
       tree.nodes_[id] = node;
     }
@@ -173,7 +181,7 @@ template <int D>
 template <class Visitor>
 void KdTree<D>::search(const Point& q, Visitor& visitor) const {
   if (nodes_.empty()) return;
-  const Box<D>& box = nodes_[0].box;
+  const Box<D>& box = boxes_[0];
   Point offsets;
   double rd = 0.0;
   for (int a = 0; a < D; ++a) {
@@ -187,14 +195,14 @@ void KdTree<D>::search(const Point& q, Visitor& visitor) const {
 }
 
 template <int D>
-std::size_t KdTree<D>::knn(const Point& q, std::span<Neighbor> out) const {
+std::size_t KdTree<D>::knn(const Point& q, std::span<Neighbor> out, double within2) const {
   struct Visitor {
     KnnCollector collector;
     const std::uint32_t* order;
     [[nodiscard]] double bound() const { return collector.bound(); }
     [[nodiscard]] static bool skip(std::uint32_t) { return false; }
     void visit(std::uint32_t t, double d2) { collector.offer(order[t], d2); }
-  } visitor{KnnCollector{out}, order_.data()};
+  } visitor{KnnCollector{out, 0, within2}, order_.data()};
   if (out.empty()) return 0;
   search(q, visitor);
   return visitor.collector.count;
@@ -267,6 +275,14 @@ std::vector<std::int32_t> KdTree<D>::node_labels(std::span<const std::int32_t> p
     }
   }
   return labels;
+}
+
+template <int D>
+std::vector<std::uint32_t> KdTree<D>::renumber_by_leaf_order() {
+  std::vector<std::uint32_t> former = order_;
+  for (std::size_t t = 0; t < order_.size(); ++t) order_[t] = static_cast<std::uint32_t>(t);
+  leaf_numbered_ = true;
+  return former;
 }
 
 template <int D>

@@ -8,9 +8,10 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <string>
 #include <exception>
+#include <limits>
+#include <memory>
+#include <string>
 
 namespace recon {
 namespace {
@@ -50,6 +51,27 @@ double estimate_visited_cubes(std::size_t samples, double spacing, double cell) 
 
 namespace {
 
+// An array that grows by fixed blocks rather than by reallocation: no
+// moment holds both an old and a new copy (with tens of millions of corners,
+// a doubling vector's growth alone can add hundreds of megabytes to the peak).
+template <class T>
+class BlockArray {
+ public:
+  [[nodiscard]] std::size_t size() const { return size_; }
+  T& operator[](std::size_t i) { return blocks_[i >> block_bits][i & block_mask]; }
+  const T& operator[](std::size_t i) const { return blocks_[i >> block_bits][i & block_mask]; }
+  void push_back(const T& value) {
+    if ((size_ & block_mask) == 0) blocks_.push_back(std::make_unique<T[]>(block_mask + 1));
+    (*this)[size_++] = value;
+  }
+
+ private:
+  static constexpr int block_bits = 16;
+  static constexpr std::size_t block_mask = (std::size_t{1} << block_bits) - 1;
+  std::vector<std::unique_ptr<T[]>> blocks_;
+  std::size_t size_ = 0;
+};
+
 // The corners met by the walk, in the order first met ("slots"), found by
 // lattice key through an open-addressing hash table (linear probing). A slot
 // holds the corner's value of f, the mesh vertex on each of the three
@@ -63,7 +85,17 @@ class CornerTable {
 
   CornerTable() : table_(1024, empty) {}
 
+  static constexpr std::uint32_t absent = UINT32_MAX;
+
   [[nodiscard]] std::size_t size() const { return keys_.size(); }
+  /// The slot of `key`, or `absent`. Safe from many threads while nothing is
+  /// inserted.
+  [[nodiscard]] std::uint32_t find(std::uint64_t key) const {
+    for (std::size_t h = hash(key);; h = (h + 1) & (table_.size() - 1)) {
+      const std::uint32_t slot = table_[h];
+      if (slot == empty || keys_[slot] == key) return slot;
+    }
+  }
   [[nodiscard]] std::uint64_t key(std::uint32_t slot) const { return keys_[slot]; }
 
   /// The slot of `key`, created (not evaluated, no vertices) if new.
@@ -85,10 +117,10 @@ class CornerTable {
     return slot;
   }
 
-  std::vector<double> value;
-  std::vector<std::array<std::uint32_t, 3>> vertex;
+  BlockArray<double> value;
+  BlockArray<std::array<std::uint32_t, 3>> vertex;
   static constexpr std::uint8_t visited_cube = 1, evaluated = 2;
-  std::vector<std::uint8_t> flags;
+  BlockArray<std::uint8_t> flags;
 
  private:
   static constexpr std::uint32_t empty = UINT32_MAX;
@@ -105,7 +137,7 @@ class CornerTable {
     }
   }
   std::vector<std::uint32_t> table_;
-  std::vector<std::uint64_t> keys_;
+  BlockArray<std::uint64_t> keys_;
   int bits_ = 10;
 };
 
@@ -166,7 +198,8 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
   for (const Vec3& p : seeds) {
     Index3 cube;
     for (int a = 0; a < 3; ++a)
-      cube[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(std::floor((p[a] - result.origin[a]) / options.cell));
+      cube[static_cast<std::size_t>(a)] =
+          static_cast<std::int32_t>(std::floor((p[a] - result.origin[a]) / options.cell));
     visit(cube);
   }
   result.seed_cubes = visited;
@@ -174,103 +207,121 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
   std::vector<std::array<std::uint32_t, 8>> cube_slots;
   std::vector<std::uint32_t> fresh;
   std::chrono::steady_clock::duration field_time{};
+  // A wave is taken in batches of cubes (the first wave holds every cube
+  // with a sample: millions on a large scan), so the per-batch arrays stay
+  // small. Cubes are still processed in wave order: the mesh is the same.
+  constexpr std::size_t batch = 65536;
   while (!next.empty()) {
     wave.swap(next);
     next.clear();
-    cube_slots.resize(wave.size());
-    fresh.clear();
-    for (std::size_t w = 0; w < wave.size(); ++w) {
-      const Index3 cube = unpack(wave[w]);
-      for (int c = 0; c < 8; ++c) {
-        const std::uint32_t slot = corners.find_or_insert(pack(corner_of_cube(cube, c)));
-        cube_slots[w][static_cast<std::size_t>(c)] = slot;
-        if (!(corners.flags[slot] & CornerTable::evaluated)) {
-          corners.flags[slot] |= CornerTable::evaluated;
-          fresh.push_back(slot);
+    for (std::size_t first = 0; first < wave.size(); first += batch) {
+      const std::size_t count = std::min(batch, wave.size() - first);
+      cube_slots.resize(count);
+      fresh.clear();
+      // The corners already met are looked up in parallel (the table does not
+      // change meanwhile); the new ones are then added in wave order.
+#pragma omp parallel for schedule(static)
+      for (std::int64_t s = 0; s < static_cast<std::int64_t>(count); ++s) {
+        const auto w = static_cast<std::size_t>(s);
+        const Index3 cube = unpack(wave[first + w]);
+        for (int c = 0; c < 8; ++c)
+          cube_slots[w][static_cast<std::size_t>(c)] = corners.find(pack(corner_of_cube(cube, c)));
+      }
+      for (std::size_t w = 0; w < count; ++w) {
+        const Index3 cube = unpack(wave[first + w]);
+        for (int c = 0; c < 8; ++c) {
+          std::uint32_t& slot = cube_slots[w][static_cast<std::size_t>(c)];
+          if (slot == CornerTable::absent) slot = corners.find_or_insert(pack(corner_of_cube(cube, c)));
+          if (!(corners.flags[slot] & CornerTable::evaluated)) {
+            corners.flags[slot] |= CornerTable::evaluated;
+            fresh.push_back(slot);
+          }
         }
       }
-    }
-    const auto started = std::chrono::steady_clock::now();
-    std::exception_ptr failure;
-    const auto fresh_count = static_cast<std::int64_t>(fresh.size());
+      const auto started = std::chrono::steady_clock::now();
+      std::exception_ptr failure;
+      const auto fresh_count = static_cast<std::int64_t>(fresh.size());
 #pragma omp parallel for schedule(dynamic, 256)
-    for (std::int64_t s = 0; s < fresh_count; ++s) {
-      const std::uint32_t slot = fresh[static_cast<std::size_t>(s)];
-      try {
-        const std::optional<double> v = f(position(unpack(corners.key(slot))));
-        corners.value[slot] = v ? *v : undefined;
-      } catch (...) {
+      for (std::int64_t s = 0; s < fresh_count; ++s) {
+        const std::uint32_t slot = fresh[static_cast<std::size_t>(s)];
+        try {
+          const std::optional<double> v = f(position(unpack(corners.key(slot))));
+          corners.value[slot] = v ? *v : undefined;
+        } catch (...) {
 #pragma omp critical(recon_marching_cubes_failure)
-        if (!failure) failure = std::current_exception();
-      }
-    }
-    if (failure) std::rethrow_exception(failure);
-    field_time += std::chrono::steady_clock::now() - started;
-
-    for (std::size_t w = 0; w < wave.size(); ++w) {
-      const Index3 cube = unpack(wave[w]);
-      const auto& slots = cube_slots[w];
-      std::array<double, 8> value;
-      bool complete = true;
-      unsigned config = 0;
-      for (std::size_t c = 0; c < 8; ++c) {
-        value[c] = corners.value[slots[c]];
-        if (std::isnan(value[c])) complete = false;
-        if (value[c] < 0.0) config |= 1u << c;
-      }
-      if (!complete) {
-        ++result.undefined_cubes;
-        continue;
-      }
-      const mc::CubeCase& cube_case = mc::cube_case(config);
-      // Vertices: one per crossed lattice edge, kept in the slot of the
-      // edge's lower corner (shared with the neighbouring cubes); then the
-      // centres of the loops that need one (private to this cube).
-      std::array<std::uint32_t, 12 + 4> vertex{};
-      for (int l = 0; l < cube_case.loop_count; ++l) {
-        const auto& loop = cube_case.loops[static_cast<std::size_t>(l)];
-        Vec3 centre = Vec3::Zero();
-        for (int j = 0; j < loop.size; ++j) {
-          const int e = loop.edges[static_cast<std::size_t>(j)];
-          const auto ends = mc::edge_corners(e);
-          const int axis = mc::edge_axis(e);
-          std::uint32_t& id = corners.vertex[slots[static_cast<std::size_t>(ends[0])]][static_cast<std::size_t>(axis)];
-          if (id == CornerTable::no_vertex) {
-            id = static_cast<std::uint32_t>(result.mesh.vertices.size());
-            const double v0 = value[static_cast<std::size_t>(ends[0])], v1 = value[static_cast<std::size_t>(ends[1])];
-            const double t = std::clamp(v0 / (v0 - v1), vertex_margin, 1.0 - vertex_margin);
-            Vec3 p = position(corner_of_cube(cube, ends[0]));
-            p[axis] += t * options.cell;
-            result.mesh.vertices.push_back(p);
-          }
-          vertex[static_cast<std::size_t>(e)] = id;
-          centre += result.mesh.vertices[id];
-        }
-        if (loop.centred) {
-          vertex[static_cast<std::size_t>(mc::loop_centre + l)] = static_cast<std::uint32_t>(result.mesh.vertices.size());
-          result.mesh.vertices.push_back(centre / loop.size);
+          if (!failure) failure = std::current_exception();
         }
       }
-      for (int t = 0; t < cube_case.triangle_count; ++t) {
-        const auto& tri = cube_case.triangles[static_cast<std::size_t>(t)];
-        result.mesh.triangles.push_back({vertex[tri[0]], vertex[tri[1]], vertex[tri[2]]});
-      }
+      if (failure) std::rethrow_exception(failure);
+      field_time += std::chrono::steady_clock::now() - started;
 
-      // Continue through every face the surface crosses, or touches at a
-      // corner where f = 0 (the surface may go on in the neighbour only).
-      for (int a = 0; a < 3; ++a) {
-        for (int s = 0; s < 2; ++s) {
-          int inside = 0;
-          bool touches = false;
-          for (int c = 0; c < 8; ++c) {
-            if (((c >> a) & 1) != s) continue;
-            if ((config >> c) & 1u) ++inside;
-            if (value[static_cast<std::size_t>(c)] == 0.0) touches = true;
+      for (std::size_t w = 0; w < count; ++w) {
+        const Index3 cube = unpack(wave[first + w]);
+        const auto& slots = cube_slots[w];
+        std::array<double, 8> value;
+        bool complete = true;
+        unsigned config = 0;
+        for (std::size_t c = 0; c < 8; ++c) {
+          value[c] = corners.value[slots[c]];
+          if (std::isnan(value[c])) complete = false;
+          if (value[c] < 0.0) config |= 1u << c;
+        }
+        if (!complete) {
+          ++result.undefined_cubes;
+          continue;
+        }
+        const mc::CubeCase& cube_case = mc::cube_case(config);
+        // Vertices: one per crossed lattice edge, kept in the slot of the
+        // edge's lower corner (shared with the neighbouring cubes); then the
+        // centres of the loops that need one (private to this cube).
+        std::array<std::uint32_t, 12 + 4> vertex{};
+        for (int l = 0; l < cube_case.loop_count; ++l) {
+          const auto& loop = cube_case.loops[static_cast<std::size_t>(l)];
+          Vec3 centre = Vec3::Zero();
+          for (int j = 0; j < loop.size; ++j) {
+            const int e = loop.edges[static_cast<std::size_t>(j)];
+            const auto ends = mc::edge_corners(e);
+            const int axis = mc::edge_axis(e);
+            std::uint32_t& id =
+                corners.vertex[slots[static_cast<std::size_t>(ends[0])]][static_cast<std::size_t>(axis)];
+            if (id == CornerTable::no_vertex) {
+              id = static_cast<std::uint32_t>(result.mesh.vertices.size());
+              const double v0 = value[static_cast<std::size_t>(ends[0])], v1 = value[static_cast<std::size_t>(ends[1])];
+              const double t = std::clamp(v0 / (v0 - v1), vertex_margin, 1.0 - vertex_margin);
+              Vec3 p = position(corner_of_cube(cube, ends[0]));
+              p[axis] += t * options.cell;
+              result.mesh.vertices.push_back(p);
+            }
+            vertex[static_cast<std::size_t>(e)] = id;
+            centre += result.mesh.vertices[id];
           }
-          if ((inside == 0 || inside == 4) && !touches) continue;
-          Index3 neighbour = cube;
-          neighbour[static_cast<std::size_t>(a)] += s == 0 ? -1 : 1;
-          visit(neighbour);
+          if (loop.centred) {
+            vertex[static_cast<std::size_t>(mc::loop_centre + l)] =
+                static_cast<std::uint32_t>(result.mesh.vertices.size());
+            result.mesh.vertices.push_back(centre / loop.size);
+          }
+        }
+        for (int t = 0; t < cube_case.triangle_count; ++t) {
+          const auto& tri = cube_case.triangles[static_cast<std::size_t>(t)];
+          result.mesh.triangles.push_back({vertex[tri[0]], vertex[tri[1]], vertex[tri[2]]});
+        }
+
+        // Continue through every face the surface crosses, or touches at a
+        // corner where f = 0 (the surface may go on in the neighbour only).
+        for (int a = 0; a < 3; ++a) {
+          for (int s = 0; s < 2; ++s) {
+            int inside = 0;
+            bool touches = false;
+            for (int c = 0; c < 8; ++c) {
+              if (((c >> a) & 1) != s) continue;
+              if ((config >> c) & 1u) ++inside;
+              if (value[static_cast<std::size_t>(c)] == 0.0) touches = true;
+            }
+            if ((inside == 0 || inside == 4) && !touches) continue;
+            Index3 neighbour = cube;
+            neighbour[static_cast<std::size_t>(a)] += s == 0 ? -1 : 1;
+            visit(neighbour);
+          }
         }
       }
     }

@@ -3,13 +3,20 @@
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace recon {
 
 template <int D>
 OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const OrientationOptions& options) {
+  return orient_normals<D>(planes, build_riemannian_graph<D>(planes, options.graph), options);
+}
+
+template <int D>
+OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGraph<D> graph,
+                                  const OrientationOptions& options) {
   OrientedNormals<D> result;
-  result.graph = build_riemannian_graph<D>(planes, options.graph);
+  result.graph = std::move(graph);
   Timer timer;
   const std::size_t n = planes.origins.size();
 
@@ -68,5 +75,7 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const Orientat
 
 template OrientedNormals<2> orient_normals<2>(const TangentPlanes<2>&, const OrientationOptions&);
 template OrientedNormals<3> orient_normals<3>(const TangentPlanes<3>&, const OrientationOptions&);
+template OrientedNormals<2> orient_normals<2>(const TangentPlanes<2>&, RiemannianGraph<2>, const OrientationOptions&);
+template OrientedNormals<3> orient_normals<3>(const TangentPlanes<3>&, RiemannianGraph<3>, const OrientationOptions&);
 
 }  // namespace recon

@@ -2,7 +2,7 @@
 
 #include "recon/errors.h"
 #include "recon/resource_usage.h"
-#include "recon/spatial_order.h"
+#include "recon/spatial_order.h"  // permuted
 #include "recon/timer.h"
 
 #include <cmath>
@@ -49,17 +49,20 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   };
   Reconstruction r;
   starting("tangent planes");
-  r.order = spatial_order(cloud.positions);
-  r.points = permuted<Vec3>(cloud.positions, r.order);
+  Timer tree_timer;
+  KdTree<3> tree(cloud.positions, options.planes.tree);
   cloud.positions = {};
+  r.order = tree.renumber_by_leaf_order();
   if (options.use_input_normals) r.input_normals = permuted<Vec3>(cloud.normals, r.order);
   cloud.normals = {};
-  r.planes = estimate_tangent_planes<3>(r.points, options.planes);
+  const double seconds_tree = tree_timer.lap();
+  r.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
+  r.planes.seconds_tree += seconds_tree;
 
   // Refuse a lattice that would not fit before building anything large.
-  const double cell = lattice_cell(r.points, r.planes, options);
+  const double cell = lattice_cell(r.points(), r.planes, options);
   const std::size_t max_cubes = options.max_cubes > 0 ? options.max_cubes : default_max_cubes();
-  const double cubes = estimate_visited_cubes(r.points.size(), r.planes.rho, cell);
+  const double cubes = estimate_visited_cubes(r.order.size(), r.planes.rho, cell);
   if (cubes > static_cast<double>(max_cubes)) {
     std::ostringstream message;
     message.precision(3);
@@ -76,17 +79,25 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
         throw InvalidInputError("the input normals include a zero or non-finite one; run without using them");
       n /= norm;
     }
-    r.origin_tree.emplace(std::span<const Vec3>(r.planes.origins));
+    r.planes.neighbors = {};
   } else {
     starting("orientation");
-    r.oriented = orient_normals<3>(r.planes, options.orientation);
+    RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, options.orientation.graph);
+    r.planes.neighbors = {};  // the graph's source, no longer needed
+    r.oriented = orient_normals<3>(r.planes, std::move(graph), options.orientation);
+    if (!options.keep_graph) {
+      r.oriented->graph.graph = {};
+      r.oriented->graph.emst = {};
+      r.oriented->tree = {};
+    }
   }
-  r.planes.neighbors = {};
-  const KdTree<3>& origin_tree = r.oriented ? r.oriented->graph.origin_tree : *r.origin_tree;
 
   starting("signed distance");
   Timer timer;
-  const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), origin_tree, options.distance);
+  // Built only now that phase II's graph is complete: its memory and the
+  // graph's need not add up.
+  r.origin_tree = KdTree<3>(std::span<const Vec3>(r.planes.origins));
+  const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, options.distance);
   r.delta = f.delta();
   r.delta_given = f.delta_given();
   r.seconds_distance_setup = timer.lap();
@@ -95,7 +106,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   MarchingCubesOptions mc;
   mc.cell = cell;
   mc.max_cubes = max_cubes;
-  r.contour = marching_cubes(std::cref(f), r.points, mc, options.keep_corners);
+  r.contour = marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
   return r;
 }
 

@@ -47,11 +47,11 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   const auto k = static_cast<std::size_t>(options.k > 0 ? options.k : lists_k);
   RiemannianGraph<D> result;
   Timer timer;
-  const std::span<const Vec<D>> origins(planes.origins);
-  result.origin_tree = KdTree<D>(origins, options.tree);
-  result.seconds_tree = timer.lap();
   {
-    const std::vector<Vec<D>> samples = samples_of(planes);
+    // A tree numbered by leaf order holds the samples by index already.
+    std::vector<Vec<D>> copy;
+    if (!planes.point_tree.numbered_by_leaf_order()) copy = samples_of(planes);
+    const std::span<const Vec<D>> samples = copy.empty() ? planes.point_tree.points() : std::span<const Vec<D>>(copy);
     const std::vector<double> radius2 = certain_radii2(planes.radius);
     result.emst = euclidean_minimum_spanning_tree<D>(planes.point_tree, samples, EmstHints{&planes.neighbors, radius2});
   }
@@ -90,7 +90,8 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   // thread count.
   const std::size_t words = (k + 31) / 32;  // 2 bits per entry: kept, reverse
   std::vector<std::uint64_t> marks(n * words, 0);
-  std::vector<std::uint32_t> own(n, 0), degree(n, 0);
+  std::vector<std::uint16_t> own(n, 0);      // kept entries of row i (at most k <= 256)
+  std::vector<std::uint32_t> degree(n, 0);   // the other entries of row i
   const auto count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(dynamic, 4096)
   for (std::int64_t s = 0; s < count; ++s) {
@@ -118,15 +119,14 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       extra.push_back(e);
     }
   }
-  std::vector<std::uint32_t> extra_degree(n, 0);
   for (const Edge& e : extra) {
-    ++extra_degree[e.u];
-    ++extra_degree[e.v];
+    ++degree[e.u];
+    ++degree[e.v];
   }
 
   Graph& g = result.graph;
   g.offsets.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) g.offsets[i + 1] = g.offsets[i] + own[i] + degree[i] + extra_degree[i];
+  for (std::size_t i = 0; i < n; ++i) g.offsets[i + 1] = g.offsets[i] + own[i] + degree[i];
   g.targets.resize(g.offsets.back());
   // degree[i] now counts the closure entries written into row i.
   std::fill(degree.begin(), degree.end(), 0u);
@@ -158,7 +158,6 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   }
   own = {};
   degree = {};
-  extra_degree = {};
   result.components = connected_components(g);
 
   // Join back pieces too small to be objects, shortest gap first. Pieces only
@@ -185,6 +184,7 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       result.components = connected_components(g);
     }
   }
+  result.edge_count = result.graph.edge_count();
   result.seconds_graph = timer.lap();
   return result;
 }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace recon {
@@ -42,8 +43,12 @@ bool residual_is_noise(std::span<const Vec<D>> points, const TangentPlanes<D>& p
 
 }  // namespace
 
+// The phase over a built tree; `given` holds the points by index, or is
+// empty when the tree is numbered by leaf order and its own copy serves.
 template <int D>
-TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const TangentPlaneOptions& options) {
+TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, const TangentPlaneOptions& options,
+                             double seconds_tree) {
+  const std::span<const Vec<D>> points = given.empty() ? tree.points() : given;
   const std::size_t n = points.size();
   const int k = options.k;
   if (k < D || k > max_k)
@@ -51,9 +56,6 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
                             std::to_string(D) + " points and at most " + std::to_string(max_k));
   if (options.rho && !(*options.rho > 0.0 && std::isfinite(*options.rho)))
     throw InvalidInputError("rho must be a positive length");
-  for (std::size_t i = 0; i < n; ++i)
-    if (!points[i].allFinite())
-      throw InvalidInputError("point " + std::to_string(i) + " has a non-finite coordinate");
   if (n < static_cast<std::size_t>(k) + 1)
     throw InvalidInputError("only " + std::to_string(n) + " point" + (n == 1 ? "" : "s") + "; k = " +
                             std::to_string(k) + " needs at least " + std::to_string(k + 1) +
@@ -62,8 +64,8 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
   TangentPlanes<D> result;
   result.k = k;
   Timer timer;
-  result.point_tree = KdTree<D>(points, options.tree);
-  result.seconds_tree = timer.lap();
+  result.point_tree = std::move(tree);  // (moving keeps its buffers: `points` stays valid)
+  result.seconds_tree = seconds_tree;
 
   // One pass per point: its k nearest neighbours, then the plane through
   // them. Points are visited in the tree's leaf order, so consecutive
@@ -83,11 +85,25 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
 #pragma omp parallel reduction(+ : degenerate, distinct)
   {
     std::array<Neighbor, max_k> found;  // k <= max_k: no allocation per point
+    // The previous query of this thread: its k neighbours are within its
+    // k-th distance plus the step of this one, which bounds the search.
+    std::int64_t previous = -2;
+    Vec<D> previous_point = Vec<D>::Zero();
+    double previous_radius = 0.0;
 #pragma omp for schedule(dynamic, 1024)
     for (std::int64_t t = 0; t < count; ++t) {
       const auto i = static_cast<std::size_t>(leaf_order[static_cast<std::size_t>(t)]);
       const std::span<Neighbor> row_found(found.data(), kk);
-      result.point_tree.knn(tree_points[static_cast<std::size_t>(t)], row_found);
+      const Vec<D>& q = tree_points[static_cast<std::size_t>(t)];
+      double within2 = std::numeric_limits<double>::infinity();
+      if (previous == t - 1) {
+        const double reach = (previous_radius + (q - previous_point).norm()) * (1.0 + 1e-9);
+        within2 = reach * reach;
+      }
+      result.point_tree.knn(q, row_found, within2);
+      previous = t;
+      previous_point = q;
+      previous_radius = std::sqrt(found[kk - 1].distance2);
       std::uint32_t* row = result.neighbors.indices.data() + i * kk;
       for (std::size_t j = 0; j < kk; ++j) row[j] = found[j].index;
       // A row's first entry is the smallest index among exact copies of the
@@ -197,7 +213,7 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
     raised.adapt_k = false;
     raised.k = static_cast<int>(std::min<double>(max_adapted_k, wanted));
     if (static_cast<std::size_t>(raised.k) + 1 <= result.distinct_points) {
-      TangentPlanes<D> again = estimate_tangent_planes<D>(points, raised);
+      TangentPlanes<D> again = planes_over<D>(std::move(result.point_tree), given, raised, 0.0);
       again.k_requested = k;
       again.seconds_tree += result.seconds_tree;
       again.seconds_knn_pca += result.seconds_knn_pca;
@@ -208,7 +224,26 @@ TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const T
   return result;
 }
 
+template <int D>
+TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const TangentPlaneOptions& options) {
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite())
+      throw InvalidInputError("point " + std::to_string(i) + " has a non-finite coordinate");
+  Timer timer;
+  KdTree<D> tree(points, options.tree);
+  return planes_over<D>(std::move(tree), points, options, timer.lap());
+}
+
+template <int D>
+TangentPlanes<D> estimate_tangent_planes(KdTree<D>&& tree, const TangentPlaneOptions& options) {
+  if (!tree.numbered_by_leaf_order())
+    throw InvalidInputError("estimate_tangent_planes: the tree must be numbered by leaf order first");
+  return planes_over<D>(std::move(tree), {}, options, 0.0);
+}
+
 template TangentPlanes<2> estimate_tangent_planes<2>(std::span<const Vec<2>>, const TangentPlaneOptions&);
 template TangentPlanes<3> estimate_tangent_planes<3>(std::span<const Vec<3>>, const TangentPlaneOptions&);
+template TangentPlanes<2> estimate_tangent_planes<2>(KdTree<2>&&, const TangentPlaneOptions&);
+template TangentPlanes<3> estimate_tangent_planes<3>(KdTree<3>&&, const TangentPlaneOptions&);
 
 }  // namespace recon

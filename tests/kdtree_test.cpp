@@ -130,7 +130,8 @@ TEST(KdTree, IsBalancedAndCoversEveryPointOnce) {
     EXPECT_LE(node.left_max, node.right_min);
     for (auto t = node.begin; t < node.end; ++t) {
       const Vec3& p = pts[tree.order()[t]];
-      EXPECT_TRUE((p.array() >= node.box.min.array()).all() && (p.array() <= node.box.max.array()).all());
+      const Box<3>& box = tree.boxes()[static_cast<std::size_t>(&node - tree.nodes().data())];
+      EXPECT_TRUE((p.array() >= box.min.array()).all() && (p.array() <= box.max.array()).all());
     }
   }
 }

@@ -28,7 +28,7 @@
 namespace recon {
 
 struct OrientationOptions {
-  RiemannianGraphOptions graph{};  ///< k, gap factor, tree
+  RiemannianGraphOptions graph{};  ///< k, gap factor
   int vote_rounds = 3;             ///< rounds of the neighbour vote after the tree walk (0: pure Hoppe)
 };
 
@@ -47,5 +47,12 @@ struct OrientedNormals {
 
 template <int D>
 [[nodiscard]] OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const OrientationOptions& options = {});
+
+/// The same over a Riemannian graph already built from `planes` (with
+/// options.graph ignored): lets the caller release planes.neighbors, the
+/// graph's source, before the walk.
+template <int D>
+[[nodiscard]] OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGraph<D> graph,
+                                                const OrientationOptions& options = {});
 
 }  // namespace recon

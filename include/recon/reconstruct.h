@@ -22,23 +22,30 @@ struct ReconstructionOptions {
   std::size_t max_cubes = 0;               ///< refuse larger lattice walks; 0: what half the physical memory holds
                                            ///< at about 250 bytes a cube
   bool keep_corners = false;               ///< keep the evaluated lattice corners in the result
+  /// Keep phase II's graph, EMST and spanning tree in the result (for
+  /// inspection); when false they are released once the normals are
+  /// oriented, before phases III and IV need their memory (on 10M points,
+  /// about 1 GB). Their sizes stay in RiemannianGraph::edge_count.
+  bool keep_graph = true;
   /// Called as each phase starts, with its name ("tangent planes",
   /// "orientation", "signed distance", "contouring"): for progress displays.
   std::function<void(const char* phase)> on_phase;
 };
 
 /// Per-point results (planes, normals, graph vertices) are indexed in
-/// spatial order (spatial_order.h): entry j is input point order[j], at
-/// position points[j]. planes.neighbors is released once phase II has built
-/// its graph from it (it is the largest array of the run).
+/// spatial order, the leaf order of phase I's kd-tree: entry j is input
+/// point order[j], at position points()[j]. Nothing is copied twice: the
+/// points live in that tree only, and planes.neighbors is released once
+/// phase II has built its graph from it (it is the largest array of the run).
 struct Reconstruction {
-  std::vector<std::uint32_t> order;            ///< spatial order of the input points
-  std::vector<Vec3> points;                    ///< the input positions in that order
+  std::vector<std::uint32_t> order;            ///< input index of each point, in spatial order
   TangentPlanes<3> planes;
   std::optional<OrientedNormals<3>> oriented;  ///< absent when the input normals were used
   std::vector<Vec3> input_normals;             ///< the input's own normals (unit, spatial order), when used
-  std::optional<KdTree<3>> origin_tree;        ///< built here when phase II did not
+  KdTree<3> origin_tree;                       ///< over the plane origins: phase III's nearest-plane queries
 
+  /// The input positions in spatial order.
+  [[nodiscard]] std::span<const Vec3> points() const { return planes.point_tree.points(); }
   /// The oriented normals phase III used.
   [[nodiscard]] std::span<const Vec3> normals() const {
     return oriented ? std::span<const Vec3>(oriented->normals) : std::span<const Vec3>(input_normals);
@@ -46,7 +53,7 @@ struct Reconstruction {
   double delta = 0.0;
   bool delta_given = false;
   MarchingCubesResult contour;                 ///< the mesh and the lattice statistics
-  double seconds_distance_setup = 0.0;
+  double seconds_distance_setup = 0.0;       ///< the tree over the origins and f's set-up
 };
 
 /// Throws what the phases throw (InvalidInputError for unusable data or

@@ -56,7 +56,6 @@ struct RiemannianGraphOptions {
   int k = 0;                 ///< k-NN edges from the first k of each neighbourhood (itself included); 0: all
   double gap_factor = 1.5;   ///< a gap is longer than this many local gaps (and leaves the surface)
   int min_component_points = 0;  ///< smaller pieces are joined back; 0 = 2 k (phase I's k)
-  KdTreeOptions tree{};      ///< kd-tree over the origins
 };
 
 template <int D>
@@ -66,8 +65,8 @@ struct RiemannianGraph {
   Components components;          ///< pieces of the data (over the kept edges)
   std::size_t gap_emst_edges = 0; ///< EMST edges found to be gaps (before small pieces rejoin)
   std::size_t rejoined = 0;       ///< small pieces joined back
-  KdTree<D> origin_tree;          ///< over the origins, for phase III (built here, timed as seconds_tree)
-  double seconds_tree = 0.0, seconds_emst = 0.0, seconds_graph = 0.0;
+  std::size_t edge_count = 0;     ///< graph.edge_count(), kept when the graph itself is released
+  double seconds_emst = 0.0, seconds_graph = 0.0;
 };
 
 /// Precondition: planes comes from estimate_tangent_planes (normals unit).

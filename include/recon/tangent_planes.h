@@ -106,4 +106,11 @@ template <int D>
 [[nodiscard]] TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points,
                                                        const TangentPlaneOptions& options = {});
 
+/// The same over a kd-tree already built and numbered by leaf order
+/// (KdTree::renumber_by_leaf_order): its own copy of the points is THE point
+/// set, point i being tree.points()[i]. No second copy of the points is made;
+/// this is how reconstruct() works. options.tree is not used.
+template <int D>
+[[nodiscard]] TangentPlanes<D> estimate_tangent_planes(KdTree<D>&& tree, const TangentPlaneOptions& options = {});
+
 }  // namespace recon
