@@ -131,6 +131,7 @@ for n in $points; do
   mkdir -p "$dir"
   rm -f "$dir/runs.tsv"
   echo "$n" >"$dir/points"
+  echo "$limit" >"$dir/limit"
   input="$dir/torus.ply"
   say "$n points: generating $input"
   nice "$recon" generate torus -n "$n" --with-normals -o "$input" >/dev/null
@@ -199,6 +200,14 @@ How to read the tables:
   unique count is the welded mesh. **dist. to torus**: distance from each mesh
   vertex to the true torus (R = 1, r = 0.35), RMS and largest; a spurious sheet
   shows as a large maximum.
+- Where the peers' time goes (their own step timings are below each table):
+  Open3D's orient_normals_consistent_tangent_plane builds its graph from a
+  Delaunay tetrahedralisation of the whole cloud (Qhull; the Euclidean MST is a
+  subgraph of it) plus the k-NN edges; PCL's MarchingCubesHoppe makes an exact
+  nearest-neighbour query at every lattice vertex, near the points or not, on
+  one thread.
+- The machine may be shared: the load averages above say how busy it was, and
+  a CPU/wall well below the threads a program may use is the sign of it.
 - The inputs are \`recon generate torus -n N --with-normals\` (seed 1), uniform on
   the torus, no noise.
 

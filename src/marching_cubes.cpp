@@ -38,6 +38,14 @@ Index3 corner_of_cube(const Index3& cube, int c) {
 }
 
 constexpr double undefined = std::numeric_limits<double>::quiet_NaN();
+
+// The 4 corners (as bits) of the cube face on axis a at side 0 or 1.
+constexpr unsigned face_corners(int a, int side) {
+  unsigned bits = 0;
+  for (int c = 0; c < 8; ++c)
+    if (((c >> a) & 1) == side) bits |= 1u << c;
+  return bits;
+}
 constexpr double vertex_margin = 1e-3;  // fraction of an edge kept between a vertex and a corner
 
 }  // namespace
@@ -204,7 +212,9 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
   }
   result.seed_cubes = visited;
 
-  std::vector<std::array<std::uint32_t, 8>> cube_slots;
+  std::vector<std::array<std::uint32_t, 8>> cube_slots;  // per cube of a batch: its corners' slots
+  std::vector<std::uint8_t> pending, faces_of;
+  std::vector<std::uint16_t> config_of;  // 256: a corner is undefined
   std::vector<std::uint32_t> fresh;
   std::chrono::steady_clock::duration field_time{};
   // A wave is taken in batches of cubes (the first wave holds every cube
@@ -220,16 +230,27 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
       fresh.clear();
       // The corners already met are looked up in parallel (the table does not
       // change meanwhile); the new ones are then added in wave order.
+      // Corners met and already evaluated need nothing more; `pending` marks
+      // the others, the only ones the one-thread loop below touches.
+      pending.resize(count);
 #pragma omp parallel for schedule(static)
       for (std::int64_t s = 0; s < static_cast<std::int64_t>(count); ++s) {
         const auto w = static_cast<std::size_t>(s);
         const Index3 cube = unpack(wave[first + w]);
-        for (int c = 0; c < 8; ++c)
-          cube_slots[w][static_cast<std::size_t>(c)] = corners.find(pack(corner_of_cube(cube, c)));
+        std::uint8_t mask = 0;
+        for (int c = 0; c < 8; ++c) {
+          const std::uint32_t slot = corners.find(pack(corner_of_cube(cube, c)));
+          cube_slots[w][static_cast<std::size_t>(c)] = slot;
+          if (slot == CornerTable::absent || !(corners.flags[slot] & CornerTable::evaluated))
+            mask = static_cast<std::uint8_t>(mask | (1u << c));
+        }
+        pending[w] = mask;
       }
       for (std::size_t w = 0; w < count; ++w) {
+        if (pending[w] == 0) continue;
         const Index3 cube = unpack(wave[first + w]);
         for (int c = 0; c < 8; ++c) {
+          if (!((pending[w] >> c) & 1u)) continue;
           std::uint32_t& slot = cube_slots[w][static_cast<std::size_t>(c)];
           if (slot == CornerTable::absent) slot = corners.find_or_insert(pack(corner_of_cube(cube, c)));
           if (!(corners.flags[slot] & CornerTable::evaluated)) {
@@ -255,21 +276,42 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
       if (failure) std::rethrow_exception(failure);
       field_time += std::chrono::steady_clock::now() - started;
 
-      for (std::size_t w = 0; w < count; ++w) {
-        const Index3 cube = unpack(wave[first + w]);
-        const auto& slots = cube_slots[w];
-        std::array<double, 8> value;
+      // Each cube's configuration and the faces the walk goes on through,
+      // in parallel; then, in order, vertices, triangles and the next wave.
+      // Faces crossed by the surface, or touched at a corner where f = 0
+      // (the surface may go on in the neighbour only), lead on.
+      config_of.resize(count);
+      faces_of.resize(count);
+#pragma omp parallel for schedule(static)
+      for (std::int64_t s = 0; s < static_cast<std::int64_t>(count); ++s) {
+        const auto w = static_cast<std::size_t>(s);
+        unsigned config = 0, zero = 0;
         bool complete = true;
-        unsigned config = 0;
         for (std::size_t c = 0; c < 8; ++c) {
-          value[c] = corners.value[slots[c]];
-          if (std::isnan(value[c])) complete = false;
-          if (value[c] < 0.0) config |= 1u << c;
+          const double v = corners.value[cube_slots[w][c]];
+          if (std::isnan(v)) complete = false;
+          if (v < 0.0) config |= 1u << c;
+          if (v == 0.0) zero |= 1u << c;
         }
-        if (!complete) {
+        std::uint8_t faces = 0;
+        for (int a = 0; a < 3 && complete; ++a)
+          for (int side = 0; side < 2; ++side) {
+            const unsigned on_face = face_corners(a, side);
+            const unsigned inside = config & on_face;
+            if ((inside != 0 && inside != on_face) || (zero & on_face) != 0)
+              faces = static_cast<std::uint8_t>(faces | (1u << (2 * a + side)));
+          }
+        config_of[w] = complete ? static_cast<std::uint16_t>(config) : std::uint16_t{256};
+        faces_of[w] = faces;
+      }
+      for (std::size_t w = 0; w < count; ++w) {
+        if (config_of[w] == 256) {
           ++result.undefined_cubes;
           continue;
         }
+        const Index3 cube = unpack(wave[first + w]);
+        const auto& slots = cube_slots[w];
+        const unsigned config = config_of[w];
         const mc::CubeCase& cube_case = mc::cube_case(config);
         // Vertices: one per crossed lattice edge, kept in the slot of the
         // edge's lower corner (shared with the neighbouring cubes); then the
@@ -286,7 +328,8 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
                 corners.vertex[slots[static_cast<std::size_t>(ends[0])]][static_cast<std::size_t>(axis)];
             if (id == CornerTable::no_vertex) {
               id = static_cast<std::uint32_t>(result.mesh.vertices.size());
-              const double v0 = value[static_cast<std::size_t>(ends[0])], v1 = value[static_cast<std::size_t>(ends[1])];
+              const double v0 = corners.value[slots[static_cast<std::size_t>(ends[0])]];
+              const double v1 = corners.value[slots[static_cast<std::size_t>(ends[1])]];
               const double t = std::clamp(v0 / (v0 - v1), vertex_margin, 1.0 - vertex_margin);
               Vec3 p = position(corner_of_cube(cube, ends[0]));
               p[axis] += t * options.cell;
@@ -306,23 +349,13 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
           result.mesh.triangles.push_back({vertex[tri[0]], vertex[tri[1]], vertex[tri[2]]});
         }
 
-        // Continue through every face the surface crosses, or touches at a
-        // corner where f = 0 (the surface may go on in the neighbour only).
-        for (int a = 0; a < 3; ++a) {
-          for (int s = 0; s < 2; ++s) {
-            int inside = 0;
-            bool touches = false;
-            for (int c = 0; c < 8; ++c) {
-              if (((c >> a) & 1) != s) continue;
-              if ((config >> c) & 1u) ++inside;
-              if (value[static_cast<std::size_t>(c)] == 0.0) touches = true;
-            }
-            if ((inside == 0 || inside == 4) && !touches) continue;
+        for (int a = 0; a < 3; ++a)
+          for (int side = 0; side < 2; ++side) {
+            if (!((faces_of[w] >> (2 * a + side)) & 1u)) continue;
             Index3 neighbour = cube;
-            neighbour[static_cast<std::size_t>(a)] += s == 0 ? -1 : 1;
+            neighbour[static_cast<std::size_t>(a)] += side == 0 ? -1 : 1;
             visit(neighbour);
           }
-        }
       }
     }
   }

@@ -3,10 +3,11 @@
 
     report.py RUN_DIR...   (one directory per point count; markdown on stdout)
 
-Each RUN_DIR holds runs.tsv, one row per program:
+Each RUN_DIR holds `points` and `limit` (the point count, the time limit in
+seconds) and runs.tsv, one row per program:
     name  label  kind  reference  threads  status
 kind is `normals` or `mesh`; reference names the recon run its time is
-divided by; status is ok, stopped, or failed. Beside it, per program:
+divided by; status is ok, stopped, or failed. Beside them, per program:
 NAME.time (GNU time: wall seconds, peak RSS KiB, user s, system s),
 NAME.normals.json and NAME.mesh.json (compare_normals.py), NAME.log.
 """
@@ -35,6 +36,10 @@ def read_time(path):
     return wall, rss_kib / 1024.0, user + system
 
 
+def length(x):
+    return f"{x:.1e}" if x < 1e-3 else f"{x:.4f}"
+
+
 def percent(figures, key):
     return "–" if not figures or key not in figures else f"{100.0 * figures[key]:.2f}"
 
@@ -51,6 +56,11 @@ def section(run_dir):
     walls = {r["name"]: r["time"][0] for r in rows if r["status"] == "ok" and r["time"]}
     with open(os.path.join(run_dir, "points")) as f:
         points = int(f.read())
+    limit = 600
+    if os.path.exists(os.path.join(run_dir, "limit")):
+        with open(os.path.join(run_dir, "limit")) as f:
+            limit = int(f.read())
+    stopped = f"stopped after {limit // 60} min" if limit % 60 == 0 else f"stopped after {limit} s"
 
     out = [f"### {points:,} points".replace(",", " "), ""]
     out.append("| program | threads | wall s | ÷ recon | CPU/wall | peak MiB "
@@ -64,7 +74,7 @@ def section(run_dir):
             ratio = f"{wall / ref:.2f}" if ref else "–"
             timing = [f"{wall:.2f}", ratio, f"{cpu / wall:.2f}" if wall > 0 else "–", f"{mib:.0f}"]
         elif r["status"] == "stopped":
-            timing = ["stopped after 10 min", "–", "–", "–"]
+            timing = [stopped, "–", "–", "–"]
         else:
             timing = [r["status"], "–", "–", "–"]
         n = r["normals"]
@@ -78,7 +88,7 @@ def section(run_dir):
             vertices = f"{m['vertices']} ({m['unique_vertices']})" \
                 if m["unique_vertices"] != m["vertices"] else str(m["vertices"])
             mesh = [vertices, str(m["faces"]),
-                    f"{m['torus_rms']:.4f} / {m['torus_max']:.3f}" if "torus_rms" in m else "–"]
+                    f"{length(m['torus_rms'])} / {length(m['torus_max'])}" if "torus_rms" in m else "–"]
         else:
             mesh = ["–", "–", "–"]
         out.append("| " + " | ".join([r["label"], r["threads"], *timing, percent(n, "outward"),
