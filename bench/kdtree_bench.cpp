@@ -6,7 +6,8 @@
 //   - "sampled": the order make_torus()->sample() returns them in, which is
 //     random: consecutive points are far apart on the surface;
 //   - "morton": sorted along a Morton (Z-order) curve first, with
-//     recon::spatial_order as reconstruct() does, so consecutive points are
+//     recon::spatial_order (reconstruct() uses its kd-tree's leaf order, to
+//     the same effect), so consecutive points are
 //     close: this shows how much of a k-NN loop's time is memory order
 //     rather than search.
 // Our all_knn always visits the points in its own leaf order, whatever the

@@ -184,11 +184,11 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
   };
 
   // The walk is breadth-first, one wave (the cubes at the same number of
-  // steps from the seeds) at a time: first every corner the wave needs and
-  // has not met is evaluated, in parallel (f is by far the costliest part),
-  // then the wave's cubes are processed in order, producing triangles and
-  // the next wave. The order of cubes, and so the mesh, is the same for any
-  // number of threads.
+  // steps from the seeds) at a time, in batches: first every corner the
+  // batch needs and has not met is evaluated, in parallel (f is by far the
+  // costliest part), then the batch's cubes are processed in order,
+  // producing triangles and the next wave. The order of cubes, and so the
+  // mesh, is the same for any number of threads.
   CornerTable corners;
   std::size_t visited = 0;
   std::vector<std::uint64_t> wave, next;
@@ -230,8 +230,8 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
       fresh.clear();
       // The corners already met are looked up in parallel (the table does not
       // change meanwhile); the new ones are then added in wave order.
-      // Corners met and already evaluated need nothing more; `pending` marks
-      // the others, the only ones the one-thread loop below touches.
+      // Corners met and evaluated need nothing more: `pending` marks the
+      // others, the only ones the one-thread loop below touches.
       pending.resize(count);
 #pragma omp parallel for schedule(static)
       for (std::int64_t s = 0; s < static_cast<std::int64_t>(count); ++s) {

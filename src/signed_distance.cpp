@@ -15,10 +15,16 @@ std::optional<double> SignedDistance<D>::operator()(const Vec<D>& p) const {
   const Vec<D> foot = p - f * n;
   const auto rho = static_cast<double>(planes_->local_rho[i]);
   const double reach = rho + delta_;
-  if (planes_->point_tree.nearest(foot).distance2 <= reach * reach) return f;
+  // "Is there a sample within r?" is a search bounded by r from the start:
+  // far cheaper than finding the nearest sample and comparing.
+  auto sample_within = [&](const Vec<D>& q, double r) {
+    Neighbor nearest;
+    return planes_->point_tree.knn(q, std::span<Neighbor>(&nearest, 1), r * r) == 1;
+  };
+  if (sample_within(foot, reach)) return f;
   // Near a sharp corner the projection onto one face's plane can overshoot
   // the data while p is plainly close to it (see the header).
-  if (planes_->point_tree.nearest(p).distance2 <= std::pow(0.5 * rho + reach + std::abs(f), 2)) return f;
+  if (sample_within(p, 0.5 * rho + reach + std::abs(f))) return f;
   return std::nullopt;
 }
 

@@ -41,8 +41,6 @@ bool residual_is_noise(std::span<const Vec<D>> points, const TangentPlanes<D>& p
   return median(std::move(residual)) < 1.4 * planes.noise;
 }
 
-}  // namespace
-
 // The phase over a built tree; `given` holds the points by index, or is
 // empty when the tree is numbered by leaf order and its own copy serves.
 template <int D>
@@ -223,6 +221,8 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
   }
   return result;
 }
+
+}  // namespace
 
 template <int D>
 TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const TangentPlaneOptions& options) {

@@ -72,6 +72,17 @@ void check_against_brute_force(Layout layout, std::uint32_t seed) {
           for (std::size_t j = 0; j < want; ++j) ASSERT_EQ(got[j], expected[j]) << "n=" << n << " k=" << k << " j=" << j;
         }
         ASSERT_EQ(tree.nearest(q), expected[0]);
+        // A bounded k-NN: the first k of the points within the bound
+        // (inclusive), whether the bound holds more than k or fewer.
+        for (const std::size_t within : {std::size_t{0}, std::size_t{3}, std::size_t{12}}) {
+          const double bound2 = expected[std::min(n - 1, within)].distance2;
+          std::vector<Neighbor> out(8);
+          out.resize(tree.knn(q, std::span<Neighbor>(out), bound2));
+          std::vector<Neighbor> want;
+          for (const Neighbor& nb : expected)
+            if (nb.distance2 <= bound2 && want.size() < 8) want.push_back(nb);
+          ASSERT_EQ(out, want) << "n=" << n << " bound to neighbour " << within;
+        }
         const double r2 = expected[std::min<std::size_t>(n - 1, 9)].distance2;
         const auto in_ball = tree.radius(q, r2);
         const auto expected_ball = std::count_if(expected.begin(), expected.end(),

@@ -113,6 +113,19 @@ std::vector<Edge> brute_force_emst(const std::vector<Vec<D>>& pts) {
   return edges;
 }
 
+// The same edge set (endpoints and lengths), whatever the order.
+void expect_same_edges(std::vector<Edge> got, std::vector<Edge> expected) {
+  ASSERT_EQ(got.size(), expected.size());
+  auto by_ends = [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); };
+  std::sort(got.begin(), got.end(), by_ends);
+  std::sort(expected.begin(), expected.end(), by_ends);
+  for (std::size_t e = 0; e < got.size(); ++e) {
+    ASSERT_EQ(got[e].u, expected[e].u) << "edge " << e;
+    ASSERT_EQ(got[e].v, expected[e].v) << "edge " << e;
+    ASSERT_DOUBLE_EQ(got[e].weight, expected[e].weight) << "edge " << e;
+  }
+}
+
 template <int D>
 void check_emst(std::size_t n, std::uint32_t seed, bool clustered, bool with_knn) {
   std::mt19937 rng(seed);
@@ -125,17 +138,10 @@ void check_emst(std::size_t n, std::uint32_t seed, bool clustered, bool with_knn
   if (n > 10) pts[n - 1] = pts[n / 2];  // an exact duplicate
   const KdTree<D> tree(pts, {4});
   const KnnTable knn = tree.all_knn(static_cast<int>(std::min<std::size_t>(6, n)));
-  auto got = with_knn ? euclidean_minimum_spanning_tree<D>(tree, pts, knn) : euclidean_minimum_spanning_tree<D>(tree, pts);
-  auto expected = brute_force_emst<D>(pts);
+  const auto got =
+      with_knn ? euclidean_minimum_spanning_tree<D>(tree, pts, knn) : euclidean_minimum_spanning_tree<D>(tree, pts);
   ASSERT_EQ(got.size(), n - 1);
-  auto by_ends = [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); };
-  std::sort(got.begin(), got.end(), by_ends);
-  std::sort(expected.begin(), expected.end(), by_ends);
-  for (std::size_t e = 0; e < got.size(); ++e) {
-    ASSERT_EQ(got[e].u, expected[e].u) << "edge " << e;
-    ASSERT_EQ(got[e].v, expected[e].v) << "edge " << e;
-    ASSERT_DOUBLE_EQ(got[e].weight, expected[e].weight);
-  }
+  expect_same_edges(got, brute_force_emst<D>(pts));
 }
 
 TEST(EuclideanMst, EqualsBruteForceMst3D) {
@@ -164,16 +170,7 @@ TEST(EuclideanMst, RiemannianGraphEmstEqualsBruteForce) {
     TangentPlaneOptions options;
     options.k = 10;
     const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
-    auto got = build_riemannian_graph<3>(planes).emst;
-    auto expected = brute_force_emst<3>(cloud.positions);
-    ASSERT_EQ(got.size(), expected.size());
-    auto by_ends = [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); };
-    std::sort(got.begin(), got.end(), by_ends);
-    std::sort(expected.begin(), expected.end(), by_ends);
-    for (std::size_t e = 0; e < got.size(); ++e) {
-      ASSERT_EQ(got[e].u, expected[e].u) << "edge " << e;
-      ASSERT_EQ(got[e].v, expected[e].v) << "edge " << e;
-    }
+    expect_same_edges(build_riemannian_graph<3>(planes).emst, brute_force_emst<3>(cloud.positions));
   }
 }
 

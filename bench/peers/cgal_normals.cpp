@@ -14,6 +14,7 @@
 // line per step. T limits TBB's threads (0: all cores); the orientation is
 // sequential whatever T says.
 #include "ply_points.h"
+#include "steps.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/mst_orient_normals.h>
@@ -67,19 +68,6 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-class Steps {
- public:
-  void done(const char* name) {
-    const auto now = std::chrono::steady_clock::now();
-    std::printf("step %-16s %9.3f s\n", name, std::chrono::duration<double>(now - last_).count());
-    std::fflush(stdout);
-    last_ = now;
-  }
-
- private:
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
-
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -93,7 +81,7 @@ int main(int argc, char** argv) try {
 #else
   std::printf("threads: 1 (CGAL built without TBB)\n");
 #endif
-  Steps steps;
+  peers::Steps steps;
 
   const peers::PlyPoints input = peers::read_ply_points(o.input);
   std::vector<Entry> points;

@@ -25,6 +25,7 @@
 // NORMALS.ply holds the input's points in the input's order with PCL's
 // normals (double, as read). Prints one `step <name> <seconds> s` per step.
 #include "ply_points.h"
+#include "steps.h"
 
 #include <pcl/PolygonMesh.h>
 #include <pcl/common/common.h>
@@ -87,19 +88,6 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-class Steps {
- public:
-  void done(const char* name) {
-    const auto now = std::chrono::steady_clock::now();
-    std::printf("step %-16s %9.3f s\n", name, std::chrono::duration<double>(now - last_).count());
-    std::fflush(stdout);
-    last_ = now;
-  }
-
- private:
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
-
 template <typename Estimator>
 void estimate(Estimator& estimator, const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, const Options& o,
               pcl::PointCloud<pcl::Normal>& normals) {
@@ -119,7 +107,7 @@ int main(int argc, char** argv) try {
               threads == 1 ? "NormalEstimation" : "NormalEstimationOMP");
   std::printf("viewpoint: %g %g %g (PCL flips every normal to face it)\n", o.viewpoint[0], o.viewpoint[1],
               o.viewpoint[2]);
-  Steps steps;
+  peers::Steps steps;
 
   const peers::PlyPoints input = peers::read_ply_points(o.input);
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);

@@ -6,7 +6,10 @@
 // far apart in memory, each read is a cache miss: on a million points in
 // random order, phases I and II run several times slower than on the same
 // points sorted (see docs/benchmarks.md). reconstruct() and the command line
-// therefore sort the cloud first and work in this order.
+// get the same effect from phase I's kd-tree (KdTree::renumber_by_leaf_order:
+// its leaf order is a spatial order, and its copy of the points is the only
+// one). This Morton order is for callers of the phases who want their own
+// arrays sorted first, and for the benchmarks.
 
 #include "recon/point_cloud.h"
 
