@@ -3,7 +3,9 @@
 # (machine, commit, summary tables, raw output) to bench/results/latest.txt;
 # prints the markdown summary tables too.
 #
-#   bench/run.sh                      # about 4 minutes on 2 cores, plus the build
+#   bench/run.sh                      # about 10 minutes on 2 cores, plus the build
+#   RECON_BENCH_SWEEP=1 bench/run.sh  # also the kd-tree leaf-size sweep (3 more minutes)
+#   RECON_END_TO_END="torus:1000000" bench/run.sh   # end-to-end runs: shape:points ...
 #   RECON_BENCH_REPS=3 bench/run.sh   # more repetitions (default and least 2; the
 #                                     # tables show the fastest repetition)
 #   RECON_BENCH_SKIP_BUILD=1 bench/run.sh
@@ -24,6 +26,13 @@ scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
 
 if [[ "${RECON_BENCH_SKIP_BUILD:-0}" != 1 ]]; then
+  # Boost.Graph, the reference for Prim (recon_graph_bench); not needed by
+  # recon itself, so scripts/setup does not install it.
+  if ! dpkg-query -W -f='${Status}' libboost-graph-dev 2>/dev/null | grep -q 'install ok installed'; then
+    sudo=()
+    ((EUID == 0)) || sudo=(sudo)
+    DEBIAN_FRONTEND=noninteractive nice "${sudo[@]}" apt-get install -y --no-install-recommends libboost-graph-dev
+  fi
   nice cmake --preset release >/dev/null
   nice cmake --build "$build" -j2
 fi
@@ -57,8 +66,13 @@ kdtree_bench() {  # <filter> <name>
     --benchmark_report_aggregates_only=true \
     --benchmark_out="$scratch/$2.csv" --benchmark_out_format=csv >"$scratch/$2.txt" 2>&1
 }
-kdtree_bench "${RECON_BENCH_FILTER:-^(build|knn)_}" compare
-kdtree_bench "${RECON_BENCH_SWEEP_FILTER:-^leaf_sweep_}" sweep
+kdtree_bench "${RECON_BENCH_FILTER:-^(build|knn|planes)_}" compare
+if [[ "${RECON_BENCH_SWEEP:-0}" == 1 ]]; then
+  kdtree_bench "${RECON_BENCH_SWEEP_FILTER:-^leaf_sweep_}" sweep
+else
+  : >"$scratch/sweep.csv"
+  echo "(leaf-size sweep skipped; RECON_BENCH_SWEEP=1 runs it)" >"$scratch/sweep.txt"
+fi
 
 # Markdown tables from the CSV's "min" rows. Wall times in ms; "cores" is
 # process CPU time / wall time (2 for a clean 2-thread run; less means the
@@ -108,6 +122,17 @@ awk -F, '
                 ms(wall[f]) " | " cores(f) " | " ratio(wall[o], wall[f]) " | " ms(wall[l]) " |"
         }
     print ""
+    print "### phase I floor: build + k-NN + PCA, k = 15, Morton order (ms)"
+    print ""
+    print "| points | threads | ours (estimate_tangent_planes) | cores | nanoflann + Eigen | cores | ours / theirs |"
+    print "|---:|---:|---:|---:|---:|---:|---:|"
+    for (s = 1; s <= 2; ++s)
+      for (t = 1; t <= 2; ++t) {
+        o = "planes_ours/n:" sizes[s] "/threads:" t; f = "planes_nanoflann_eigen/n:" sizes[s] "/threads:" t
+        print "| " sizes[s] " | " t " | " ms(wall[o]) " | " cores(o) " | " ms(wall[f]) " | " cores(f) " | " ratio(wall[o], wall[f]) " |"
+      }
+    if (!("leaf_sweep_ours/leaf:16/morton:0" in wall)) exit
+    print ""
     print "### leaf-size sweep, 1M points, one thread: build + all_knn(15) (s)"
     print ""
     print "| leaf | ours build | ours all-kNN | ours total | nanoflann build | nanoflann all-kNN | nanoflann total |"
@@ -126,9 +151,62 @@ awk -F, '
   }
 ' "$scratch/compare.csv" "$scratch/sweep.csv" >"$scratch/kdtree.md"
 
+# --- Prim: ours against a lazy std::priority_queue and Boost ----------------
+if [[ -x "$build/bench/recon_graph_bench" ]]; then
+  nice "$build/bench/recon_graph_bench" --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true \
+    >"$scratch/graph.txt" 2>&1
+  {
+    echo "### Prim on phase II's graph (1M-point torus, one thread; ms, fastest of $reps)"
+    echo
+    grep '^check' "$scratch/graph.txt" || true
+    echo
+    echo "| Prim | ms |"
+    echo "|---|---:|"
+    awk '$1 ~ /_min$/ { name = $1; sub(/_min$/, "", name); print "| " name " | " $2 " |" }' "$scratch/graph.txt"
+  } >"$scratch/graph.md"
+else
+  echo "(recon_graph_bench not built: Boost.Graph missing)" >"$scratch/graph.md"
+fi
+
 # --- pipeline --------------------------------------------------------------
 # shellcheck disable=SC2086  # word splitting of the arguments is wanted
-nice "$build/bench/recon_pipeline_bench" ${RECON_PIPELINE_ARGS:-} >"$scratch/pipeline.md" 2>&1
+nice "$build/bench/recon_pipeline_bench" ${RECON_PIPELINE_ARGS:---points 100000 --points 1000000 --refine} \
+  >"$scratch/pipeline.md" 2>&1
+
+# --- end to end: the program, reading and writing included ------------------
+# `recon reconstruct` on generated files (binary PLY); time and peak memory
+# from its own --stats (seconds_total; memory.peak_mib_total, the largest
+# per-step peak of the whole process). /usr/bin/time's maximum RSS would be
+# wrong here: recon resets the kernel's peak between steps.
+end_to_end() {  # <shape> <points>
+  local shape="$1" n="$2"
+  "$build/app/recon" -q generate "$shape" -n "$n" -o "$scratch/$shape-$n.ply"
+  local started ended
+  started=$(date +%s.%N)
+  nice "$build/app/recon" -q reconstruct "$scratch/$shape-$n.ply" -o "$scratch/mesh.ply" --stats "$scratch/stats.json"
+  ended=$(date +%s.%N)
+  /usr/bin/python3 - "$shape" "$n" "$started" "$ended" "$scratch/stats.json" <<'PY'
+import json, sys
+shape, n, started, ended, path = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4]), sys.argv[5]
+s = json.load(open(path))
+t, o, d, c = s["tangent_planes"], s["orientation"], s["signed_distance"], s["contouring"]
+one = t["seconds_tree"] + t["seconds_knn_pca"] + t["seconds_spacing"]
+two = o["seconds_emst"] + o["seconds_graph"] + o["seconds_mst"]
+m = s["mesh"]
+print(f"| {shape} | {n} | {ended - started:.2f} | {(ended - started) / (n / 1e6):.2f} | {s['input']['seconds']:.2f} | "
+      f"{one:.2f} | {two:.2f} | {d['seconds']:.2f} | {c['seconds']:.2f} | {s['output']['seconds']:.2f} | "
+      f"{s['memory']['peak_mib_total']:.0f} | {m['faces']} | {m['components']}, {m['boundary_loops']}, "
+      f"{m['euler_characteristic']} |")
+PY
+  rm -f "$scratch/$shape-$n.ply" "$scratch/mesh.ply"
+}
+{
+  echo "| shape | points | wall s | s per 1M points | read | I | II | III | IV | write | peak MiB | mesh F | components, boundary loops, chi |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+  for run in ${RECON_END_TO_END:-torus:1000000 terrain:100000 terrain:1000000 terrain:3000000 terrain:10000000}; do
+    end_to_end "${run%%:*}" "${run##*:}"
+  done
+} >"$scratch/end_to_end.md"
 
 {
   cat "$scratch/header.md"
@@ -136,9 +214,15 @@ nice "$build/bench/recon_pipeline_bench" ${RECON_PIPELINE_ARGS:-} >"$scratch/pip
   echo
   cat "$scratch/kdtree.md"
   echo
+  cat "$scratch/graph.md"
+  echo
   echo "## Pipeline (recon_pipeline_bench)"
   echo
   cat "$scratch/pipeline.md"
+  echo
+  echo "## End to end (recon reconstruct, all threads)"
+  echo
+  cat "$scratch/end_to_end.md"
   echo
   echo "- load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo
@@ -151,6 +235,10 @@ nice "$build/bench/recon_pipeline_bench" ${RECON_PIPELINE_ARGS:-} >"$scratch/pip
 
 cat "$scratch/header.md" "$scratch/kdtree.md"
 echo
+cat "$scratch/graph.md"
+echo
 cat "$scratch/pipeline.md"
+echo
+cat "$scratch/end_to_end.md"
 echo
 echo "written: ${results#"$root"/}/latest.txt"
