@@ -138,10 +138,12 @@ for n in $points; do
 
   out="$dir/recon_normals.ply"
   run recon_normals "recon normals" normals recon_normals "$cores (all cores)" -- \
-    "$recon" normals "$input" -o "$out" --k "$k" && compare recon_normals normals "$out"
+    "$recon" normals "$input" -o "$out" --k "$k" --stats "$dir/recon_normals.stats.json" &&
+    compare recon_normals normals "$out"
   out="$dir/recon_mesh.ply"
   run recon_reconstruct "recon reconstruct" mesh recon_reconstruct "$cores (all cores)" -- \
-    "$recon" reconstruct "$input" -o "$out" --k "$k" --resolution "$resolution" &&
+    "$recon" reconstruct "$input" -o "$out" --k "$k" --resolution "$resolution" \
+    --stats "$dir/recon_reconstruct.stats.json" &&
     compare recon_reconstruct mesh "$out"
   out="$dir/open3d_normals.ply"
   run open3d "Open3D estimate_normals + orient_normals_consistent_tangent_plane" normals recon_normals \

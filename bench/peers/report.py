@@ -70,6 +70,12 @@ def section(run_dir):
     for r in rows:
         if r["status"] == "ok" and r["time"]:
             wall, mib, cpu = r["time"]
+            # recon resets the kernel's peak between its steps (for the
+            # per-step figures of --stats), so GNU time's maximum RSS would be
+            # the last step's: its own --stats gives the true peak.
+            stats = read_json(os.path.join(run_dir, r["name"] + ".stats.json"))
+            if stats and "memory" in stats:
+                mib = stats["memory"]["peak_mib_total"]
             ref = walls.get(r["reference"])
             ratio = f"{wall / ref:.2f}" if ref else "–"
             timing = [f"{wall:.2f}", ratio, f"{cpu / wall:.2f}" if wall > 0 else "–", f"{mib:.0f}"]
