@@ -250,7 +250,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
         if (pending[w] == 0) continue;
         const Index3 cube = unpack(wave[first + w]);
         for (int c = 0; c < 8; ++c) {
-          if (!((pending[w] >> c) & 1u)) continue;
+          if (!((static_cast<unsigned>(pending[w]) >> c) & 1u)) continue;
           std::uint32_t& slot = cube_slots[w][static_cast<std::size_t>(c)];
           if (slot == CornerTable::absent) slot = corners.find_or_insert(pack(corner_of_cube(cube, c)));
           if (!(corners.flags[slot] & CornerTable::evaluated)) {
@@ -351,7 +351,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
 
         for (int a = 0; a < 3; ++a)
           for (int side = 0; side < 2; ++side) {
-            if (!((faces_of[w] >> (2 * a + side)) & 1u)) continue;
+            if (!((static_cast<unsigned>(faces_of[w]) >> (2 * a + side)) & 1u)) continue;
             Index3 neighbour = cube;
             neighbour[static_cast<std::size_t>(a)] += side == 0 ? -1 : 1;
             visit(neighbour);

@@ -53,15 +53,16 @@ struct Reconstruction {
   double delta = 0.0;
   bool delta_given = false;
   MarchingCubesResult contour;                 ///< the mesh and the lattice statistics
-  double seconds_distance_setup = 0.0;       ///< the tree over the origins and f's set-up
+  double seconds_distance_setup = 0.0;         ///< the tree over the origins and f's set-up
 };
 
 /// Throws what the phases throw (InvalidInputError for unusable data or
 /// parameters, ResourceLimitError for a lattice too large), and
 /// InvalidInputError when use_input_normals is set but the cloud has none.
 [[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
-/// The same, consuming the cloud: its arrays are released as soon as they
-/// are copied in spatial order, which lowers the peak memory.
+/// The same, consuming the cloud: its arrays are released as soon as phase
+/// I's kd-tree holds the points, which lowers the peak memory (the const&
+/// form works on a copy).
 [[nodiscard]] Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options = {});
 
 /// The cube side that `options` asks for, given the points and the phase I result.
