@@ -145,6 +145,48 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       }
     }
   }
+  // The pieces of the data (the graph's connected components), without
+  // walking the graph: the kept EMST edges join nearly everything, and only
+  // the few kept k-NN edges between two of their pieces can join more (found
+  // in parallel). Numbered as connected_components() numbers them.
+  {
+    UnionFind sets(n);
+    for (const Edge& e : result.emst)
+      if (!is_gap(e.u, e.v)) sets.unite(e.u, e.v);
+    std::vector<std::uint32_t> piece(n);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < count; ++s) piece[static_cast<std::size_t>(s)] = sets.root(static_cast<std::uint32_t>(s));
+    std::vector<Edge> across;
+#pragma omp parallel
+    {
+      std::vector<Edge> mine;
+#pragma omp for schedule(dynamic, 4096) nowait
+      for (std::int64_t s = 0; s < count; ++s) {
+        const auto i = static_cast<std::uint32_t>(s);
+        const auto r = row(i);
+        for (std::size_t e = 0; e < k; ++e)
+          if (((marks[i * words + e / 32] >> (2 * (e % 32))) & 1u) && piece[i] != piece[r[e]])
+            mine.push_back({i, r[e], 0.0});
+      }
+#pragma omp critical(recon_riemannian_graph_across)
+      across.insert(across.end(), mine.begin(), mine.end());
+    }
+    for (const Edge& e : across) sets.unite(e.u, e.v);  // order does not matter to the sets
+    constexpr std::uint32_t none = UINT32_MAX;
+    std::vector<std::uint32_t>& label_of_root = piece;  // reused
+    std::fill(label_of_root.begin(), label_of_root.end(), none);
+    Components& c = result.components;
+    c.label.resize(n);
+    for (std::uint32_t v = 0; v < n; ++v) {
+      std::uint32_t& l = label_of_root[sets.find(v)];
+      if (l == none) {
+        l = static_cast<std::uint32_t>(c.sizes.size());
+        c.sizes.push_back(0);
+      }
+      c.label[v] = l;
+      ++c.sizes[l];
+    }
+  }
   marks = {};
 #pragma omp parallel for schedule(dynamic, 4096)
   for (std::int64_t s = 0; s < count; ++s) {
@@ -158,7 +200,6 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   }
   own = {};
   degree = {};
-  result.components = connected_components(g);
 
   // Join back pieces too small to be objects, shortest gap first. Pieces only
   // grow, so one pass leaves no small piece that still has a gap edge.

@@ -53,6 +53,10 @@ TEST(RiemannianGraph, EqualsTheSymmetricKnnGraphPlusEmst) {
               sorted.targets.begin() + static_cast<std::ptrdiff_t>(sorted.offsets[v + 1]));
   EXPECT_EQ(sorted.targets, expected.targets);
   EXPECT_TRUE(rg.graph.weights.empty());  // costs come from the normals
+  // The pieces, found from the EMST and the k-NN marks, are the graph's components.
+  const Components walked = connected_components(rg.graph);
+  EXPECT_EQ(rg.components.label, walked.label);
+  EXPECT_EQ(rg.components.sizes, walked.sizes);
 
   // A smaller k takes the first k of each neighbourhood.
   RiemannianGraphOptions smaller;
@@ -74,9 +78,21 @@ TEST(RiemannianGraph, SeparatesTwoObjectsButNotRandomGaps) {
   const auto planes = estimate_tangent_planes<3>(two->sample(20000, 42).positions);
   const auto rg = build_riemannian_graph<3>(planes);
   EXPECT_EQ(rg.components.sizes.size(), 2u);
+  EXPECT_EQ(rg.components.label, connected_components(rg.graph).label);
   // A random sample of one sphere has gaps but is one object.
   const auto one = estimate_tangent_planes<3>(make_sphere()->sample(50000, 43).positions);
-  EXPECT_EQ(build_riemannian_graph<3>(one).components.sizes.size(), 1u);
+  const auto rg_one = build_riemannian_graph<3>(one);
+  EXPECT_EQ(rg_one.components.sizes.size(), 1u);
+  std::printf("sphere: %zu EMST edges are gaps\n", rg_one.gap_emst_edges);
+  EXPECT_EQ(rg_one.components.label, connected_components(rg_one.graph).label);
+  // A box: at its creases some EMST edges count as gaps, and k-NN edges
+  // across the crease join the faces again (the case the pieces are found
+  // for without walking the graph).
+  const auto box = estimate_tangent_planes<3>(make_box()->sample(20000, 44).positions);
+  const auto rg_box = build_riemannian_graph<3>(box);
+  std::printf("box: %zu EMST edges are gaps, %zu pieces rejoined\n", rg_box.gap_emst_edges, rg_box.rejoined);
+  EXPECT_EQ(rg_box.components.sizes.size(), 1u);
+  EXPECT_EQ(rg_box.components.label, connected_components(rg_box.graph).label);
 }
 
 }  // namespace

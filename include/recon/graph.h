@@ -55,6 +55,12 @@ class UnionFind {
  public:
   explicit UnionFind(std::size_t n);
   std::uint32_t find(std::uint32_t x);
+  /// The same without shortening paths: safe from many threads at once
+  /// while nothing is united.
+  [[nodiscard]] std::uint32_t root(std::uint32_t x) const {
+    while (parent_[x] != x) x = parent_[x];
+    return x;
+  }
   /// Returns false when a and b were already in one set.
   bool unite(std::uint32_t a, std::uint32_t b);
   [[nodiscard]] std::size_t set_count() const { return sets_; }
