@@ -41,38 +41,20 @@ void add_input(CLI::App& app, InputOptions& in) {
   app.add_option("--format", in.format, "Input format when the extension does not say: ply, xyz, pts, obj, off, pcd");
 }
 
-// Peak memory per step for --stats: the process's peak is reset as each step
-// starts and read when the next one does (resource_usage.h).
-class StepMemory {
- public:
-  void start(const std::string& step) {
-    finish();
-    step_ = step;
-    reset_peak_resident();
+// Peak memory per step for --stats (resource_usage.h): ends the last step
+// and writes "memory": {"peak_mib": {step: MiB, ...}, "peak_mib_total": the
+// largest}.
+void report_memory(StepPeaks& memory, Summary& summary) {
+  memory.finish();
+  if (memory.peaks().empty()) return;
+  Json& m = summary.stats()["memory"];
+  double largest = 0.0;
+  for (const auto& [step, mib] : memory.peaks()) {
+    m["peak_mib"][step] = mib;
+    largest = std::max(largest, mib);
   }
-  /// Ends the last step and writes "memory": {"peak_mib": {step: MiB, ...},
-  /// "peak_mib_total": the largest} into the statistics.
-  void report(Summary& summary) {
-    finish();
-    if (peaks_.empty()) return;
-    Json& m = summary.stats()["memory"];
-    double largest = 0.0;
-    for (const auto& [step, mib] : peaks_) {
-      m["peak_mib"][step] = mib;
-      largest = std::max(largest, mib);
-    }
-    m["peak_mib_total"] = largest;
-  }
-
- private:
-  void finish() {
-    if (step_.empty()) return;
-    if (const auto peak = peak_resident_bytes()) peaks_.emplace_back(step_, static_cast<double>(*peak) / (1024.0 * 1024.0));
-    step_.clear();
-  }
-  std::string step_;
-  std::vector<std::pair<std::string, double>> peaks_;
-};
+  m["peak_mib_total"] = largest;
+}
 
 PointCloud read_input(const InputOptions& in, Summary& summary) {
   Timer timer;
@@ -281,7 +263,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     write_options.format = io::mesh_format_from_path(o->output);  // fail early on a bad extension
     write_options.ascii = o->ascii;
     check_outputs(o->in.path, {o->output, o->stats});
-    StepMemory memory;
+    StepPeaks memory;
     memory.start("read");
     PointCloud cloud = read_input(o->in, summary);
     const std::size_t points = cloud.size();
@@ -313,7 +295,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     memory.start("write");
     Timer timer;
     io::write_mesh(o->output, r.contour.mesh, write_options);
-    memory.report(summary);
+    report_memory(memory, summary);
     summary.say("wrote     " + o->output.string() + " (" + format_seconds(timer.elapsed()) + "); total " +
                 format_seconds(total.elapsed()));
     summary.stats()["output"]["file"] = o->output.string();
@@ -372,7 +354,7 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     write_options.format = writable_point_format(*output);  // fail early on a bad extension
     write_options.ascii = *ascii;
     check_outputs(in->path, {*output, *stats});
-    StepMemory memory;
+    StepPeaks memory;
     memory.start("read");
     PointCloud cloud = read_input(*in, summary);
     Progress progress(!global.quiet);
@@ -397,7 +379,7 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     for (std::size_t j = 0; j < order.size(); ++j) cloud.normals[order[j]] = oriented.normals[j];
     Timer timer;
     io::write_points(*output, cloud, write_options);
-    memory.report(summary);
+    report_memory(memory, summary);
     summary.say("wrote     " + output->string() + " (" + format_seconds(timer.elapsed()) + "); total " +
                 format_seconds(total.elapsed()));
     summary.stats()["output"]["file"] = output->string();

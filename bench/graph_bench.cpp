@@ -24,18 +24,9 @@
 
 #include <benchmark/benchmark.h>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wold-style-cast"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wdouble-promotion"
-#pragma GCC diagnostic ignored "-Wnull-dereference"
+// (Boost::headers is an imported target: its warnings are a system header's.)
 #include <boost/graph/compressed_sparse_row_graph.hpp>
 #include <boost/graph/prim_minimum_spanning_tree.hpp>
-#pragma GCC diagnostic pop
 
 #include <algorithm>
 #include <cmath>

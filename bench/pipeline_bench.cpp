@@ -44,7 +44,6 @@
 #include <cstdlib>
 #include <exception>
 #include <limits>
-#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -63,8 +62,6 @@ std::string fixed(double value, int decimals) {
   std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
   return buffer;
 }
-
-double mib(std::optional<std::size_t> bytes) { return bytes ? static_cast<double>(*bytes) / (1024.0 * 1024.0) : 0.0; }
 
 struct Accuracy {
   double mesh_to_true = 0.0, true_to_mesh = 0.0;  // mean distances
@@ -115,7 +112,7 @@ double fraction_right(const recon::Reconstruction& r, const std::vector<Vec3>& t
 
 struct Run {
   double wall = 0.0;
-  std::map<std::string, double> peak_mib;  // per phase
+  recon::StepPeaks memory;  // per phase
   std::optional<recon::Reconstruction> r;
 };
 
@@ -125,28 +122,21 @@ Run run(const recon::PointCloud& cloud, int threads, std::optional<double> cell 
   malloc_trim(0);  // hand back what earlier runs freed, so peaks are this run's
 #endif
   Run out;
-  std::string phase;
-  auto finish = [&] {
-    if (!phase.empty()) out.peak_mib[phase] = mib(recon::peak_resident_bytes());
-  };
   recon::ReconstructionOptions options;
   options.cell = cell;
-  options.on_phase = [&](const char* next) {
-    finish();
-    phase = next;
-    recon::reset_peak_resident();
-  };
+  options.on_phase = [&](const char* next) { out.memory.start(next); };
   recon::Timer timer;
   out.r.emplace(recon::reconstruct(cloud, options));
   out.wall = timer.elapsed();
-  finish();
+  out.memory.finish();
   return out;
 }
 
 void print_header() {
   std::printf(
       "| points | threads | wall s | s per 1M points | I: tree / knn+pca / spacing | II: emst / graph / "
-      "prim+vote | III: origin tree + f | IV: walk | peak MiB I / II / III / IV | mesh V / F | closed, chi, components | "
+      "prim+vote | III: origin tree + f | IV: walk | peak MiB I / II / III / IV | mesh V / F | closed, chi, components "
+      "| "
       "normals right | mesh->true / true->mesh / Chamfer, %% of diagonal |\n");
   std::printf("|---:|---:|---:|---:|---|---|---:|---:|---|---|---|---:|---|\n");
 }
@@ -160,23 +150,24 @@ void print_run(const recon::Shape& shape, const recon::PointCloud& cloud, const 
   const recon::MeshTopology t = recon::analyze_topology(c.mesh);
   const Accuracy a = accuracy(shape, c.mesh, seed);
   const double diagonal = recon::bounding_box<3>(cloud.positions).diagonal();
-  auto peak = [&](const char* phase) {
-    const auto it = run.peak_mib.find(phase);
-    return it == run.peak_mib.end() ? std::string("n/a") : fixed(it->second, 0);
+  auto peak = [&](std::string_view phase) {
+    for (const auto& [step, mib] : run.memory.peaks())
+      if (step == phase) return fixed(mib, 0);
+    return std::string("n/a");
   };
-  std::printf("| %zu | %d | %s | %s | %s / %s / %s | %s / %s / %s | %s | %s | %s / %s / %s / %s | %zu / %zu | "
-              "%s, %ld, %zu | %s | %s / %s / %s |\n",
-              cloud.size(), threads, fixed(run.wall, 3).c_str(),
-              fixed(run.wall / (static_cast<double>(cloud.size()) / 1e6), 3).c_str(), fixed(p.seconds_tree, 3).c_str(),
-              fixed(p.seconds_knn_pca, 3).c_str(), fixed(p.seconds_spacing, 3).c_str(),
-              fixed(g.seconds_emst, 3).c_str(), fixed(g.seconds_graph, 3).c_str(),
-              fixed(r.oriented->seconds_mst, 3).c_str(), fixed(r.seconds_distance_setup + c.seconds_field, 3).c_str(),
-              fixed(c.seconds - c.seconds_field, 3).c_str(), peak("tangent planes").c_str(), peak("orientation").c_str(),
-              peak("signed distance").c_str(), peak("contouring").c_str(), c.mesh.vertices.size(),
-              c.mesh.triangles.size(), t.boundary_edges == 0 && t.watertight() ? "closed" : "open",
-              t.euler_characteristic, t.components, fixed(fraction_right(r, cloud.normals), 6).c_str(),
-              fixed(100.0 * a.mesh_to_true / diagonal, 4).c_str(), fixed(100.0 * a.true_to_mesh / diagonal, 4).c_str(),
-              fixed(100.0 * a.chamfer() / diagonal, 4).c_str());
+  std::printf(
+      "| %zu | %d | %s | %s | %s / %s / %s | %s / %s / %s | %s | %s | %s / %s / %s / %s | %zu / %zu | "
+      "%s, %ld, %zu | %s | %s / %s / %s |\n",
+      cloud.size(), threads, fixed(run.wall, 3).c_str(),
+      fixed(run.wall / (static_cast<double>(cloud.size()) / 1e6), 3).c_str(), fixed(p.seconds_tree, 3).c_str(),
+      fixed(p.seconds_knn_pca, 3).c_str(), fixed(p.seconds_spacing, 3).c_str(), fixed(g.seconds_emst, 3).c_str(),
+      fixed(g.seconds_graph, 3).c_str(), fixed(r.oriented->seconds_mst, 3).c_str(),
+      fixed(r.seconds_distance_setup + c.seconds_field, 3).c_str(), fixed(c.seconds - c.seconds_field, 3).c_str(),
+      peak("tangent planes").c_str(), peak("orientation").c_str(), peak("signed distance").c_str(),
+      peak("contouring").c_str(), c.mesh.vertices.size(), c.mesh.triangles.size(),
+      t.boundary_edges == 0 && t.watertight() ? "closed" : "open", t.euler_characteristic, t.components,
+      fixed(fraction_right(r, cloud.normals), 6).c_str(), fixed(100.0 * a.mesh_to_true / diagonal, 4).c_str(),
+      fixed(100.0 * a.true_to_mesh / diagonal, 4).c_str(), fixed(100.0 * a.chamfer() / diagonal, 4).c_str());
   std::fflush(stdout);
 }
 
@@ -243,7 +234,8 @@ int main(int argc, char** argv) {
       if (n == 0) n = sizes.front();
       const recon::PointCloud cloud = shape->sample(n, seed);
       std::printf("\nLattice refinement, %zu points, all threads:\n\n", n);
-      std::printf("| cell | visited cubes | corners | III: f s | IV: walk s | III+IV s | ratio to previous | mesh F |\n");
+      std::printf(
+          "| cell | visited cubes | corners | III: f s | IV: walk s | III+IV s | ratio to previous | mesh F |\n");
       std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
       double rho = 0.0, previous = 0.0;
       for (int level = 0; level < 3; ++level) {
@@ -252,7 +244,8 @@ int main(int argc, char** argv) {
         const auto& c = r.r->contour;
         const double both = r.r->seconds_distance_setup + c.seconds;
         std::printf("| rho/%d = %s | %zu | %zu | %s | %s | %s | %s | %zu |\n", 1 << level, fixed(c.cell, 5).c_str(),
-                    c.visited_cubes, c.evaluated_corners, fixed(r.r->seconds_distance_setup + c.seconds_field, 3).c_str(),
+                    c.visited_cubes, c.evaluated_corners,
+                    fixed(r.r->seconds_distance_setup + c.seconds_field, 3).c_str(),
                     fixed(c.seconds - c.seconds_field, 3).c_str(), fixed(both, 3).c_str(),
                     level == 0 ? "" : fixed(both / previous, 2).c_str(), c.mesh.triangles.size());
         previous = both;

@@ -91,9 +91,9 @@ class CornerTable {
  public:
   static constexpr std::uint32_t no_vertex = UINT32_MAX;
 
-  CornerTable() : table_(1024, empty) {}
+  static constexpr std::uint32_t absent = UINT32_MAX;  // no such slot; also marks an empty table cell
 
-  static constexpr std::uint32_t absent = UINT32_MAX;
+  CornerTable() : table_(1024, absent) {}
 
   [[nodiscard]] std::size_t size() const { return keys_.size(); }
   /// The slot of `key`, or `absent`. Safe from many threads while nothing is
@@ -101,7 +101,7 @@ class CornerTable {
   [[nodiscard]] std::uint32_t find(std::uint64_t key) const {
     for (std::size_t h = hash(key);; h = (h + 1) & (table_.size() - 1)) {
       const std::uint32_t slot = table_[h];
-      if (slot == empty || keys_[slot] == key) return slot;
+      if (slot == absent || keys_[slot] == key) return slot;
     }
   }
   [[nodiscard]] std::uint64_t key(std::uint32_t slot) const { return keys_[slot]; }
@@ -112,7 +112,7 @@ class CornerTable {
     std::size_t h = hash(key);
     while (true) {
       const std::uint32_t slot = table_[h];
-      if (slot == empty) break;
+      if (slot == absent) break;
       if (keys_[slot] == key) return slot;
       h = (h + 1) & (table_.size() - 1);
     }
@@ -131,16 +131,15 @@ class CornerTable {
   BlockArray<std::uint8_t> flags;
 
  private:
-  static constexpr std::uint32_t empty = UINT32_MAX;
   [[nodiscard]] std::size_t hash(std::uint64_t key) const {
     return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
   }
   void grow() {
-    table_.assign(table_.size() * 2, empty);
+    table_.assign(table_.size() * 2, absent);
     ++bits_;
     for (std::uint32_t slot = 0; slot < keys_.size(); ++slot) {
       std::size_t h = hash(keys_[slot]);
-      while (table_[h] != empty) h = (h + 1) & (table_.size() - 1);
+      while (table_[h] != absent) h = (h + 1) & (table_.size() - 1);
       table_[h] = slot;
     }
   }

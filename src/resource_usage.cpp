@@ -37,6 +37,19 @@ bool reset_peak_resident() {
   return static_cast<bool>(clear);
 }
 
+void StepPeaks::start(std::string step) {
+  finish();
+  step_ = std::move(step);
+  reset_peak_resident();
+}
+
+void StepPeaks::finish() {
+  if (step_.empty()) return;
+  if (const auto peak = peak_resident_bytes())
+    peaks_.emplace_back(step_, static_cast<double>(*peak) / (1024.0 * 1024.0));
+  step_.clear();
+}
+
 std::size_t physical_memory_bytes() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   return pages > 0 && page > 0 ? static_cast<std::size_t>(pages) * static_cast<std::size_t>(page) : 0;

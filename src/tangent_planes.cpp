@@ -226,11 +226,8 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
 
 template <int D>
 TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const TangentPlaneOptions& options) {
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (!points[i].allFinite())
-      throw InvalidInputError("point " + std::to_string(i) + " has a non-finite coordinate");
   Timer timer;
-  KdTree<D> tree(points, options.tree);
+  KdTree<D> tree(points, options.tree);  // refuses non-finite coordinates
   return planes_over<D>(std::move(tree), points, options, timer.lap());
 }
 

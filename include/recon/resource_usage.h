@@ -9,6 +9,9 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace recon {
 
@@ -20,5 +23,19 @@ namespace recon {
 bool reset_peak_resident();
 /// Physical memory of the machine, in bytes (0 if unknown).
 [[nodiscard]] std::size_t physical_memory_bytes();
+
+/// The peak of each step of a run: start(step) ends the step before (taking
+/// its peak) and resets the peak for the new one; finish() ends the last.
+class StepPeaks {
+ public:
+  void start(std::string step);
+  void finish();
+  /// (step, peak in MiB), in order; a step is left out where /proc cannot say.
+  [[nodiscard]] const std::vector<std::pair<std::string, double>>& peaks() const { return peaks_; }
+
+ private:
+  std::string step_;
+  std::vector<std::pair<std::string, double>> peaks_;
+};
 
 }  // namespace recon
