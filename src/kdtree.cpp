@@ -3,6 +3,8 @@
 #include "recon/errors.h"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 #include <string>
 
 namespace recon {
@@ -47,9 +49,23 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
   if (options.leaf_size < 1) throw InvalidInputError("kd-tree leaf size must be at least 1");
   if (points.size() >= no_child)
     throw InvalidInputError("kd-tree: " + std::to_string(points.size()) + " points is more than the 2^32 - 1 supported");
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (!points[i].allFinite())
-      throw InvalidInputError("point " + std::to_string(i) + " has a non-finite coordinate");
+  {
+    // Count every unusable point, so the message says how many as well as where.
+    std::size_t bad = 0;
+    std::size_t first = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      bool usable = true;
+      for (int c = 0; c < D; ++c)  // isfinite first: no floating-point exception on NaN
+        usable = usable && std::isfinite(points[i][c]) && std::abs(points[i][c]) <= max_coordinate;
+      if (!usable && bad++ == 0) first = i;
+    }
+    if (bad > 0) {
+      std::ostringstream message;
+      message << bad << (bad == 1 ? " point has" : " points have")
+              << " a coordinate that is not finite or beyond +-" << max_coordinate << "; the first is point " << first;
+      throw InvalidInputError(message.str());
+    }
+  }
   if (points.empty()) return;
 
   // Build over (point, input index) pairs so that the median selection moves

@@ -90,7 +90,8 @@ class KdTree {
 
   KdTree() = default;
   /// Builds the tree over `points`. Throws InvalidInputError for more than
-  /// 2^32 - 1 points, a leaf size below 1, or a coordinate that is not finite.
+  /// 2^32 - 1 points, a leaf size below 1, or coordinates that are not finite
+  /// or beyond +-max_coordinate (the message counts them and names the first).
   explicit KdTree(std::span<const Point> points, KdTreeOptions options = {});
 
   [[nodiscard]] std::size_t size() const { return points_.size(); }

@@ -16,6 +16,13 @@ using Vec = Eigen::Matrix<double, D, 1>;
 using Vec2 = Vec<2>;
 using Vec3 = Vec<3>;
 
+/// The largest coordinate magnitude recon accepts. Beyond it, squared
+/// distances and lattice indices lose the precision the phases rely on;
+/// readers refuse such values (with how many and where the first is) and
+/// so does the kd-tree. Real scans, even geo-referenced ones in millimetres,
+/// stay far below it.
+inline constexpr double max_coordinate = 1e15;
+
 /// An unorganized point cloud: positions, and normals when the source had them.
 /// `normals` is either empty or has exactly one entry per position.
 struct PointCloud {
