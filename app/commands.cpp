@@ -16,6 +16,7 @@
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <cctype>
 #include <memory>
 #include <optional>
 #include <random>
@@ -106,12 +107,40 @@ io::PointFormat writable_point_format(const std::filesystem::path& path) {
   return format;
 }
 
-// Options of phases I and II.
+// Options of phases I and II, and the memory limit.
 struct PhaseOptions {
   int k = TangentPlaneOptions{}.k;
   std::optional<double> rho;
   CLI::Option* k_option = nullptr;  // to tell a given k from the default
+  std::size_t max_memory = 0;       // bytes; 0: default_memory_limit()
 };
+
+// "800M", "2G", "1.5 GB", "3000000000": bytes (K, M, G, T are powers of 1000,
+// as in the messages; a trailing 'B' or 'iB' is allowed: KiB, MiB... powers of 1024).
+std::string parse_size(const std::string& text, std::size_t& bytes) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return "expected a size such as 800M or 2G, found '" + text + "'";
+  }
+  std::string unit = text.substr(used);
+  unit.erase(std::remove(unit.begin(), unit.end(), ' '), unit.end());
+  for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  static const std::pair<const char*, double> units[] = {
+      {"", 1.0},      {"B", 1.0},      {"K", 1e3},        {"KB", 1e3},       {"KIB", 1024.0},
+      {"M", 1e6},     {"MB", 1e6},     {"MIB", 1048576.0}, {"G", 1e9},        {"GB", 1e9},
+      {"GIB", 1073741824.0}, {"T", 1e12}, {"TB", 1e12},    {"TIB", 1099511627776.0}};
+  for (const auto& [name, factor] : units) {
+    if (unit != name) continue;
+    const double b = value * factor;
+    if (!(b >= 1e6) || !(b < 1e18)) return "a memory limit must be between 1M and 1000000T, found '" + text + "'";
+    bytes = static_cast<std::size_t>(b);
+    return "";
+  }
+  return "unknown size unit in '" + text + "' (use K, M, G or T)";
+}
 
 void add_phase_options(CLI::App& app, PhaseOptions& p) {
   p.k_option = app.add_option("-k,--k", p.k,
@@ -122,6 +151,15 @@ void add_phase_options(CLI::App& app, PhaseOptions& p) {
                  "Sampling density: every point of the surface is within this distance of a sample (default: "
                  "estimated per point)")
       ->check(CLI::PositiveNumber);
+  app.add_option_function<std::string>(
+         "--max-memory",
+         [&p](const std::string& text) {
+           const std::string error = parse_size(text, p.max_memory);
+           if (!error.empty()) throw CLI::ValidationError("--max-memory", error);
+         },
+         "Refuse work estimated to need more memory than this, e.g. 800M or 16G (default: half the physical "
+         "memory)")
+      ->type_name("SIZE");
 }
 
 TangentPlaneOptions phase_1_options(const PhaseOptions& p) {
@@ -140,7 +178,9 @@ void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary&
   line << ", rho = " << format_length(planes.rho)
        << (planes.rho_given ? " (given)" : " (estimated, median of local values)") << ", "
        << plural(points - planes.distinct_points, "duplicate") << ", "
-       << plural(planes.degenerate, "degenerate neighbourhood") << " ("
+       << plural(planes.degenerate, "degenerate neighbourhood");
+  if (planes.isolated > 0) line << ", " << plural(planes.isolated, "isolated point") << " (outliers: no surface)";
+  line << " ("
        << format_seconds(planes.seconds_tree + planes.seconds_knn_pca + planes.seconds_spacing) << ")";
   summary.say(line.str());
   Json& s = summary.stats()["tangent_planes"];
@@ -151,6 +191,7 @@ void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary&
   s["rho_estimated"] = !planes.rho_given;
   s["distinct_points"] = planes.distinct_points;
   s["degenerate_neighbourhoods"] = planes.degenerate;
+  s["isolated_points"] = planes.isolated;
   s["seconds_tree"] = planes.seconds_tree;
   s["seconds_knn_pca"] = planes.seconds_knn_pca;
   s["seconds_spacing"] = planes.seconds_spacing;
@@ -274,6 +315,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     options.cell = o->cell;
     options.resolution = o->resolution;
     options.use_input_normals = o->use_normals;
+    options.max_memory = o->phases.max_memory;
     options.keep_graph = false;  // only the counts are reported
     Progress progress(!global.quiet);
     options.on_phase = [&progress, &memory](const char* phase) {
@@ -328,7 +370,8 @@ Command add_info(CLI::App& app, const GlobalOptions& global) {
       const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
       out << "duplicates    " << cloud.size() - planes.distinct_points << " (exact copies of an earlier point)\n";
       out << "rho           " << format_length(planes.rho) << " (median of the local estimates, k = " << *k << ")\n";
-      out << "degenerate    " << planes.degenerate << " neighbourhoods with no unique normal";
+      out << "degenerate    " << planes.degenerate << " neighbourhoods with no unique normal\n";
+      out << "isolated      " << planes.isolated << " points far from every other (outliers)";
     } catch (const InvalidInputError& e) {
       out << "rho           not available: " << e.what();
     }
@@ -363,6 +406,8 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     // Work in the kd-tree's leaf order (much faster on large clouds, and no
     // second copy of the points); write in the input's.
     const TangentPlaneOptions options = phase_1_options(*phases);
+    check_memory_planes_and_graph(cloud.size(), options.k,
+                                  phases->max_memory > 0 ? phases->max_memory : default_memory_limit());
     KdTree<3> tree(cloud.positions, options.tree);
     const std::vector<std::uint32_t> order = tree.renumber_by_leaf_order();
     const auto planes = estimate_tangent_planes<3>(std::move(tree), options);

@@ -5,18 +5,45 @@
 #include "commands.h"
 
 #include "recon/errors.h"
+#include "recon/io/atomic_file.h"
 #include "recon/parallel.h"
 
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <map>
 #include <new>
 
+#include <unistd.h>
+
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
 
+namespace {
+// Ctrl-C (SIGINT), SIGTERM, SIGHUP: stop at once, wherever the run is.
+// Nothing is left half-written: outputs are renamed into place only when
+// complete, so removing the pending temporaries is the whole clean-up.
+// Then the signal is raised again with its default action, so that the
+// caller (a shell, a script) sees the run end by that signal.
+extern "C" void on_interrupt(int signal_number) {
+  recon::io::remove_pending_temporaries();
+  constexpr char message[] = "\nrecon: interrupted; unfinished output removed\n";
+  [[maybe_unused]] const ssize_t ignored = ::write(STDERR_FILENO, message, sizeof message - 1);
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
+void stop_cleanly_on_interrupt() {
+  struct sigaction action = {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal_number, &action, nullptr);
+}
+}  // namespace
+
 int main(int argc, char** argv) {
+  stop_cleanly_on_interrupt();
 #if defined(__GLIBC__)
   // Arrays of a megabyte or more get their own pages and give them back when
   // freed. (By default glibc raises this threshold after the first large

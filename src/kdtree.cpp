@@ -45,27 +45,29 @@ struct KnnCollector {
 }  // namespace
 
 template <int D>
+void check_coordinates(std::span<const Vec<D>> points) {
+  // Count every unusable point, so the message says how many as well as where.
+  std::size_t bad = 0;
+  std::size_t first = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    bool usable = true;
+    for (int c = 0; c < D; ++c)  // isfinite first: no floating-point exception on NaN
+      usable = usable && std::isfinite(points[i][c]) && std::abs(points[i][c]) <= max_coordinate;
+    if (!usable && bad++ == 0) first = i;
+  }
+  if (bad == 0) return;
+  std::ostringstream message;
+  message << bad << (bad == 1 ? " point has" : " points have") << " a coordinate that is not finite or beyond +-"
+          << max_coordinate << "; the first is point " << first;
+  throw InvalidInputError(message.str());
+}
+
+template <int D>
 KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : options_(options) {
   if (options.leaf_size < 1) throw InvalidInputError("kd-tree leaf size must be at least 1");
   if (points.size() >= no_child)
     throw InvalidInputError("kd-tree: " + std::to_string(points.size()) + " points is more than the 2^32 - 1 supported");
-  {
-    // Count every unusable point, so the message says how many as well as where.
-    std::size_t bad = 0;
-    std::size_t first = 0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      bool usable = true;
-      for (int c = 0; c < D; ++c)  // isfinite first: no floating-point exception on NaN
-        usable = usable && std::isfinite(points[i][c]) && std::abs(points[i][c]) <= max_coordinate;
-      if (!usable && bad++ == 0) first = i;
-    }
-    if (bad > 0) {
-      std::ostringstream message;
-      message << bad << (bad == 1 ? " point has" : " points have")
-              << " a coordinate that is not finite or beyond +-" << max_coordinate << "; the first is point " << first;
-      throw InvalidInputError(message.str());
-    }
-  }
+  check_coordinates<D>(points);
   if (points.empty()) return;
 
   // Build over (point, input index) pairs so that the median selection moves
@@ -321,5 +323,7 @@ KnnTable KdTree<D>::all_knn(int k) const {
 
 template class KdTree<2>;
 template class KdTree<3>;
+template void check_coordinates<2>(std::span<const Vec<2>>);
+template void check_coordinates<3>(std::span<const Vec<3>>);
 
 }  // namespace recon

@@ -51,10 +51,13 @@ constexpr double vertex_margin = 1e-3;  // fraction of an edge kept between a ve
 }  // namespace
 
 double estimate_visited_cubes(std::size_t samples, double spacing, double cell) {
-  // Area ~ samples * spacing^2; a surface of area A crosses about 3 A / cell^2
-  // cubes (each cube is entered through faces it shares with neighbours).
+  // Area ~ samples * spacing^2; a surface of area A crosses about 1.5 A /
+  // cell^2 cubes on average over its orientations (a plane along the
+  // lattice crosses A / cell^2, a diagonal one up to 3 A / cell^2): the
+  // upper figure is taken. A cube smaller than the spacing is still seeded
+  // by every sample.
   const double area = static_cast<double>(samples) * spacing * spacing;
-  return 3.0 * area / (cell * cell) + static_cast<double>(samples);
+  return std::max(3.0 * area / (cell * cell), static_cast<double>(samples));
 }
 
 namespace {

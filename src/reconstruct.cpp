@@ -5,8 +5,11 @@
 #include "recon/spatial_order.h"  // permuted
 #include "recon/timer.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
+#include <string>
 
 
 namespace recon {
@@ -28,14 +31,76 @@ double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes
 }
 
 namespace {
-constexpr double bytes_per_cube = 250.0;  // corner and edge hash entries, visited set, mesh share
+// Measured peaks (docs/benchmarks.md), rounded up: a million points at k = 20
+// peak at about 230 MB in phase I and 350 MB in phase II; a lattice walk
+// holds under 250 bytes a visited cube, besides about 190 bytes a point
+// still held from phases I and II.
+constexpr double bytes_per_point_planes = 170.0, bytes_per_neighbour_planes = 4.0;
+constexpr double bytes_per_point_graph = 210.0, bytes_per_neighbour_graph = 8.0;
+constexpr double bytes_per_point_held = 190.0, bytes_per_cube = 250.0;
 
-std::size_t default_max_cubes() {
-  const std::size_t physical = physical_memory_bytes();
-  const double memory = physical > 0 ? static_cast<double>(physical) : 8e9;
-  return static_cast<std::size_t>(0.5 * memory / bytes_per_cube);
+std::string megabytes_or_gigabytes(double bytes) {
+  std::ostringstream out;
+  out.precision(3);
+  if (bytes < 1e9) {
+    out << bytes / 1e6 << " MB";
+  } else {
+    out << bytes / 1e9 << " GB";
+  }
+  return out.str();
+}
+
+// The side of the square of surface each sample stands for: k samples
+// cover a disc of the neighbourhood radius (its median over the points).
+double surface_spacing(const TangentPlanes<3>& planes) {
+  std::vector<float> radius(planes.radius);
+  if (radius.empty() || planes.k < 1) return planes.rho;
+  const auto middle = radius.begin() + static_cast<std::ptrdiff_t>(radius.size() / 2);
+  std::nth_element(radius.begin(), middle, radius.end());
+  return std::sqrt(std::numbers::pi / planes.k) * static_cast<double>(*middle);
 }
 }  // namespace
+
+std::size_t default_memory_limit() {
+  const std::size_t physical = physical_memory_bytes();
+  return physical > 0 ? physical / 2 : std::size_t{4'000'000'000};
+}
+
+double estimated_bytes_planes_and_graph(std::size_t points, int k) {
+  const auto n = static_cast<double>(points);
+  const double per_point = std::max(bytes_per_point_planes + bytes_per_neighbour_planes * k,
+                                    bytes_per_point_graph + bytes_per_neighbour_graph * k);
+  return n * per_point;
+}
+
+double estimated_bytes_lattice(std::size_t points, double cubes) {
+  return static_cast<double>(points) * bytes_per_point_held + cubes * bytes_per_cube;
+}
+
+void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit) {
+  check_memory(estimated_bytes_planes_and_graph(points, k), limit,
+               "tangent planes and orientation of " + std::to_string(points) + " points at k = " + std::to_string(k),
+               "lower --k or thin the cloud");
+}
+
+void check_memory(double bytes, std::size_t limit, std::string_view what, std::string_view remedy) {
+  if (bytes <= static_cast<double>(limit)) return;
+  std::string message(what);
+  message += " would need about " + megabytes_or_gigabytes(bytes) + ", more than the " + megabytes_or_gigabytes(static_cast<double>(limit)) +
+             " allowed (--max-memory; default half the physical memory): ";
+  message += remedy;
+  message += ", or raise --max-memory";
+  throw ResourceLimitError(message);
+}
+
+Vec3 working_offset(std::span<const Vec3> points) {
+  const Box<3> box = bounding_box<3>(points);
+  if (box.empty()) return Vec3::Zero();
+  const Vec3 centre = 0.5 * (box.min + box.max);
+  // Near the origin already (within its own size): nothing to gain.
+  if (centre.cwiseAbs().maxCoeff() <= box.diagonal()) return Vec3::Zero();
+  return centre;
+}
 
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
   return reconstruct(PointCloud(cloud), options);
@@ -47,7 +112,13 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   auto starting = [&](const char* phase) {
     if (options.on_phase) options.on_phase(phase);
   };
+  check_coordinates<3>(cloud.positions);  // before the bounding box below
+  const std::size_t limit = options.max_memory > 0 ? options.max_memory : default_memory_limit();
+  check_memory_planes_and_graph(cloud.size(), options.planes.k, limit);
   Reconstruction r;
+  r.offset = working_offset(cloud.positions);
+  if (r.offset != Vec3::Zero())
+    for (Vec3& p : cloud.positions) p -= r.offset;
   starting("tangent planes");
   Timer tree_timer;
   KdTree<3> tree(cloud.positions, options.planes.tree);
@@ -61,16 +132,16 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
 
   // Refuse a lattice that would not fit before building anything large.
   const double cell = lattice_cell(r.points(), r.planes, options);
-  const std::size_t max_cubes = options.max_cubes > 0 ? options.max_cubes : default_max_cubes();
-  const double cubes = estimate_visited_cubes(r.order.size(), r.planes.rho, cell);
-  if (cubes > static_cast<double>(max_cubes)) {
-    std::ostringstream message;
-    message.precision(3);
-    message << "a cell of " << cell << " would visit about " << cubes << " lattice cubes, about "
-            << cubes * bytes_per_cube / 1e9 << " GB, more than the " << static_cast<double>(max_cubes) * bytes_per_cube / 1e9
-            << " GB allowed (half the memory): use a larger --cell or a smaller --resolution";
-    throw ResourceLimitError(message.str());
+  const double cubes = estimate_visited_cubes(r.order.size(), surface_spacing(r.planes), cell);
+  {
+    std::ostringstream what;
+    what.precision(3);
+    what << "a lattice cell of " << cell << " (about " << cubes << " cubes visited)";
+    check_memory(estimated_bytes_lattice(r.order.size(), cubes), limit, what.str(),
+                 "use a larger --cell or a smaller --resolution");
   }
+  if (!options.use_input_normals)  // phase I may have raised k
+    check_memory_planes_and_graph(r.order.size(), r.planes.k, limit);
 
   if (options.use_input_normals) {
     for (Vec3& n : r.input_normals) {
@@ -105,8 +176,14 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   starting("contouring");
   MarchingCubesOptions mc;
   mc.cell = cell;
-  mc.max_cubes = max_cubes;
+  // The walk stops where the estimate would have: a lattice estimated
+  // wrongly cannot run on until memory is exhausted.
+  mc.max_cubes = static_cast<std::size_t>(
+      std::max(0.0, (static_cast<double>(limit) - static_cast<double>(r.order.size()) * bytes_per_point_held) /
+                        bytes_per_cube));
   r.contour = marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
+  if (r.offset != Vec3::Zero())
+    for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
   return r;
 }
 

@@ -194,6 +194,32 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
       if (result.local_gap[i] == 0.0f) result.local_gap[i] = static_cast<float>(result.gap);
     }
   }
+  // Isolated samples (see the header): a neighbourhood reaching more than
+  // isolation_factor times as far as those of the lower quarter of its
+  // neighbours'. Their rho_i = 0 leaves f undefined around them, so their
+  // planes draw no surface.
+  {
+    std::size_t isolated = 0;
+#pragma omp parallel reduction(+ : isolated)
+    {
+      std::vector<float> others;
+#pragma omp for schedule(static)
+      for (std::int64_t s = 0; s < count; ++s) {
+        const auto i = static_cast<std::size_t>(s);
+        others.clear();
+        for (std::uint32_t j : result.neighbors.row(i))  // copies of one point have no radius to compare
+          if (j != i && result.radius[j] > 0.0f) others.push_back(result.radius[j]);
+        if (others.empty()) continue;
+        const auto quarter = others.begin() + static_cast<std::ptrdiff_t>(others.size() / 4);
+        std::nth_element(others.begin(), quarter, others.end());
+        if (static_cast<double>(result.radius[i]) > isolation_factor * static_cast<double>(*quarter)) {
+          result.local_rho[i] = 0.0f;
+          ++isolated;
+        }
+      }
+    }
+    result.isolated = isolated;
+  }
   {
     std::vector<double> residual(n);
     for (std::size_t i = 0; i < n; ++i) residual[i] = std::sqrt(static_cast<double>(result.eigenvalues[i][0]));

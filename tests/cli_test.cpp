@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -181,6 +182,30 @@ class CliTest : public ::testing::Test {
     if (status != -1 && WIFEXITED(status)) run.exit_code = WEXITSTATUS(status);
     if (fs::exists(out)) run.out = read_bytes(out);
     if (fs::exists(err)) run.err = read_bytes(err);
+    return run;
+  }
+
+  /// Starts the program in the background, sends SIGINT after `delay`
+  /// seconds, and returns the exit status the shell reports for it (130 when
+  /// SIGINT ended it) and, in `out`, the milliseconds it took to end after
+  /// the signal.
+  [[nodiscard]] RunResult interrupted(const std::vector<std::string>& args, double delay) const {
+    RunResult run;
+    run.command = "recon";
+    std::string command = "cd " + shell_quoted(work_folder().string()) + " && { " + shell_quoted(RECON_CLI_PATH);
+    for (const std::string& argument : args) {
+      command += " " + shell_quoted(argument);
+      run.command += " " + argument;
+    }
+    const fs::path err = temp_ / "stderr.txt";
+    command += " </dev/null >/dev/null 2>" + shell_quoted(err.string()) + " & pid=$!; sleep " + std::to_string(delay) +
+               "; start=$(date +%s%N); kill -INT $pid; wait $pid; status=$?; end=$(date +%s%N); " +
+               "echo $(( (end - start) / 1000000 )) > elapsed.txt; exit $status; }";
+    const int status = std::system(command.c_str());
+    if (status != -1 && WIFEXITED(status)) run.exit_code = WEXITSTATUS(status);
+    if (fs::exists(err)) run.err = read_bytes(err);
+    run.out = read_bytes(at("elapsed.txt"));
+    fs::remove(at("elapsed.txt"));
     return run;
   }
 
@@ -346,6 +371,20 @@ TEST_F(CliErrors, CollinearPointsAreRefused) {
   EXPECT_EQ(entries(), std::vector<std::string>{"line.xyz"});
 }
 
+TEST_F(CliErrors, MaxMemoryRefusesWithTheEstimateAndTheOption) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 20000, "s.ply"));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "2M"}),
+                      {"20000 points at k = 20 would need about 7.4 MB", "2 MB allowed", "raise --max-memory"}));
+  EXPECT_TRUE(refused(recon({"normals", "s.ply", "-o", "n.ply", "--max-memory", "2MB"}), {"7.4 MB", "lower --k"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "1G", "--cell", "0.0001"}),
+                      {"a lattice cell of 0.0001", "use a larger --cell"}));
+  const RunResult bad_unit = recon({"reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "3Q"});
+  EXPECT_EQ(bad_unit.exit_code, 2) << describe(bad_unit);
+  EXPECT_NE(bad_unit.err.find("--max-memory: unknown size unit in '3Q'"), std::string::npos) << describe(bad_unit);
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+  EXPECT_TRUE(succeeded(recon({"--quiet", "reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "1.5GiB"})));
+}
+
 TEST_F(CliErrors, OutputEqualToInputIsRefusedAndTheInputKept) {
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 300, "s.ply"));
   const std::string before = read_bytes(at("s.ply"));
@@ -422,6 +461,21 @@ TEST_F(CliAtomicOutput, SuccessReplacesTheOutputAndLeavesNoTemporaryFile) {
   EXPECT_EQ(entries(),
             (std::vector<std::string>{"mesh.ply", "normals.json", "oriented.ply", "s.xyz", "stats.json"}));
   EXPECT_TRUE(hidden_entries().empty());
+}
+
+TEST_F(CliAtomicOutput, InterruptStopsAtOnceAndKeepsThePreviousOutput) {
+  // 400k points take seconds to reconstruct: Ctrl-C arrives mid-run.
+  ASSERT_NO_FATAL_FAILURE(generate("torus", 400000, "t.ply"));
+  const std::string previous = "a previous mesh, to be kept\n";
+  write_file(at("mesh.ply"), previous);
+  for (const double delay : {0.3, 1.0}) {
+    const RunResult run = interrupted({"reconstruct", "t.ply", "-o", "mesh.ply", "--stats", "stats.json"}, delay);
+    EXPECT_EQ(run.exit_code, 128 + SIGINT) << "ended by SIGINT, as the shell expects" << describe(run);
+    EXPECT_NE(run.err.find("recon: interrupted"), std::string::npos) << describe(run);
+    EXPECT_LT(std::stoi(run.out), 1000) << "milliseconds from SIGINT to the end";
+    EXPECT_EQ(read_bytes(at("mesh.ply")), previous);
+    EXPECT_EQ(entries(), (std::vector<std::string>{"mesh.ply", "t.ply"}));
+  }
 }
 
 // ---------------------------------------------------------------- normals

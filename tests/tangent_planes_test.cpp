@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <vector>
+
 namespace recon {
 namespace {
 
@@ -26,6 +29,29 @@ TEST(TangentPlanes, NormalsOfASphereAreRadial) {
   // The widest gap to a nearest neighbour is shorter, about the spacing.
   EXPECT_GT(planes.gap, 0.03);
   EXPECT_LT(planes.gap, planes.rho);
+}
+
+// Isolation must find the stray samples and only them: none on real
+// surfaces (random, grid-like, creased, of varying density, with copies),
+// exactly the outliers added to a sphere.
+TEST(TangentPlanes, OnlyStraySamplesAreIsolated) {
+  for (const char* name : {"sphere", "torus", "box", "terrain", "two"}) {
+    PointCloud cloud = make_shape(name)->sample(20000, 3);
+    for (std::size_t i = 0; i < 2000; ++i) cloud.positions.push_back(cloud.positions[i]);
+    const auto planes = estimate_tangent_planes<3>(cloud.positions);
+    EXPECT_EQ(planes.isolated, 0u) << name;
+  }
+  PointCloud cloud = make_sphere()->sample(3000, 4);
+  const std::vector<Vec3> stray = {Vec3(30, 0, 0), Vec3(0, -40, 7), Vec3(0, -40.001, 7), Vec3(5, 5, 5)};
+  cloud.positions.insert(cloud.positions.end(), stray.begin(), stray.end());
+  for (const auto& given : {std::optional<double>(), std::optional<double>(0.2)}) {
+    TangentPlaneOptions options;
+    options.rho = given;
+    const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
+    EXPECT_EQ(planes.isolated, stray.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      EXPECT_EQ(planes.local_rho[i] == 0.0f, i >= 3000) << i;
+  }
 }
 
 TEST(TangentPlanes, CountsDuplicatesAndGivenRho) {

@@ -65,6 +65,11 @@ struct NeighborLists {
   }
 };
 
+/// Throws InvalidInputError when coordinates are NaN, infinite or beyond
+/// +-max_coordinate, saying how many points have one and which comes first.
+template <int D>
+void check_coordinates(std::span<const Vec<D>> points);
+
 struct KdTreeOptions {
   int leaf_size = 16;  ///< most points in a leaf; 16 measured fastest (docs/benchmarks.md)
 };

@@ -69,8 +69,8 @@ struct MarchingCubesResult {
 using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 
 /// Estimated cubes a walk will visit for `samples` points on a surface
-/// sampled `spacing` apart, at cube side `cell` (used to refuse before
-/// allocating).
+/// where each sample stands for a spacing x spacing square, at cube side
+/// `cell` (used to refuse before allocating; an upper estimate).
 [[nodiscard]] double estimate_visited_cubes(std::size_t samples, double spacing, double cell);
 
 /// Contours f = 0 starting from the cubes that contain `seeds` (normally the

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <optional>
+#include <string_view>
 
 namespace recon {
 
@@ -19,8 +20,9 @@ struct ReconstructionOptions {
   std::optional<double> cell;              ///< phase IV cube side; default rho (as in Hoppe's paper)
   std::optional<int> resolution;           ///< or: cubes along the longest side of the bounding box
   bool use_input_normals = false;          ///< orient with the cloud's own normals, skipping phase II
-  std::size_t max_cubes = 0;               ///< refuse larger lattice walks; 0: what half the physical memory holds
-                                           ///< at about 250 bytes a cube
+  /// Refuse, before allocating, work estimated to need more memory (bytes);
+  /// 0: default_memory_limit(). See check_memory.
+  std::size_t max_memory = 0;
   bool keep_corners = false;               ///< keep the evaluated lattice corners in the result
   /// Keep phase II's graph, EMST and spanning tree in the result (for
   /// inspection); when false they are released once the normals are
@@ -37,7 +39,15 @@ struct ReconstructionOptions {
 /// point order[j], at position points()[j]. Nothing is copied twice: the
 /// points live in that tree only, and planes.neighbors is released once
 /// phase II has built its graph from it (it is the largest array of the run).
+///
+/// Far from the origin (a geo-referenced scan: coordinates of 1e7 with
+/// millimetre spacing), every difference of two coordinates loses digits
+/// to the large common part. The cloud is then moved near the origin first
+/// (by `offset`, see working_offset): every per-point and lattice result
+/// below (points, planes, normals' origins, the corners) is relative to
+/// `offset`, and only the mesh is moved back to the input's coordinates.
 struct Reconstruction {
+  Vec3 offset = Vec3::Zero();                  ///< subtracted from the input before phase I (see above)
   std::vector<std::uint32_t> order;            ///< input index of each point, in spatial order
   TangentPlanes<3> planes;
   std::optional<OrientedNormals<3>> oriented;  ///< absent when the input normals were used
@@ -45,14 +55,14 @@ struct Reconstruction {
   KdTree<3> origin_tree;                       ///< over the plane origins: phase III's nearest-plane queries
 
   /// The input positions in spatial order.
-  [[nodiscard]] std::span<const Vec3> points() const { return planes.point_tree.points(); }
+  [[nodiscard]] std::span<const Vec3> points() const { return planes.point_tree.points(); }  // minus offset
   /// The oriented normals phase III used.
   [[nodiscard]] std::span<const Vec3> normals() const {
     return oriented ? std::span<const Vec3>(oriented->normals) : std::span<const Vec3>(input_normals);
   }
   double delta = 0.0;
   bool delta_given = false;
-  MarchingCubesResult contour;                 ///< the mesh and the lattice statistics
+  MarchingCubesResult contour;                 ///< the mesh (input coordinates) and the lattice statistics
   double seconds_distance_setup = 0.0;         ///< the tree over the origins and f's set-up
 };
 
@@ -64,6 +74,29 @@ struct Reconstruction {
 /// I's kd-tree holds the points, which lowers the peak memory (the const&
 /// form works on a copy).
 [[nodiscard]] Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options = {});
+
+/// The translation reconstruct() applies before working: the centre of the
+/// bounding box when the cloud lies farther from the origin than its own
+/// diagonal, zero otherwise (results of data near the origin are then
+/// expressed in the input's own coordinates).
+[[nodiscard]] Vec3 working_offset(std::span<const Vec3> points);
+
+/// Memory limits. reconstruct() estimates what phases I-II (neighbourhoods,
+/// planes, the graph) and the lattice walk will hold before they allocate,
+/// from peaks measured on this implementation, and refuses with
+/// ResourceLimitError when the estimate exceeds ReconstructionOptions::
+/// max_memory: the message gives the estimate, the limit and what to change.
+/// Half the physical memory (4 GB when it cannot be read).
+[[nodiscard]] std::size_t default_memory_limit();
+/// Bytes phases I and II hold at their peak for `points` points at k.
+[[nodiscard]] double estimated_bytes_planes_and_graph(std::size_t points, int k);
+/// Bytes held during the lattice walk: what phases I-II leave plus the cubes.
+[[nodiscard]] double estimated_bytes_lattice(std::size_t points, double cubes);
+/// Throws ResourceLimitError "WHAT would need about X GB, more than the Y GB
+/// allowed (--max-memory...): REMEDY, or raise --max-memory" when bytes > limit.
+void check_memory(double bytes, std::size_t limit, std::string_view what, std::string_view remedy);
+/// check_memory for phases I-II of `points` points at k.
+void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit);
 
 /// The cube side that `options` asks for, given the points and the phase I result.
 [[nodiscard]] double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes,

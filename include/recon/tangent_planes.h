@@ -24,6 +24,20 @@
 //   median of the rho_i, the figure reported; a value given by the user
 //   replaces every rho_i.
 //
+// Isolated samples. A stray point far from the rest (a scanner's outlier, a
+// speck of dust, a handful of them) has a neighbourhood of distant samples:
+// its plane is fitted across empty space, and its rho_i (about the size of
+// its neighbourhood) is as large as the distance. Left alone, it would grow
+// a sheet of surface that wide in phase III. A sample is isolated when its
+// neighbourhood radius is more than isolation_factor times that of the
+// lower quarter of its neighbours: they are surrounded by samples and it is
+// not. Its rho_i is set to 0, which leaves f undefined around it (phase
+// III), so its plane draws no surface; its neighbours are not affected.
+// Within one surface, neighbourhood radii change smoothly: a spacing must
+// grow about twentyfold from one side of a neighbourhood to the other to
+// isolate a sample. A stray cluster of more than about 3k/4 samples is not
+// isolated by this test (it would be a small object).
+//
 // Works in D = 2 (tangent lines of a curve) and D = 3.
 
 #include "recon/kdtree.h"
@@ -51,6 +65,10 @@ namespace recon {
 // one closed surface for 19 of 20 seeds at k = 20, 14 of 20 at k = 15,
 // 2 of 20 at k = 10. Smaller k follows thinner features.
 
+/// A sample whose neighbourhood radius exceeds this many times that of the
+/// lower quarter of its neighbours is isolated (see above).
+inline constexpr double isolation_factor = 10.0;
+
 struct TangentPlaneOptions {
   int k = 20;                          ///< neighbourhood size, the point itself included
   bool adapt_k = true;                 ///< raise k once for noisy data (see above)
@@ -72,7 +90,7 @@ struct TangentPlanes {
   std::vector<Vec<D>> origins;      ///< o_i, centroid of the neighbourhood of x_i
   std::vector<Vec<D>> normals;      ///< n_i, unit, unoriented
   std::vector<Values> eigenvalues;  ///< covariance eigenvalues, ascending
-  std::vector<float> local_rho;     ///< rho_i (see above), or the given rho
+  std::vector<float> local_rho;     ///< rho_i (see above), or the given rho; 0 for an isolated sample
   std::vector<float> local_gap;     ///< gap_i (see above), or the given rho
   std::vector<float> radius;        ///< distance from x_i to the farthest point of N(x_i)
   NeighborLists neighbors;          ///< N(x_i), nearest first (x_i, or an earlier exact copy, first)
@@ -85,6 +103,7 @@ struct TangentPlanes {
   double noise = 0.0;               ///< median sqrt(lambda_0): RMS distance of neighbourhoods to their planes
   std::size_t distinct_points = 0;  ///< points that are not exact copies of an earlier one
   std::size_t degenerate = 0;       ///< neighbourhoods with no unique normal (collinear / coincident)
+  std::size_t isolated = 0;         ///< isolated samples, whose planes draw no surface (see above)
   KdTree<D> point_tree;             ///< over the input points; phase III queries it
   double seconds_tree = 0.0;        ///< building point_tree
   double seconds_knn_pca = 0.0;     ///< the k-NN queries and plane fits (one pass)

@@ -49,6 +49,27 @@ TEST(AtomicWriteIo, ExceptionMidWriteLeavesNoFile) {
   EXPECT_TRUE(folder.entries().empty());
 }
 
+TEST(AtomicWriteIo, SignalCleanUpRemovesOnlyPendingTemporaries) {
+  // What the program's SIGINT handler calls: every temporary still being
+  // written goes; committed files and the previous outputs stay.
+  TempFolder folder;
+  write_file(folder / "kept.xyz", "previous\n");
+  {
+    AtomicFile done(folder / "done.xyz");
+    done.stream() << "1 2 3\n";
+    done.commit();
+  }
+  AtomicFile first(folder / "kept.xyz");
+  AtomicFile second(folder / "other.xyz");
+  first.stream() << "4 5 6\n";
+  EXPECT_EQ(folder.entries().size(), 4U);  // kept, done, and two temporaries
+  remove_pending_temporaries();
+  EXPECT_EQ(folder.entries(), (std::vector<std::string>{"done.xyz", "kept.xyz"}));
+  EXPECT_EQ(read_bytes(folder / "kept.xyz"), "previous\n");
+  EXPECT_THROW(second.commit(), IoError);  // its temporary is gone: nothing to rename
+  EXPECT_EQ(folder.entries(), (std::vector<std::string>{"done.xyz", "kept.xyz"}));
+}
+
 TEST(AtomicWriteIo, ExistingFileIsReplacedOnlyWhenComplete) {
   TempFolder folder;
   write_file(folder / "a.xyz", "old content\n");

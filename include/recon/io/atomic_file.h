@@ -26,6 +26,14 @@ class AtomicFile {
   std::filesystem::path temporary_;
   std::ofstream out_;
   bool committed_ = false;
+  int slot_ = -1;  // in the registry of pending temporaries, or -1
 };
+
+/// Removes the temporary files of every AtomicFile not yet committed or
+/// destroyed. Async-signal-safe (it only reads lock-free flags and calls
+/// unlink): a SIGINT handler calls it before the program ends, so an
+/// interrupted run leaves no partial file behind (the previous output,
+/// never touched before commit(), stays as it was).
+void remove_pending_temporaries() noexcept;
 
 }  // namespace recon::io
