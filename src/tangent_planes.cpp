@@ -206,13 +206,20 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
 #pragma omp for schedule(static)
       for (std::int64_t s = 0; s < count; ++s) {
         const auto i = static_cast<std::size_t>(s);
+        const double limit = static_cast<double>(result.radius[i]) / isolation_factor;
+        // Cheap first: no neighbour's radius under the limit, no quarter of them.
+        bool any_below = false;
+        for (std::uint32_t j : result.neighbors.row(i)) {
+          const auto r_j = static_cast<double>(result.radius[j]);
+          any_below = any_below || (j != i && r_j > 0.0 && r_j < limit);
+        }
+        if (!any_below) continue;
         others.clear();
         for (std::uint32_t j : result.neighbors.row(i))  // copies of one point have no radius to compare
           if (j != i && result.radius[j] > 0.0f) others.push_back(result.radius[j]);
-        if (others.empty()) continue;
         const auto quarter = others.begin() + static_cast<std::ptrdiff_t>(others.size() / 4);
         std::nth_element(others.begin(), quarter, others.end());
-        if (static_cast<double>(result.radius[i]) > isolation_factor * static_cast<double>(*quarter)) {
+        if (static_cast<double>(*quarter) < limit) {
           result.local_rho[i] = 0.0f;
           ++isolated;
         }
