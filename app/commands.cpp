@@ -371,7 +371,7 @@ Command add_info(CLI::App& app, const GlobalOptions& global) {
       out << "duplicates    " << cloud.size() - planes.distinct_points << " (exact copies of an earlier point)\n";
       out << "rho           " << format_length(planes.rho) << " (median of the local estimates, k = " << *k << ")\n";
       out << "degenerate    " << planes.degenerate << " neighbourhoods with no unique normal\n";
-      out << "isolated      " << planes.isolated << " points far from every other (outliers)";
+      out << "isolated      " << planes.isolated << " (samples far from all others: outliers, which draw no surface)";
     } catch (const InvalidInputError& e) {
       out << "rho           not available: " << e.what();
     }
