@@ -246,6 +246,7 @@ MeshTopology reconstruct_file(const std::string& relative, Reconstruction* out =
   const MeshTopology t = analyze_topology(r.contour.mesh);
   EXPECT_GT(t.triangles, 100u) << relative;
   EXPECT_EQ(t.non_manifold_edges, 0u) << relative;
+  EXPECT_EQ(r.planes.isolated, 0u) << relative << ": real scans have no sample that far from the rest";
   if (out) *out = std::move(r);
   return t;
 }
