@@ -201,7 +201,8 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
     corners.flags[slot] |= CornerTable::visited_cube;
     if (++visited > options.max_cubes)
       throw ResourceLimitError("the lattice walk passed " + std::to_string(options.max_cubes) +
-                               " cubes: use a larger --cell or a smaller --resolution");
+                               " cubes, the most the memory limit allows: use a larger --cell or a smaller "
+                               "--resolution, or raise --max-memory");
     next.push_back(pack(cube));
   };
 

@@ -41,11 +41,15 @@ struct ReconstructionOptions {
 /// phase II has built its graph from it (it is the largest array of the run).
 ///
 /// Far from the origin (a geo-referenced scan: coordinates of 1e7 with
-/// millimetre spacing), every difference of two coordinates loses digits
-/// to the large common part. The cloud is then moved near the origin first
-/// (by `offset`, see working_offset): every per-point and lattice result
-/// below (points, planes, normals' origins, the corners) is relative to
-/// `offset`, and only the mesh is moved back to the input's coordinates.
+/// millimetre spacing) coordinates share a large common part. The phases
+/// work on differences of doubles and keep their precision there (measured:
+/// the same mesh to 1 um), but anything that stores or multiplies raw
+/// coordinates in lower precision would not: single-precision copies for
+/// display, lattice corners, products in a plane fit. The cloud is therefore
+/// moved near the origin first (by `offset`, see working_offset): every
+/// per-point and lattice result below (points, planes, the corners) is
+/// relative to `offset`, and only the mesh is moved back to the input's
+/// coordinates.
 struct Reconstruction {
   Vec3 offset = Vec3::Zero();                  ///< subtracted from the input before phase I (see above)
   std::vector<std::uint32_t> order;            ///< input index of each point, in spatial order
