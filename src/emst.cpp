@@ -93,6 +93,11 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
       double& best = bound[static_cast<std::size_t>(label[i])];
       const double limit = std::atomic_ref<double>(best).load(std::memory_order_relaxed);
       if (hinted && (per_point[i].valid() || hints.certain_radius2[i] > limit)) continue;
+      // An exact copy of an earlier point (its list starts with that point)
+      // shares its component from the first round on and would ask the very
+      // same question: only the first of the copies asks it. Thousands of
+      // copies of one point, each query a few hundred nodes, took seconds.
+      if (hinted && hints.lists->row(i)[0] != i) continue;
       const Neighbor nb = tree.nearest_with_other_label(points[i], label[i], label, node_label, limit);
       if (nb.index == KdTree<D>::no_child) continue;
       const Candidate c = Candidate::make(nb.distance2, i, nb.index);

@@ -117,10 +117,11 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
       Box<D> box;
       for (auto t = begin; t < end; ++t) box.extend(items[t].first);
       tree.boxes_[id] = box;
+      node.identical = box.min == box.max;
       if (end - begin > shape.leaf) {
         const Point extent = box.extent();
-        int axis = 0;
-        for (int a = 1; a < D; ++a)
+        std::uint8_t axis = 0;
+        for (std::uint8_t a = 1; a < D; ++a)
           if (extent[a] > extent[axis]) axis = a;
         const std::uint32_t mid = begin + (end - begin) / 2;
         std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
@@ -140,6 +141,10 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
         }
         node.left_max = tree.boxes_[node.left].max[axis];
         node.right_min = tree.boxes_[node.right].min[axis];
+        node.min_index = std::min(tree.nodes_[node.left].min_index, tree.nodes_[node.right].min_index);
+      } else {
+        node.min_index = no_child;
+        for (auto t = begin; t < end; ++t) node.min_index = std::min(node.min_index, items[t].second);
       }
       tree.nodes_[id] = node;
     }
@@ -167,6 +172,17 @@ template <class Visitor>
 void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offsets, Visitor& visitor) const {
   if (visitor.skip(id)) return;
   const Node& node = nodes_[id];
+  // Copies of one point: one distance for all, and a visitor that knows
+  // which of them can matter takes only those (see knn and
+  // nearest_with_other_label). Searches near a mass of identical points
+  // (a scanner's "no return" written as 0 0 0 again and again) stay
+  // logarithmic instead of visiting every copy.
+  if constexpr (requires { visitor.visit_identical(node, 0.0); }) {
+    if (node.identical) {
+      const double d2 = (points_[node.begin] - q).squaredNorm();
+      if (d2 <= visitor.bound() && visitor.visit_identical(node, d2)) return;
+    }
+  }
   if (node.is_leaf()) {
     for (auto t = node.begin; t < node.end; ++t) {
       const double d2 = (points_[t] - q).squaredNorm();
@@ -179,7 +195,11 @@ void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offs
   const double to_right = q[a] - node.right_min;  // < 0: q before the right child's points
   std::uint32_t near_child = node.left, far_child = node.right;
   double cut = to_right * to_right;
-  if (to_left + to_right >= 0) {
+  // On the split itself (both children touch q), the child holding the
+  // smaller indices first: ties are broken by index, so among many copies of
+  // q the winners are found first and the rest pruned (see knn).
+  const double side = to_left + to_right;
+  if (side > 0 || (side == 0 && nodes_[node.right].min_index < nodes_[node.left].min_index)) {
     std::swap(near_child, far_child);
     cut = to_left * to_left;
   }
@@ -217,10 +237,30 @@ std::size_t KdTree<D>::knn(const Point& q, std::span<Neighbor> out, double withi
   struct Visitor {
     KnnCollector collector;
     const std::uint32_t* order;
+    const Node* nodes;
     [[nodiscard]] double bound() const { return collector.bound(); }
-    [[nodiscard]] static bool skip(std::uint32_t) { return false; }
+    // Once k copies of q are found (the k-th distance is 0), a point can only
+    // enter by a smaller index: a node whose indices are all larger holds
+    // none. Without this, a query among a mass of identical points (a
+    // scanner's "no return" written as 0 0 0, over and over) would visit
+    // every copy, and all such queries together take quadratic time.
+    [[nodiscard]] bool skip(std::uint32_t id) const {
+      const auto& found = collector.out;
+      return collector.count == found.size() && found.back().distance2 == 0.0 &&
+             nodes[id].min_index > found.back().index;
+    }
     void visit(std::uint32_t t, double d2) { collector.offer(order[t], d2); }
-  } visitor{KnnCollector{out, 0, within2}, order_.data()};
+    // Tree positions are the indices once the tree is leaf-numbered: the
+    // node's first k positions are its k smallest indices, the only ones of
+    // these copies that can be among the k best.
+    bool visit_identical(const Node& node, double d2) {
+      if (!leaf_numbered) return false;
+      const auto last = std::min<std::size_t>(node.end, std::size_t{node.begin} + collector.out.size());
+      for (std::size_t t = node.begin; t < last; ++t) collector.offer(static_cast<std::uint32_t>(t), d2);
+      return true;
+    }
+    bool leaf_numbered;
+  } visitor{KnnCollector{out, 0, within2}, order_.data(), nodes_.data(), leaf_numbered_};
   if (out.empty()) return 0;
   search(q, visitor);
   return visitor.collector.count;
@@ -265,14 +305,27 @@ Neighbor KdTree<D>::nearest_with_other_label(const Point& q, std::int32_t own_la
     const std::int32_t* point_labels;
     const std::int32_t* node_labels;
     const std::uint32_t* order;
+    const Node* nodes;
     Neighbor best;
     [[nodiscard]] double bound() const { return best.distance2; }
-    [[nodiscard]] bool skip(std::uint32_t id) const { return node_labels[id] == own; }
+    // One label throughout, or (as in knn) a copy of q already found and
+    // every index here larger: nothing to gain.
+    [[nodiscard]] bool skip(std::uint32_t id) const {
+      return node_labels[id] == own || (best.distance2 == 0.0 && nodes[id].min_index > best.index);
+    }
     void visit(std::uint32_t t, double d2) {
       const std::uint32_t i = order[t];
       if (point_labels[i] != own && before(d2, i, best.distance2, best.index)) best = {i, d2};
     }
-  } visitor{own_label, point_labels.data(), node_labels.data(), order_.data(), Neighbor{no_child, max_distance2}};
+    // Copies of one point under one other label: the smallest index wins.
+    bool visit_identical(const Node& node, double d2) {
+      const std::int32_t label = node_labels[static_cast<std::size_t>(&node - nodes)];
+      if (label < 0 || label == own) return false;
+      if (before(d2, node.min_index, best.distance2, best.index)) best = {node.min_index, d2};
+      return true;
+    }
+  } visitor{own_label,     point_labels.data(), node_labels.data(), order_.data(), nodes_.data(),
+             Neighbor{no_child, max_distance2}};
   search(q, visitor);
   return visitor.best;
 }
@@ -299,6 +352,7 @@ template <int D>
 std::vector<std::uint32_t> KdTree<D>::renumber_by_leaf_order() {
   std::vector<std::uint32_t> former = order_;
   for (std::size_t t = 0; t < order_.size(); ++t) order_[t] = static_cast<std::uint32_t>(t);
+  for (Node& node : nodes_) node.min_index = node.begin;
   leaf_numbered_ = true;
   return former;
 }
@@ -320,6 +374,8 @@ KnnTable KdTree<D>::all_knn(int k) const {
   }
   return table;
 }
+
+static_assert(sizeof(KdTree<3>::Node) == 40, "a node fills 40 bytes, min_index its padding");
 
 template class KdTree<2>;
 template class KdTree<3>;

@@ -185,14 +185,24 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
       const double regular = std::min(1.5 * static_cast<double>(result.local_gap[i]), radius);
       result.local_rho[i] = static_cast<float>(regular + w * (radius - regular));
     }
-    result.rho = median(std::vector<double>(result.local_rho.begin(), result.local_rho.end()));
-    result.gap = median(std::vector<double>(result.local_gap.begin(), result.local_gap.end()));
+    // Medians over the neighbourhoods that have a spacing: when most of the
+    // cloud is copies of a few points, theirs (0) would otherwise be the median.
+    auto median_of_measured = [](const std::vector<float>& values) {
+      std::vector<double> measured;
+      measured.reserve(values.size());
+      for (const float v : values)
+        if (v > 0.0f) measured.push_back(static_cast<double>(v));
+      return measured.empty() ? 0.0 : median(std::move(measured));
+    };
+    result.rho = median_of_measured(result.local_rho);
+    result.gap = median_of_measured(result.local_gap);
     // A neighbourhood made only of copies of one point has no spacing to
-    // measure: give it the typical one.
-    for (std::size_t i = 0; i < n; ++i) {
-      if (result.local_rho[i] == 0.0f) result.local_rho[i] = static_cast<float>(result.rho);
+    // measure and no plane: its gap is taken as the typical one (phase II
+    // compares edges with it), and its rho_i stays 0, so that its plane, whose
+    // normal is arbitrary, draws no surface (a scanner's "no return" written
+    // as 0 0 0 thousands of times must not become a blob at the origin).
+    for (std::size_t i = 0; i < n; ++i)
       if (result.local_gap[i] == 0.0f) result.local_gap[i] = static_cast<float>(result.gap);
-    }
   }
   // Isolated samples (see the header): a neighbourhood reaching more than
   // isolation_factor times as far as those of the lower quarter of its
@@ -206,6 +216,10 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
 #pragma omp for schedule(static)
       for (std::int64_t s = 0; s < count; ++s) {
         const auto i = static_cast<std::size_t>(s);
+        if (result.radius[i] == 0.0f) {  // copies of one point only: no plane (see above), given rho or not
+          result.local_rho[i] = 0.0f;
+          continue;
+        }
         const double limit = static_cast<double>(result.radius[i]) / isolation_factor;
         // Cheap first: no neighbour's radius under the limit, no quarter of them.
         bool any_below = false;

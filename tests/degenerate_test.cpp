@@ -85,6 +85,19 @@ TEST(DegenerateClouds, HalfTheCloudDuplicatedStillGivesTheSurface) {
 // A geo-referenced scan: a 10 cm sphere sampled about 2.5 mm apart, at
 // coordinates of ten million. The mesh must be the one of the same points
 // near the origin, moved there, to far better than the spacing.
+// A scanner that writes "no return" as 0 0 0: 100,000 copies of one point
+// beside a sphere 10 units away. The copies have no plane and draw no
+// surface; the searches among them stay logarithmic (before, every k-NN and
+// EMST query among the copies visited all of them: hours).
+TEST(DegenerateClouds, MassOfIdenticalPointsDrawsNothingAndStaysFast) {
+  const auto sphere = make_sphere(1.0, Vec3(10, 10, 10));
+  PointCloud cloud = sphere_cloud(5000, 14, 1.0, Vec3(10, 10, 10));
+  cloud.positions.insert(cloud.positions.end(), 100000, Vec3::Zero());
+  const Reconstruction r = reconstruct(cloud);
+  EXPECT_EQ(r.planes.distinct_points, 5001u);
+  expect_closed_spheres(r, *sphere, 1, 0.01);
+}
+
 TEST(DegenerateClouds, GeoReferencedCoordinatesKeepTheirPrecision) {
   const Vec3 far(4512345.678, 5412345.123, 1.0e7);
   const PointCloud local = sphere_cloud(20000, 3, 0.1);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 
 namespace recon {
@@ -168,6 +169,56 @@ TEST(KdTree, NearestWithOtherLabelMatchesBruteForce) {
     const auto none = tree.nearest_with_other_label(pts[q], labels[q], labels, node_labels, expected.distance2 * 0.999);
     EXPECT_EQ(none.index, KdTree<3>::no_child);
     EXPECT_EQ(tree.nearest_with_other_label(pts[q], labels[q], labels, node_labels, expected.distance2), expected);
+  }
+}
+
+// Masses of copies of one point (a scanner's "no return" as 0 0 0, over and
+// over) take the searches' shortcuts: nodes of identical points, pruning by
+// index once k copies are found. Results must stay those of brute force,
+// with the tree numbered as built and by leaf order.
+TEST(KdTree, MassesOfCopiesMatchBruteForce) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Vec3> input;
+  for (int i = 0; i < 1500; ++i) input.emplace_back(unit(rng), unit(rng), unit(rng));
+  const std::vector<Vec3> masses = {Vec3(0, 0, 0), input[7], Vec3(0.5, 0.5, 0.5)};
+  for (const Vec3& m : masses) input.insert(input.end(), 400, m);
+  std::shuffle(input.begin(), input.end(), rng);
+  for (const bool renumber : {false, true}) {
+    KdTree<3> tree(input, {8});
+    if (renumber) (void)tree.renumber_by_leaf_order();
+    // Positions as the tree numbers them.
+    const std::vector<Vec3> pts(tree.points().begin(), tree.points().end());
+    std::vector<Vec3> at(pts.size());
+    for (std::size_t t = 0; t < pts.size(); ++t) at[tree.order()[t]] = pts[t];
+    std::vector<std::int32_t> labels(at.size());
+    for (std::size_t i = 0; i < at.size(); ++i) {
+      labels[i] = static_cast<std::int32_t>(rng() % 4);
+      for (std::size_t m = 0; m < 2; ++m)  // two masses of one label each, the third mixed
+        if (at[i] == masses[m]) labels[i] = 10 + static_cast<std::int32_t>(m);
+    }
+    const auto node_labels = tree.node_labels(labels);
+    std::vector<Vec3> queries(masses);
+    for (int j = 0; j < 20; ++j) queries.emplace_back(unit(rng), unit(rng), unit(rng));
+    for (int j = 0; j < 20; ++j) queries.push_back(at[rng() % at.size()]);
+    for (const Vec3& q : queries) {
+      const auto expected = brute_force(at, q);
+      for (int k : {1, 5, 20}) {
+        const auto got = tree.knn(q, k);
+        for (std::size_t j = 0; j < got.size(); ++j) ASSERT_EQ(got[j], expected[j]) << "k=" << k << " j=" << j;
+      }
+      for (const std::int32_t own : {0, 10, 11}) {
+        Neighbor want{KdTree<3>::no_child, std::numeric_limits<double>::infinity()};
+        for (const Neighbor& nb : expected)
+          if (labels[nb.index] != own) {
+            want = nb;
+            break;
+          }
+        ASSERT_EQ(tree.nearest_with_other_label(q, own, labels, node_labels, std::numeric_limits<double>::infinity()),
+                  want)
+            << "label " << own << (renumber ? ", leaf-numbered" : "");
+      }
+    }
   }
 }
 

@@ -91,6 +91,7 @@ struct TangentPlanes {
   std::vector<Vec<D>> normals;      ///< n_i, unit, unoriented
   std::vector<Values> eigenvalues;  ///< covariance eigenvalues, ascending
   std::vector<float> local_rho;     ///< rho_i (see above), or the given rho; 0 for an isolated sample
+                                    ///< and for a neighbourhood of copies of one point (no plane)
   std::vector<float> local_gap;     ///< gap_i (see above), or the given rho
   std::vector<float> radius;        ///< distance from x_i to the farthest point of N(x_i)
   NeighborLists neighbors;          ///< N(x_i), nearest first (x_i, or an earlier exact copy, first)
