@@ -118,14 +118,23 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
       for (auto t = begin; t < end; ++t) box.extend(items[t].first);
       tree.boxes_[id] = box;
       node.identical = box.min == box.max;
+      // Copies of one point, in index order (any order is a valid tree, as
+      // they coincide): a search then finds the smallest indices among them
+      // at the front (see descend).
+      if (node.identical &&
+          !std::is_sorted(items.begin() + begin, items.begin() + end,
+                          [](const auto& a, const auto& b) { return a.second < b.second; }))
+        std::sort(items.begin() + begin, items.begin() + end,
+                  [](const auto& a, const auto& b) { return a.second < b.second; });
       if (end - begin > shape.leaf) {
         const Point extent = box.extent();
         std::uint8_t axis = 0;
         for (std::uint8_t a = 1; a < D; ++a)
           if (extent[a] > extent[axis]) axis = a;
         const std::uint32_t mid = begin + (end - begin) / 2;
-        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                         [axis](const auto& a, const auto& b) { return a.first[axis] < b.first[axis]; });
+        if (!node.identical)
+          std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                           [axis](const auto& a, const auto& b) { return a.first[axis] < b.first[axis]; });
         node.axis = axis;
         node.left = id + 1;
         node.right = id + 1 + shape.nodes(mid - begin);
@@ -173,10 +182,11 @@ void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offs
   if (visitor.skip(id)) return;
   const Node& node = nodes_[id];
   // Copies of one point: one distance for all, and a visitor that knows
-  // which of them can matter takes only those (see knn and
-  // nearest_with_other_label). Searches near a mass of identical points
-  // (a scanner's "no return" written as 0 0 0 again and again) stay
-  // logarithmic instead of visiting every copy.
+  // which of them can matter takes only those (nearest_with_other_label:
+  // the EMST's searches near a mass of identical points, a scanner's "no
+  // return" written as 0 0 0 again and again, stay logarithmic instead of
+  // visiting every copy). k-NN does without: phase I asks once per run of
+  // copies, and the check would cost every other search.
   if constexpr (requires { visitor.visit_identical(node, 0.0); }) {
     if (node.identical) {
       const double d2 = (points_[node.begin] - q).squaredNorm();
@@ -195,11 +205,9 @@ void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offs
   const double to_right = q[a] - node.right_min;  // < 0: q before the right child's points
   std::uint32_t near_child = node.left, far_child = node.right;
   double cut = to_right * to_right;
-  // On the split itself (both children touch q), the child holding the
-  // smaller indices first: ties are broken by index, so among many copies of
-  // q the winners are found first and the rest pruned (see knn).
-  const double side = to_left + to_right;
-  if (side > 0 || (side == 0 && nodes_[node.right].min_index < nodes_[node.left].min_index)) {
+  // On the split itself, left first: in a leaf-numbered tree it holds the
+  // smaller indices, which win ties (see the pruning below).
+  if (to_left + to_right > 0) {
     std::swap(near_child, far_child);
     cut = to_left * to_left;
   }
@@ -208,7 +216,18 @@ void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offs
   const double rd_far = rd - old + cut;
   // The incremental sum can round a hair above the distance the leaf will
   // compute exactly; the slack keeps ties (which decide the answer) inside.
-  if (rd_far <= visitor.bound() * bound_slack) {
+  bool visit_far = rd_far <= visitor.bound() * bound_slack;
+  if constexpr (requires { visitor.tie_index(); }) {
+    // Only copies of q are still wanted (the bound is 0) and ties go to the
+    // smaller index: a subtree whose indices are all larger holds none. A
+    // mass of copies spread over many subtrees is then searched in
+    // logarithmic time, not by visiting every copy.
+    // (A bound of 0 admits only rd_far == 0, tested first: it is cheap and
+    // almost never true.)
+    if (rd_far == 0.0 && visitor.bound() == 0.0 && nodes_[far_child].min_index > visitor.tie_index())
+      visit_far = false;
+  }
+  if (visit_far) {
     offsets[a] = cut;
     descend(far_child, q, rd_far, offsets, visitor);
     offsets[a] = old;
@@ -237,30 +256,10 @@ std::size_t KdTree<D>::knn(const Point& q, std::span<Neighbor> out, double withi
   struct Visitor {
     KnnCollector collector;
     const std::uint32_t* order;
-    const Node* nodes;
     [[nodiscard]] double bound() const { return collector.bound(); }
-    // Once k copies of q are found (the k-th distance is 0), a point can only
-    // enter by a smaller index: a node whose indices are all larger holds
-    // none. Without this, a query among a mass of identical points (a
-    // scanner's "no return" written as 0 0 0, over and over) would visit
-    // every copy, and all such queries together take quadratic time.
-    [[nodiscard]] bool skip(std::uint32_t id) const {
-      const auto& found = collector.out;
-      return collector.count == found.size() && found.back().distance2 == 0.0 &&
-             nodes[id].min_index > found.back().index;
-    }
+    [[nodiscard]] static bool skip(std::uint32_t) { return false; }
     void visit(std::uint32_t t, double d2) { collector.offer(order[t], d2); }
-    // Tree positions are the indices once the tree is leaf-numbered: the
-    // node's first k positions are its k smallest indices, the only ones of
-    // these copies that can be among the k best.
-    bool visit_identical(const Node& node, double d2) {
-      if (!leaf_numbered) return false;
-      const auto last = std::min<std::size_t>(node.end, std::size_t{node.begin} + collector.out.size());
-      for (std::size_t t = node.begin; t < last; ++t) collector.offer(static_cast<std::uint32_t>(t), d2);
-      return true;
-    }
-    bool leaf_numbered;
-  } visitor{KnnCollector{out, 0, within2}, order_.data(), nodes_.data(), leaf_numbered_};
+  } visitor{KnnCollector{out, 0, within2}, order_.data()};
   if (out.empty()) return 0;
   search(q, visitor);
   return visitor.collector.count;
@@ -308,20 +307,17 @@ Neighbor KdTree<D>::nearest_with_other_label(const Point& q, std::int32_t own_la
     const Node* nodes;
     Neighbor best;
     [[nodiscard]] double bound() const { return best.distance2; }
-    // One label throughout, or (as in knn) a copy of q already found and
-    // every index here larger: nothing to gain.
-    [[nodiscard]] bool skip(std::uint32_t id) const {
-      return node_labels[id] == own || (best.distance2 == 0.0 && nodes[id].min_index > best.index);
-    }
+    [[nodiscard]] bool skip(std::uint32_t id) const { return node_labels[id] == own; }
+    [[nodiscard]] std::uint32_t tie_index() const { return best.index; }
     void visit(std::uint32_t t, double d2) {
       const std::uint32_t i = order[t];
       if (point_labels[i] != own && before(d2, i, best.distance2, best.index)) best = {i, d2};
     }
-    // Copies of one point under one other label: the smallest index wins.
+    // Copies of one point under one other label: the first (smallest index) wins.
     bool visit_identical(const Node& node, double d2) {
-      const std::int32_t label = node_labels[static_cast<std::size_t>(&node - nodes)];
-      if (label < 0 || label == own) return false;
-      if (before(d2, node.min_index, best.distance2, best.index)) best = {node.min_index, d2};
+      if (node_labels[static_cast<std::size_t>(&node - nodes)] < 0) return false;  // own labels are skipped
+      const std::uint32_t i = order[node.begin];
+      if (before(d2, i, best.distance2, best.index)) best = {i, d2};
       return true;
     }
   } visitor{own_label,     point_labels.data(), node_labels.data(), order_.data(), nodes_.data(),
@@ -375,7 +371,7 @@ KnnTable KdTree<D>::all_knn(int k) const {
   return table;
 }
 
-static_assert(sizeof(KdTree<3>::Node) == 40, "a node fills 40 bytes, min_index its padding");
+static_assert(sizeof(KdTree<3>::Node) == 40, "a node fills 40 bytes; `identical` and min_index live in the padding");
 
 template class KdTree<2>;
 template class KdTree<3>;

@@ -93,12 +93,16 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
       const auto i = static_cast<std::size_t>(leaf_order[static_cast<std::size_t>(t)]);
       const std::span<Neighbor> row_found(found.data(), kk);
       const Vec<D>& q = tree_points[static_cast<std::size_t>(t)];
-      double within2 = std::numeric_limits<double>::infinity();
-      if (previous == t - 1) {
-        const double reach = (previous_radius + (q - previous_point).norm()) * (1.0 + 1e-9);
-        within2 = reach * reach;
+      // A copy of the previous query has its answer already in `found` (a
+      // mass of copies of one point, stored together, costs one query).
+      if (previous != t - 1 || q != previous_point) {
+        double within2 = std::numeric_limits<double>::infinity();
+        if (previous == t - 1) {
+          const double reach = (previous_radius + (q - previous_point).norm()) * (1.0 + 1e-9);
+          within2 = reach * reach;
+        }
+        result.point_tree.knn(q, row_found, within2);
       }
-      result.point_tree.knn(q, row_found, within2);
       previous = t;
       previous_point = q;
       previous_radius = std::sqrt(found[kk - 1].distance2);

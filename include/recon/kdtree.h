@@ -89,8 +89,8 @@ class KdTree {
     std::uint32_t begin = 0, end = 0;
     std::uint32_t left = no_child, right = no_child;
     std::uint8_t axis = 0;
-    bool identical = false;       ///< every point of the node is a copy of one point
-    std::uint32_t min_index = 0;  ///< the smallest index of the node's points (as searches report it)
+    bool identical = false;       ///< every point of the node is a copy of one point; stored by increasing index
+    std::uint32_t min_index = 0;  ///< the smallest index among the node's points (as searches report them)
     double left_max = 0.0, right_min = 0.0;
     [[nodiscard]] bool is_leaf() const { return left == no_child; }
   };
