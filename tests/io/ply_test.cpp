@@ -213,9 +213,8 @@ TEST(PlyReader, AsciiBodyErrorsNameTheLine) {
       {"1 2 3\n4 5 6\n", "e.ply:11:", "promises 3 'vertex' elements"},
       {"1 2 3\n4 5 6\n7 8 9\n3 0 1\n", "e.ply:13:", "promises 1 'face'"},
       {"1 2 3\n4 five 6\n7 8 9\n3 0 1 2\n", "e.ply:11:", "expected a number for y, found 'five'"},
-      {"1 2 3\n4 5 6\n7 8 nan\n3 0 1 2\n", "e.ply:12:", "non-finite"},
-      {"1 2 3\n4 5 6\ninf 8 9\n3 0 1 2\n", "e.ply:12:", "non-finite"},
-      {"1 2 1e999\n4 5 6\n7 8 9\n3 0 1 2\n", "e.ply:10:", "too large for a double"},
+      {"1 2 1e999\n4 5 6\n7 8 9\n3 0 1 2\n", "e.ply:10:", "'1e999' for z does not fit its type float32"},
+      {"1 2 3\n4 5 6\n7 8 9\n300 0 1 2\n", "e.ply:13:", "length of list 'vertex_indices'"},
       {"1 2 3\n4 5 6\n7 8 9\nthree 0 1 2\n", "e.ply:13:", "length of list 'vertex_indices'"},
       {"1 2 3\n4 5 6\n7 8 9\n3 0 1 x\n", "e.ply:13:", "'x'"},
       {"1 2 3\n4 5 6\n7 8 9\n3 0 1 2\n\n5\n", "e.ply:15:", "after the last element"},
@@ -257,22 +256,6 @@ TEST(PlyReader, TruncatedBinaryListElement) {
   const std::string message = point_read_error(folder / "t.ply");
   EXPECT_CONTAINS(message, "t.ply: byte " + std::to_string(second_face) + ":");
   EXPECT_CONTAINS(message, "inside face 1");
-}
-
-TEST(PlyReader, NonFiniteBinaryValueSaysWhere) {
-  TempFolder folder;
-  for (const bool big : {false, true}) {
-    Bytes bytes(big);
-    bytes.text(std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
-               " 1.0\nelement vertex 2\nproperty double x\nproperty float y\nproperty double z\nend_header\n");
-    const std::size_t body = bytes.size();
-    bytes.put(1.0).put(2.0F).put(3.0);
-    bytes.put(1.0).put(std::numeric_limits<float>::signaling_NaN()).put(3.0);
-    write_file(folder / "n.ply", bytes.str());
-    const std::string message = point_read_error(folder / "n.ply");
-    EXPECT_CONTAINS(message, "n.ply: byte " + std::to_string(body + 20 + 8) + ":");
-    EXPECT_CONTAINS(message, "vertex 1: y");
-  }
 }
 
 TEST(PlyReader, HugeCountsInTheHeaderAllocateNothing) {
