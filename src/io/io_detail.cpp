@@ -69,8 +69,9 @@ FileContent read_file(const std::filesystem::path& path) {
   struct stat status {};
   if (::fstat(fd.get(), &status) != 0) throw IoError(name + ": cannot open: " + std::strerror(errno));
   if (S_ISDIR(status.st_mode)) throw IoError(name + ": cannot open: it is a folder, not a file");
-  if (!S_ISREG(status.st_mode)) return FileContent(read_to_end(fd.get(), name));
-  if (status.st_size == 0) return FileContent();
+  // Pipes and devices cannot be mapped; files of /proc and the like say they
+  // are empty and are not: read those, an empty file reads as empty anyway.
+  if (!S_ISREG(status.st_mode) || status.st_size == 0) return FileContent(read_to_end(fd.get(), name));
 
   const auto size = static_cast<std::size_t>(status.st_size);
   void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd.get(), 0);

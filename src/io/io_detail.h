@@ -299,6 +299,9 @@ class PointChecker {
               const std::size_t* offsets = nullptr) {
     check(n, location, names, offsets, false, normals_);
   }
+  /// Adopts what `other` found in normals (OBJ checks its normals apart and
+  /// keeps them only when there is one per point).
+  void take_normals(const PointChecker& other) { normals_ = other.normals_; }
   /// Throws ParseError "FILE: 3 points have a coordinate that is not finite
   /// or beyond +-1e+15; the first at line 17 (z = inf)" (and the same for
   /// normals) when anything was found.

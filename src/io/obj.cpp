@@ -30,7 +30,7 @@ struct ObjContent {
   std::vector<Vec3> normals;
   std::vector<std::array<std::uint32_t, 3>> triangles;
   PointChecker position_checker{false};
-  PointChecker normal_checker{false};  ///< reported only when the normals are kept
+  PointChecker normal_checker{false};  ///< taken into position_checker only when the normals are kept
 };
 
 /// OBJ ignores statements it does not know, so a binary or garbage file
@@ -119,13 +119,12 @@ ObjContent parse_obj(std::string_view file, std::string_view content, bool faces
 PointCloud read_obj_points(std::string_view file, std::string_view content) {
   ObjContent obj = parse_obj(file, content, false);
   if (obj.positions.empty()) fail_in_file(file, "no points: the file has no 'v x y z' line");
+  const bool keep_normals = obj.normals.size() == obj.positions.size();
+  if (keep_normals) obj.position_checker.take_normals(obj.normal_checker);
   obj.position_checker.report(file);
   PointCloud cloud;
   cloud.positions = std::move(obj.positions);
-  if (obj.normals.size() == cloud.positions.size()) {
-    obj.normal_checker.report(file);
-    cloud.normals = std::move(obj.normals);
-  }
+  if (keep_normals) cloud.normals = std::move(obj.normals);
   return cloud;
 }
 

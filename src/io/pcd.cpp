@@ -151,6 +151,13 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
     header.record_size += scalar_size(field.type) * field.count;
     header.columns += field.count;
   }
+  // A text line holds at most max_line_length / 2 values ("0 0 0 ..."): more
+  // columns cannot be read, and sizing the per-column tables by them would
+  // let a short header ask for gigabytes.
+  if (!header.binary && header.columns > max_line_length / 2)
+    fail_at_line(file, counts.line != 0 ? counts.line : names.line,
+                 "the fields add up to " + std::to_string(header.columns) + " values a point, more than a line of " +
+                     std::to_string(max_line_length) + " bytes can hold");
 
   std::array<bool, 6> found{};
   for (std::size_t w = 0; w < wanted_names.size(); ++w) {
