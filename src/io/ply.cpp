@@ -278,6 +278,9 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
 
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
+    // An element without properties holds nothing, whatever its count: walking
+    // a count of 10^12 such elements would take hours (found by fuzzing).
+    if (element.properties.empty()) continue;
     const bool is_vertex = e == wanted.vertex_element;
     const bool is_face = e == wanted.face_element;
     if (is_vertex) {

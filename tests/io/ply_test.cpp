@@ -1,6 +1,7 @@
 // PLY point reading and writing: every encoding and scalar type, elements in
 // any order, skipped lists, and every way a file can be malformed.
 
+#include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 
 #include "io/io_test_helpers.h"
@@ -8,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <limits>
 #include <string>
 
@@ -256,6 +258,21 @@ TEST(PlyReader, TruncatedBinaryListElement) {
   const std::string message = point_read_error(folder / "t.ply");
   EXPECT_CONTAINS(message, "t.ply: byte " + std::to_string(second_face) + ":");
   EXPECT_CONTAINS(message, "inside face 1");
+}
+
+TEST(PlyReader, HugeCountOfAnElementWithoutPropertiesCostsNothing) {
+  // Found by fuzzing (fuzz_ply_mesh, a timeout): an element without
+  // properties holds no values, so a count of 10^12 must not be walked.
+  TempFolder folder;
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement nothing 1000000000000\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  write_file(folder / "a.ply", header);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(read_points(folder / "a.ply").size(), 3U);
+  EXPECT_EQ(read_mesh(folder / "a.ply").triangles.size(), 1U);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
 }
 
 TEST(PlyReader, HugeCountsInTheHeaderAllocateNothing) {
