@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -89,6 +90,7 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
   if (!lines.next(line) || trim(line) != "ply") fail_at_line(file, 1, "not a PLY file: the first line must be 'ply'");
 
   PlyHeader header;
+  std::unordered_set<std::string_view> element_names;  // views into the content
   bool have_format = false;
   for (;;) {
     if (!lines.next(line)) fail_at_line(file, lines.line_number(), "the PLY header has no 'end_header' line");
@@ -128,9 +130,9 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
       PlyElement element;
       if (!fields.next(name) || !fields.next(count) || fields.count_rest() != 0 || !parse_count(count, element.count))
         fail_at_line(file, n, "bad element line " + excerpt(line) + ": expected 'element NAME COUNT'");
-      for (const PlyElement& other : header.elements) {
-        if (other.name == name) fail_at_line(file, n, "a second element named " + excerpt(name));
-      }
+      // A set, not a scan of the elements so far: a header of millions of
+      // elements would otherwise take quadratic time.
+      if (!element_names.insert(name).second) fail_at_line(file, n, "a second element named " + excerpt(name));
       element.name = name;
       element.line = n;
       header.elements.push_back(std::move(element));

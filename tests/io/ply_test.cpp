@@ -275,6 +275,19 @@ TEST(PlyReader, HugeCountOfAnElementWithoutPropertiesCostsNothing) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
 }
 
+TEST(PlyReader, AHeaderOfManyElementsTakesLinearTime) {
+  // Each element name is checked against the ones before it; a scan of them
+  // would make 100,000 elements take billions of comparisons.
+  TempFolder folder;
+  std::string header = "ply\nformat ascii 1.0\n";
+  for (int i = 0; i < 100000; ++i) header += "element e" + std::to_string(i) + " 0\n";
+  header += "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n";
+  write_file(folder / "many.ply", header);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(read_points(folder / "many.ply").size(), 1U);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+}
+
 TEST(PlyReader, HugeCountsInTheHeaderAllocateNothing) {
   TempFolder folder;
   const std::string binary =
