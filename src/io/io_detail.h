@@ -48,8 +48,6 @@ class FileContent {
   [[nodiscard]] std::string_view view() const {
     return map_ != nullptr ? std::string_view(static_cast<const char*>(map_), size_) : std::string_view(buffer_);
   }
-  /// True when the content is a memory map of the file (not a copy).
-  [[nodiscard]] bool is_mapped() const { return map_ != nullptr; }
 
  private:
   void swap(FileContent& other) noexcept {
@@ -169,11 +167,7 @@ constexpr std::uint64_t byte_swap(std::uint64_t v) {
 
 enum class Decoded { finite, nan, infinite };
 
-/// Reads one scalar of `type` at `bytes` (no alignment needed), swapping the
-/// byte order when `swap`. Floating-point values are classified from their
-/// bits before any conversion, so a signalling NaN in a file raises no
-/// floating-point exception: `value` is then a quiet NaN or an infinity of
-/// the same sign.
+/// Sets `value` to a quiet NaN or to an infinity of the given sign.
 inline Decoded non_finite(bool is_nan, bool negative, double& value) {
   if (is_nan) {
     value = std::numeric_limits<double>::quiet_NaN();
@@ -183,6 +177,11 @@ inline Decoded non_finite(bool is_nan, bool negative, double& value) {
   return Decoded::infinite;
 }
 
+/// Reads one scalar of `type` at `bytes` (no alignment needed), swapping the
+/// byte order when `swap`. Floating-point values are classified from their
+/// bits before any conversion, so a signalling NaN in a file raises no
+/// floating-point exception: `value` is then a quiet NaN or an infinity of
+/// the same sign.
 inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, double& value) {
   switch (type) {
     case ScalarType::int8: {
@@ -239,7 +238,8 @@ inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, doub
       std::memcpy(&bits, bytes, 8);
       if (swap) bits = byte_swap(bits);
       constexpr std::uint64_t exponent = 0x7ff0000000000000ULL;
-      if ((bits & exponent) == exponent) return non_finite((bits & ~(exponent | (1ULL << 63))) != 0, (bits >> 63) != 0, value);
+      if ((bits & exponent) == exponent)
+        return non_finite((bits & ~(exponent | (1ULL << 63))) != 0, (bits >> 63) != 0, value);
       std::memcpy(&value, &bits, 8);
       return Decoded::finite;
     }
@@ -266,7 +266,9 @@ void append_little_endian(std::string& out, T value) {
 /// "+-1e+15", for messages.
 [[nodiscard]] std::string coordinate_bound();
 /// True when |value| <= max_coordinate (false for NaN and infinity).
-[[nodiscard]] inline bool coordinate_in_range(double value) { return value >= -max_coordinate && value <= max_coordinate; }
+[[nodiscard]] inline bool coordinate_in_range(double value) {
+  return value >= -max_coordinate && value <= max_coordinate;
+}
 
 /// True when a number read as text for a value of `type` is within the
 /// type's range: an integer type's limits, or float's largest magnitude.

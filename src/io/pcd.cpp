@@ -250,7 +250,8 @@ void read_ascii_data(std::string_view file, std::string_view content, const PcdH
     ++read;
     if (std::isnan(values[0]) && std::isnan(values[1]) && std::isnan(values[2])) continue;  // no measurement
     checker.position(cloud.positions.emplace_back(values[0], values[1], values[2]), n, position_names);
-    if (header.normals) checker.normal(cloud.normals.emplace_back(values[3], values[4], values[5]), n, pcd_normal_names);
+    if (header.normals)
+      checker.normal(cloud.normals.emplace_back(values[3], values[4], values[5]), n, pcd_normal_names);
   }
   if (read != header.points)
     fail_at_line(file, lines.line_number(),

@@ -21,8 +21,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <iostream>
 #include <cstdint>
+#include <iostream>
 #include <limits>
 #include <random>
 #include <string>
@@ -76,7 +76,10 @@ std::vector<BadFile> common_cases(const std::string& first_line) {
       // The same without any line end: the file ends inside the long line.
       {first_line + std::string(3 * max_line, ' '), ":2: ", "line 2 is longer than 1048576 bytes"},
       // A binary file (an executable's first bytes) given as text.
-      {first_line + std::string("\x7f" "ELF\x02\x01\x01\0\0\0\0", 11), ":2: ", "a NUL byte at column 8"},
+      {first_line + std::string("\x7f"
+                                "ELF\x02\x01\x01\0\0\0\0",
+                                11),
+       ":2: ", "a NUL byte at column 8"},
   };
 }
 
@@ -89,22 +92,25 @@ TEST(BadFiles, Ply) {
   const std::string binary_header =
       "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
       "property float z\nend_header\n";
-  cases.insert(cases.end(), {
-      // The header only: the body is missing.
-      {ply_ascii_header, ":8: ", "the file ends inside vertex 0 (counting from 0), but the header promises 2"},
-      {binary_header, ": byte " + std::to_string(binary_header.size()) + ": ",
-       "the file ends inside vertex 0 (counting from 0), but the header promises 2"},
-      // Numbers too large for the property's type.
-      {ply_ascii_header + "1 2 3 255\n1 2 3 256\n", ":10: ", "'256' for red does not fit its type uint8 (0 to 255)"},
-      {ply_ascii_header + "1 2 3 -1\n", ":9: ", "'-1' for red does not fit its type uint8"},
-      {ply_ascii_header + "1 2 4e38 0\n", ":9: ", "'4e38' for z does not fit its type float32"},
-      // A long line in the body, where values may wrap across lines.
-      {ply_ascii_header + "1 2 3 4\n" + std::string(max_line + 1, ' ') + "5\n", ":10: ",
-       "line 10 is longer than 1048576 bytes"},
-      {ply_ascii_header + "1 2 3 4\n1 2 3" + std::string(max_line, '0') + "\n", ":10: ",
-       "line 10 is longer than 1048576 bytes"},
-      {ply_ascii_header + "1 2 3 4\n" + std::string("1 2\0 3 4\n", 9), ":10: ", "a NUL byte at column 4"},
-  });
+  cases.insert(
+      cases.end(),
+      {
+          // The header only: the body is missing.
+          {ply_ascii_header, ":8: ", "the file ends inside vertex 0 (counting from 0), but the header promises 2"},
+          {binary_header, ": byte " + std::to_string(binary_header.size()) + ": ",
+           "the file ends inside vertex 0 (counting from 0), but the header promises 2"},
+          // Numbers too large for the property's type.
+          {ply_ascii_header + "1 2 3 255\n1 2 3 256\n",
+           ":10: ", "'256' for red does not fit its type uint8 (0 to 255)"},
+          {ply_ascii_header + "1 2 3 -1\n", ":9: ", "'-1' for red does not fit its type uint8"},
+          {ply_ascii_header + "1 2 4e38 0\n", ":9: ", "'4e38' for z does not fit its type float32"},
+          // A long line in the body, where values may wrap across lines.
+          {ply_ascii_header + "1 2 3 4\n" + std::string(max_line + 1, ' ') + "5\n",
+           ":10: ", "line 10 is longer than 1048576 bytes"},
+          {ply_ascii_header + "1 2 3 4\n1 2 3" + std::string(max_line, '0') + "\n",
+           ":10: ", "line 10 is longer than 1048576 bytes"},
+          {ply_ascii_header + "1 2 3 4\n" + std::string("1 2\0 3 4\n", 9), ":10: ", "a NUL byte at column 4"},
+      });
   expect_refused("bad.ply", cases);
 }
 
@@ -122,22 +128,24 @@ TEST(BadFiles, Pts) {
 
 TEST(BadFiles, Obj) {
   std::vector<BadFile> cases = common_cases("v 1 2 3\n");
-  cases.insert(cases.end(), {
-      // OBJ skips statements it does not know; bytes that cannot begin a statement end the reading.
-      {"v 1 2 3\n\x89PNG\r\n", ":2: ", "expected an OBJ statement (v, vn, f, ...), found '?PNG'"},
-      {"v 1 2 3\nv 1e999 0 0\n", ":2: ", "'1e999' for x is too large for a double"},
-  });
+  cases.insert(cases.end(),
+               {
+                   // OBJ skips statements it does not know; bytes that cannot begin a statement end the reading.
+                   {"v 1 2 3\n\x89PNG\r\n", ":2: ", "expected an OBJ statement (v, vn, f, ...), found '?PNG'"},
+                   {"v 1 2 3\nv 1e999 0 0\n", ":2: ", "'1e999' for x is too large for a double"},
+               });
   expect_refused("bad.obj", cases);
 }
 
 TEST(BadFiles, Off) {
   std::vector<BadFile> cases = common_cases("OFF\n");
   cases.insert(cases.end(), {
-      // The header only, and a header that promises more vertices than there are.
-      {"OFF\n3 1 0\n", ":2: ", "the file ends after 0 vertices; the header promises 3"},
-      {"OFF\n# c\n1000000000000 0 0\n0 0 0\n", ":4: ", "the file ends after 1 vertices; the header promises 1000000000000"},
-      {"OFF\n1 0 0\n0 0 1e999\n", ":3: ", "'1e999' for z is too large for a double"},
-  });
+                                // The header only, and a header that promises more vertices than there are.
+                                {"OFF\n3 1 0\n", ":2: ", "the file ends after 0 vertices; the header promises 3"},
+                                {"OFF\n# c\n1000000000000 0 0\n0 0 0\n",
+                                 ":4: ", "the file ends after 1 vertices; the header promises 1000000000000"},
+                                {"OFF\n1 0 0\n0 0 1e999\n", ":3: ", "'1e999' for z is too large for a double"},
+                            });
   expect_refused("bad.off", cases);
 }
 
@@ -145,19 +153,21 @@ TEST(BadFiles, Pcd) {
   std::vector<BadFile> cases = common_cases("FIELDS x y z\n");
   const std::string header = "FIELDS x y z i\nSIZE 4 4 4 1\nTYPE F F F U\nPOINTS 2\n";
   const std::string binary = header + "DATA binary\n";
-  cases.insert(cases.end(), {
-      // The header only.
-      {header + "DATA ascii\n", ":5: ", "the file ends after 0 points; the header promises 2"},
-      {binary, ": byte " + std::to_string(binary.size()) + ": ", "the header promises 2 points of 13 bytes"},
-      // Numbers too large for the field's type.
-      {header + "DATA ascii\n1 2 3 4\n1 2 3 256\n", ":7: ", "'256' in column 4 does not fit its type uint8"},
-      {header + "DATA ascii\n1 2 5e38 4\n", ":6: ", "'5e38' in column 3 does not fit its type float32"},
-      // More values a line than a line can hold: refused before anything is sized by the count.
-      {"FIELDS x y z h\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1048576\nPOINTS 1\nDATA ascii\n1 2 3\n", ":4: ",
-       "the fields add up to 1048579 values a point"},
-      // A wrong magic word: PCD has none, but any unknown header line is refused.
-      {"ply\nformat ascii 1.0\n", ":1: ", "unexpected line in the PCD header: 'ply'"},
-  });
+  cases.insert(
+      cases.end(),
+      {
+          // The header only.
+          {header + "DATA ascii\n", ":5: ", "the file ends after 0 points; the header promises 2"},
+          {binary, ": byte " + std::to_string(binary.size()) + ": ", "the header promises 2 points of 13 bytes"},
+          // Numbers too large for the field's type.
+          {header + "DATA ascii\n1 2 3 4\n1 2 3 256\n", ":7: ", "'256' in column 4 does not fit its type uint8"},
+          {header + "DATA ascii\n1 2 5e38 4\n", ":6: ", "'5e38' in column 3 does not fit its type float32"},
+          // More values a line than a line can hold: refused before anything is sized by the count.
+          {"FIELDS x y z h\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1048576\nPOINTS 1\nDATA ascii\n1 2 3\n",
+           ":4: ", "the fields add up to 1048579 values a point"},
+          // A wrong magic word: PCD has none, but any unknown header line is refused.
+          {"ply\nformat ascii 1.0\n", ":1: ", "unexpected line in the PCD header: 'ply'"},
+      });
   expect_refused("bad.pcd", cases);
 }
 
@@ -179,17 +189,23 @@ constexpr const char* three_bad = "3 points have a coordinate that is not finite
 TEST(BadCoordinates, TextFormats) {
   // Three bad points: NaN, infinity, and a value beyond 1e15, after good ones.
   const std::vector<std::pair<const char*, BadFile>> cases = {
-      {"c.xyz", {"0 0 0\n# c\n1 nan 0\n1 1 1\n-inf 0 0\n0 0 2e15\n", ": ", std::string(three_bad) + "line 3 (y = nan)"}},
-      {"c.pts", {"p 0 0 0\np 1 2 -1.5e15\np inf 0 0\nd 1 2 3\np 0 nan 0\n", ": ",
-                 std::string(three_bad) + "line 2 (z = -1.5e+15)"}},
-      {"c.obj", {"v 0 0 0\nvt 1 1\nv 0 0 INF\nv 1e16 0 0\nv 0 NaN 0\n", ": ", std::string(three_bad) + "line 3 (z = inf)"}},
-      {"c.off", {"OFF\n4 0 0\n0 0 0\n1 2 nan\n1e300 0 0\n0 -inf 0\n", ": ", std::string(three_bad) + "line 4 (z = nan)"}},
-      {"c.ply", {"ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
-                 "property uchar red\nend_header\n0 0 0 1\n1 1 nan 2\n\n2 2 2\n3\n-1e20 0 0 4\ninf 0 0 5\n",
-                 ": ", std::string(three_bad) + "line 10 (z = nan)"}},
-      {"c.pcd", {"FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nPOINTS 5\nDATA ascii\n0 0 0\nnan nan nan\n1 nan 1\n"
-                 "inf 1 1\n1 1 -2e15\n",
-                 ": ", std::string(three_bad) + "line 8 (y = nan)"}},
+      {"c.xyz",
+       {"0 0 0\n# c\n1 nan 0\n1 1 1\n-inf 0 0\n0 0 2e15\n", ": ", std::string(three_bad) + "line 3 (y = nan)"}},
+      {"c.pts",
+       {"p 0 0 0\np 1 2 -1.5e15\np inf 0 0\nd 1 2 3\np 0 nan 0\n", ": ",
+        std::string(three_bad) + "line 2 (z = -1.5e+15)"}},
+      {"c.obj",
+       {"v 0 0 0\nvt 1 1\nv 0 0 INF\nv 1e16 0 0\nv 0 NaN 0\n", ": ", std::string(three_bad) + "line 3 (z = inf)"}},
+      {"c.off",
+       {"OFF\n4 0 0\n0 0 0\n1 2 nan\n1e300 0 0\n0 -inf 0\n", ": ", std::string(three_bad) + "line 4 (z = nan)"}},
+      {"c.ply",
+       {"ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+        "property uchar red\nend_header\n0 0 0 1\n1 1 nan 2\n\n2 2 2\n3\n-1e20 0 0 4\ninf 0 0 5\n",
+        ": ", std::string(three_bad) + "line 10 (z = nan)"}},
+      {"c.pcd",
+       {"FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nPOINTS 5\nDATA ascii\n0 0 0\nnan nan nan\n1 nan 1\n"
+        "inf 1 1\n1 1 -2e15\n",
+        ": ", std::string(three_bad) + "line 8 (y = nan)"}},
   };
   for (const auto& [name, c] : cases) expect_refused(name, {c});
 }
@@ -204,13 +220,16 @@ TEST(BadCoordinates, NormalsThatAreNotFinite) {
   // Normals only need to be finite (their length does not matter); a bad
   // position and a bad normal are both reported.
   const std::vector<std::pair<const char*, BadFile>> cases = {
-      {"n.xyz", {"0 0 0 0 0 1\n1 1 1 nan 0 1\n2 2 2 0 1e300 0\n", ": ",
-                 "1 point has a normal that is not finite (NaN or infinity); the first at line 2 (nx = nan)"}},
-      {"n.off", {"NOFF\n2 0 0\n0 0 0 0 0 1\n1 1 1 0 -inf 0\n", ": ",
-                 "1 point has a normal that is not finite (NaN or infinity); the first at line 4 (ny = -inf)"}},
-      {"n.obj", {"v 0 0 0\nv 1 1 nan\nvn 0 0 1\nvn 0 0 nan\n", ": ",
-                 "1 point has a coordinate that is not finite or beyond +-1e+15; the first at line 2 (z = nan); and "
-                 "1 point has a normal that is not finite (NaN or infinity); the first at line 4 (nz = nan)"}},
+      {"n.xyz",
+       {"0 0 0 0 0 1\n1 1 1 nan 0 1\n2 2 2 0 1e300 0\n", ": ",
+        "1 point has a normal that is not finite (NaN or infinity); the first at line 2 (nx = nan)"}},
+      {"n.off",
+       {"NOFF\n2 0 0\n0 0 0 0 0 1\n1 1 1 0 -inf 0\n", ": ",
+        "1 point has a normal that is not finite (NaN or infinity); the first at line 4 (ny = -inf)"}},
+      {"n.obj",
+       {"v 0 0 0\nv 1 1 nan\nvn 0 0 1\nvn 0 0 nan\n", ": ",
+        "1 point has a coordinate that is not finite or beyond +-1e+15; the first at line 2 (z = nan); and "
+        "1 point has a normal that is not finite (NaN or infinity); the first at line 4 (nz = nan)"}},
   };
   for (const auto& [name, c] : cases) expect_refused(name, {c});
 }
@@ -240,7 +259,8 @@ TEST(BadCoordinates, BinaryFormatsNameTheByte) {
     const std::string message = point_read_error(folder / "b.ply");
     EXPECT_EQ(message, (folder / "b.ply").string() + ": " + three_bad + "byte " + std::to_string(body + 32 + 8) +
                            " (y = nan); and 1 point has a normal that is not finite (NaN or infinity); the first at "
-                           "byte " + std::to_string(body + 64 + 24) + " (ny = inf)");
+                           "byte " +
+                           std::to_string(body + 64 + 24) + " (ny = inf)");
   }
 
   // PCD: the all-NaN point is "no measurement" and skipped; the others are counted.
@@ -254,8 +274,10 @@ TEST(BadCoordinates, BinaryFormatsNameTheByte) {
   pcd.put(1.0F).put(2.0F).put(nan);
   write_file(folder / "b.pcd", pcd.str());
   EXPECT_EQ(point_read_error(folder / "b.pcd"),
-            (folder / "b.pcd").string() + ": 2 points have a coordinate that is not finite or beyond +-1e+15; the first "
-                                          "at byte " + std::to_string(data + 24 + 4) + " (y = inf)");
+            (folder / "b.pcd").string() +
+                ": 2 points have a coordinate that is not finite or beyond +-1e+15; the first "
+                "at byte " +
+                std::to_string(data + 24 + 4) + " (y = inf)");
 }
 
 // --------------------------------------------------------------------------
@@ -272,8 +294,9 @@ TEST(BadFiles, ALineOfExactlyTheLimitIsRead) {
   EXPECT_EQ(cloud.positions[1], Vec3(4, 5, 6));
 
   // ASCII PLY: the line limit counts from each line end, not across the body.
-  std::string ply = "ply\nformat ascii 1.0\nelement vertex 100000\nproperty double x\nproperty double y\n"
-                    "property double z\nend_header\n";
+  std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 100000\nproperty double x\nproperty double y\n"
+      "property double z\nend_header\n";
   for (int i = 0; i < 100000; ++i) ply += "0.125 -2.5 1234.5\n";  // 1.8 MB of body
   write_file(folder / "big.ply", ply);
   EXPECT_EQ(read_points(folder / "big.ply").size(), 100000U);
@@ -287,8 +310,7 @@ TEST(BadFiles, UnreadableFile) {
   if (::geteuid() != 0) {
     write_file(folder / "locked.xyz", "1 2 3\n");
     std::filesystem::permissions(folder / "locked.xyz", std::filesystem::perms::none);
-    const std::string message =
-        message_of<IoError>([&] { static_cast<void>(read_points(folder / "locked.xyz")); });
+    const std::string message = message_of<IoError>([&] { static_cast<void>(read_points(folder / "locked.xyz")); });
     EXPECT_TRUE(message.starts_with((folder / "locked.xyz").string() + ": cannot open: Permission denied")) << message;
   } else {
     // As root, permissions do not stop reading; a file whose read() fails does: /proc/self/mem at
@@ -372,7 +394,8 @@ TEST(BadFiles, GigabytesOfGarbageAreRefusedAfterTheFirstPages) {
     EXPECT_LT(seconds, 1.0) << c.name;
     if (peak_resettable) {
       const std::size_t peak = peak_resident_bytes().value_or(0);
-      EXPECT_LT(peak, before + (std::size_t{16} << 20)) << c.name << ": the peak grew by " << (peak - before) << " bytes";
+      EXPECT_LT(peak, before + (std::size_t{16} << 20))
+          << c.name << ": the peak grew by " << (peak - before) << " bytes";
     }
     std::filesystem::remove(path);
   }
