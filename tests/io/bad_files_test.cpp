@@ -234,15 +234,6 @@ TEST(BadCoordinates, NormalsThatAreNotFinite) {
   for (const auto& [name, c] : cases) expect_refused(name, {c});
 }
 
-TEST(BadCoordinates, ObjNormalsThatAreDroppedAreNotChecked) {
-  // Two vn lines for three v lines cannot be matched to the points and are dropped, NaN or not.
-  TempFolder folder;
-  write_file(folder / "d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn nan 0 0\nvn 0 0 1\n");
-  const PointCloud cloud = read_points(folder / "d.obj");
-  EXPECT_EQ(cloud.size(), 3U);
-  EXPECT_FALSE(cloud.has_normals());
-}
-
 TEST(BadCoordinates, BinaryFormatsNameTheByte) {
   TempFolder folder;
   for (const bool big : {false, true}) {
