@@ -325,6 +325,30 @@ TEST_F(CliErrors, MalformedTextNamesFileAndLine) {
   EXPECT_EQ(entries(), std::vector<std::string>{"bad.xyz"});
 }
 
+TEST_F(CliErrors, BadFilesOfEveryKindAreOneLineAndExitOne) {
+  // One of each kind of bad file the readers refuse (the messages themselves
+  // are checked in tests/io/bad_files_test.cpp): the program says it in one
+  // line naming the file and the place, and exits with status 1.
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"empty.ply", ""},
+      {"header.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                     "property float z\nend_header\n"},
+      {"long.xyz", "0 0 0\n" + std::string((std::size_t{1} << 20) + 1, '1') + "\n"},
+      {"binary.obj", std::string("v 0 0 0\n\x7f" "ELF\x02\x01\x01\0\0\0\0", 19)},
+      {"huge.off", "OFF\n3 0 0\n0 0 0\n1e16 0 0\n0 1 0\n"},
+      {"type.pcd", "FIELDS x y z\nSIZE 1 1 1\nTYPE U U U\nPOINTS 1\nDATA ascii\n1 2 300\n"},
+  };
+  const std::vector<std::string> where = {"empty.ply: the file is empty", "header.ply:7: ", "long.xyz:2: ",
+                                          "binary.obj:2: ", "huge.off: 1 point has", "type.pcd:6: "};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    write_file(at(files[i].first), files[i].second);
+    const RunResult run = recon({"reconstruct", files[i].first, "-o", "out.ply"});
+    EXPECT_TRUE(refused(run, {where[i]})) << files[i].first;
+    EXPECT_TRUE(run.err.starts_with("recon: error: " + where[i])) << describe(run);
+  }
+  EXPECT_FALSE(fs::exists(at("out.ply")));
+}
+
 TEST_F(CliErrors, TruncatedBinaryPlyNamesTheByte) {
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 200, "whole.ply"));
   const std::string whole = read_bytes(at("whole.ply"));
@@ -341,7 +365,9 @@ TEST_F(CliErrors, NanCoordinateNamesTheLine) {
   write_file(at("nan.xyz"), "# a comment\n0 0 0\n\n1 0 0\n1 nan 2\n0 1 0\n");
   const RunResult run = recon({"reconstruct", "nan.xyz", "-o", "out.ply"});
   EXPECT_TRUE(refused(run));
-  EXPECT_TRUE(run.err.starts_with("recon: error: nan.xyz:5:")) << describe(run);
+  EXPECT_TRUE(run.err.starts_with("recon: error: nan.xyz: 1 point has a coordinate that is not finite or beyond "
+                                  "+-1e+15; the first at line 5 (y = nan)"))
+      << describe(run);
   EXPECT_EQ(entries(), std::vector<std::string>{"nan.xyz"});
 }
 

@@ -4,7 +4,8 @@
 // mesh_io.cpp choose among them.
 //
 // A reader gets the file name (for messages only) and the whole content of
-// the file, which is not empty. A writer gets data already checked by
+// the file, which is not empty (usually a memory map of it: a reader must
+// look no further than it needs, so garbage is refused early). A writer gets data already checked by
 // check_cloud_for_writing / check_mesh_for_writing and an open stream.
 
 #include "recon/mesh.h"

@@ -5,39 +5,80 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <memory>
+#include <cstring>
+#include <limits>
 #include <system_error>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace recon::io::detail {
 
-std::string read_file(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError(name + ": cannot open: it is a folder, not a file");
+FileContent::~FileContent() {
+  if (map_ != nullptr) ::munmap(const_cast<void*>(map_), size_);
+}
 
-  struct CloseFile {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-  };
-  const std::unique_ptr<std::FILE, CloseFile> file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw IoError(name + ": cannot open: " + std::strerror(errno));
+namespace {
 
-  // Size the buffer from the file size when it is known, then keep reading
-  // until the end (the size is only a hint: pipes have none).
+/// A file descriptor closed when it goes out of scope.
+class Descriptor {
+ public:
+  explicit Descriptor(int fd) : fd_(fd) {}
+  Descriptor(const Descriptor&) = delete;
+  Descriptor& operator=(const Descriptor&) = delete;
+  ~Descriptor() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  [[nodiscard]] int get() const { return fd_; }
+
+ private:
+  int fd_;
+};
+
+/// Reads until the end (pipes, character devices, files that cannot be mapped).
+std::string read_to_end(int fd, const std::string& name) {
   std::string content;
-  const std::uintmax_t size_hint = std::filesystem::file_size(path, ec);
-  std::size_t chunk = ec ? std::size_t{1} << 20 : static_cast<std::size_t>(size_hint) + 1;
   std::size_t used = 0;
+  constexpr std::size_t chunk = std::size_t{1} << 20;
   for (;;) {
     content.resize(used + chunk);
-    const std::size_t got = std::fread(content.data() + used, 1, chunk, file.get());
-    used += got;
-    if (got < chunk) break;
-    chunk = std::max<std::size_t>(chunk, std::size_t{1} << 20);
+    const ssize_t got = ::read(fd, content.data() + used, chunk);
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw IoError(name + ": cannot read: " + std::strerror(errno));
+    }
+    if (got == 0) break;
+    used += static_cast<std::size_t>(got);
   }
-  if (std::ferror(file.get()) != 0) throw IoError(name + ": cannot read: " + std::strerror(errno));
   content.resize(used);
   return content;
+}
+
+}  // namespace
+
+FileContent read_file(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  const Descriptor fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  if (fd.get() < 0) {
+    // open() succeeds on a folder; EISDIR only comes for other flags, but say it plainly anyway.
+    if (errno == EISDIR) throw IoError(name + ": cannot open: it is a folder, not a file");
+    throw IoError(name + ": cannot open: " + std::strerror(errno));
+  }
+  struct stat status {};
+  if (::fstat(fd.get(), &status) != 0) throw IoError(name + ": cannot open: " + std::strerror(errno));
+  if (S_ISDIR(status.st_mode)) throw IoError(name + ": cannot open: it is a folder, not a file");
+  // Pipes and devices cannot be mapped; files of /proc and the like say they
+  // are empty and are not: read those, an empty file reads as empty anyway.
+  if (!S_ISREG(status.st_mode) || status.st_size == 0) return FileContent(read_to_end(fd.get(), name));
+
+  const auto size = static_cast<std::size_t>(status.st_size);
+  void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd.get(), 0);
+  if (map == MAP_FAILED) return FileContent(read_to_end(fd.get(), name));  // e.g. a file system without mmap
+  // The readers walk the file from the front: let the kernel read ahead.
+  static_cast<void>(::madvise(map, size, MADV_SEQUENTIAL));
+  return FileContent(map, size);  // the mapping outlives the descriptor
 }
 
 namespace {
@@ -165,11 +206,81 @@ double parse_coordinate(std::string_view file, std::size_t line, std::string_vie
   double value = 0.0;
   const NumberStatus status = parse_double(token, value);
   if (status != NumberStatus::ok) fail_at_line(file, line, describe_bad_number(status, token, what));
-  if (!std::isfinite(value))
-    fail_at_line(
-        file, line,
-        "non-finite value " + excerpt(token) + " for " + std::string(what) + " (NaN and infinity are not allowed)");
   return value;
+}
+
+bool fits_type(double value, ScalarType type) {
+  if (std::isnan(value)) return !is_integer_type(type);
+  switch (type) {
+    case ScalarType::int8: return value >= -128.0 && value <= 127.0;
+    case ScalarType::uint8: return value >= 0.0 && value <= 255.0;
+    case ScalarType::int16: return value >= -32768.0 && value <= 32767.0;
+    case ScalarType::uint16: return value >= 0.0 && value <= 65535.0;
+    case ScalarType::int32: return value >= -2147483648.0 && value <= 2147483647.0;
+    case ScalarType::uint32: return value >= 0.0 && value <= 4294967295.0;
+    // 2^63 and 2^64 are exactly representable; the largest 64-bit integers are not.
+    case ScalarType::int64: return value >= -0x1p63 && value < 0x1p63;
+    case ScalarType::uint64: return value >= 0.0 && value < 0x1p64;
+    case ScalarType::float32:
+      return std::isinf(value) || std::abs(value) <= static_cast<double>(std::numeric_limits<float>::max());
+    case ScalarType::float64: return true;
+  }
+  return false;
+}
+
+std::string describe_range(ScalarType type) {
+  switch (type) {
+    case ScalarType::int8: return "its type int8 (-128 to 127)";
+    case ScalarType::uint8: return "its type uint8 (0 to 255)";
+    case ScalarType::int16: return "its type int16 (-32768 to 32767)";
+    case ScalarType::uint16: return "its type uint16 (0 to 65535)";
+    case ScalarType::int32: return "its type int32 (-2^31 to 2^31 - 1)";
+    case ScalarType::uint32: return "its type uint32 (0 to 2^32 - 1)";
+    case ScalarType::int64: return "its type int64 (-2^63 to 2^63 - 1)";
+    case ScalarType::uint64: return "its type uint64 (0 to 2^64 - 1)";
+    case ScalarType::float32: return "its type float32 (magnitude at most 3.4028235e+38)";
+    case ScalarType::float64: return "its type float64";
+  }
+  return "its type";
+}
+
+std::string coordinate_bound() {
+  std::string text = "+-";
+  append_number(text, max_coordinate);  // "+-1e+15"
+  return text;
+}
+
+void PointChecker::check(const Vec3& v, std::size_t location, const std::string_view (&names)[3],
+                         const std::size_t* offsets, bool bounded, Found& found) {
+  for (int k = 0; k < 3; ++k) {
+    const double value = v[k];
+    if (bounded ? coordinate_in_range(value) : std::isfinite(value)) continue;
+    if (found.count++ == 0) {
+      found.location = location + (offsets != nullptr ? offsets[k] : 0);
+      found.first = std::string(names[k]) + " = ";
+      append_number(found.first, value);
+    }
+    return;  // one point counts once
+  }
+}
+
+void PointChecker::report(std::string_view file) const {
+  if (positions_.count == 0 && normals_.count == 0) return;
+  const auto describe = [&](const Found& found, std::string_view what) {
+    std::string text = std::to_string(found.count) + (found.count == 1 ? " point has " : " points have ");
+    text += what;
+    text += binary_ ? "; the first at byte " : "; the first at line ";
+    text += std::to_string(found.location) + " (" + found.first + ")";
+    return text;
+  };
+  std::string message;
+  if (positions_.count != 0)
+    message = describe(positions_, "a coordinate that is not finite or beyond " + coordinate_bound());
+  if (normals_.count != 0) {
+    if (!message.empty()) message += "; and ";
+    message += describe(normals_, "a normal that is not finite (NaN or infinity)");
+  }
+  fail_in_file(file, message);
 }
 
 void append_number(std::string& out, double value) {
@@ -186,6 +297,10 @@ void append_integer(std::string& out, std::uint64_t value) {
 
 namespace {
 bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+/// What the readers accept as a coordinate: finite and within +-max_coordinate.
+bool readable(const Vec3& v) {
+  return coordinate_in_range(v.x()) && coordinate_in_range(v.y()) && coordinate_in_range(v.z());
+}
 }  // namespace
 
 void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
@@ -194,8 +309,9 @@ void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
     throw InvalidInputError(name + ": cannot write: the cloud has " + std::to_string(cloud.normals.size()) +
                             " normals for " + std::to_string(cloud.positions.size()) + " points");
   for (std::size_t i = 0; i < cloud.positions.size(); ++i) {
-    if (!finite(cloud.positions[i]))
-      throw InvalidInputError(name + ": cannot write: point " + std::to_string(i) + " has a non-finite coordinate");
+    if (!readable(cloud.positions[i]))
+      throw InvalidInputError(name + ": cannot write: point " + std::to_string(i) +
+                              " has a coordinate that is not finite or beyond " + coordinate_bound());
   }
   for (std::size_t i = 0; i < cloud.normals.size(); ++i) {
     if (!finite(cloud.normals[i]))
@@ -207,8 +323,9 @@ void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
 void check_mesh_for_writing(std::string_view file, const Mesh& mesh) {
   const std::string name(file);
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    if (!finite(mesh.vertices[i]))
-      throw InvalidInputError(name + ": cannot write: vertex " + std::to_string(i) + " has a non-finite coordinate");
+    if (!readable(mesh.vertices[i]))
+      throw InvalidInputError(name + ": cannot write: vertex " + std::to_string(i) +
+                              " has a coordinate that is not finite or beyond " + coordinate_bound());
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (const std::uint32_t v : mesh.triangles[t]) {
@@ -228,7 +345,8 @@ void append_vec3_text(std::string& out, const Vec3& v) {
   append_number(out, v.z());
 }
 
-Vec3 parse_vec3(std::string_view file, std::size_t line, const std::string_view* tokens, const char* const names[3]) {
+Vec3 parse_vec3(std::string_view file, std::size_t line, const std::string_view* tokens,
+                const std::string_view (&names)[3]) {
   const double x = parse_coordinate(file, line, tokens[0], names[0]);
   const double y = parse_coordinate(file, line, tokens[1], names[1]);
   const double z = parse_coordinate(file, line, tokens[2], names[2]);

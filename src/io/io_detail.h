@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -23,10 +24,52 @@ namespace recon::io::detail {
 // ---------------------------------------------------------------------------
 // Files and error messages
 
-/// The whole content of a file, read in one go (the readers parse from
-/// memory). Throws IoError "FILE: cannot open: reason" when the file is
-/// missing, is a folder or cannot be read.
-[[nodiscard]] std::string read_file(const std::filesystem::path& path);
+/// The content of a file, seen as one block of bytes. A regular file is
+/// mapped read-only (mmap, MAP_PRIVATE) rather than copied: the readers touch
+/// only the pages they parse, so a multi-gigabyte file of garbage costs a few
+/// pages before it is refused, and a large valid file is not held twice. A
+/// pipe or another file that cannot be mapped is read into memory instead.
+/// The view is valid while the object lives; the file must not be shortened
+/// meanwhile (reading a page cut off the end of a mapped file is fatal).
+class FileContent {
+ public:
+  FileContent() = default;
+  explicit FileContent(std::string bytes) : buffer_(std::move(bytes)) {}
+  FileContent(const void* map, std::size_t size) : map_(map), size_(size) {}
+  FileContent(FileContent&& other) noexcept { swap(other); }
+  FileContent& operator=(FileContent&& other) noexcept {
+    swap(other);
+    return *this;
+  }
+  FileContent(const FileContent&) = delete;
+  FileContent& operator=(const FileContent&) = delete;
+  ~FileContent();
+
+  [[nodiscard]] std::string_view view() const {
+    return map_ != nullptr ? std::string_view(static_cast<const char*>(map_), size_) : std::string_view(buffer_);
+  }
+
+ private:
+  void swap(FileContent& other) noexcept {
+    std::swap(map_, other.map_);
+    std::swap(size_, other.size_);
+    std::swap(buffer_, other.buffer_);
+  }
+  const void* map_ = nullptr;
+  std::size_t size_ = 0;
+  std::string buffer_;
+};
+
+/// The content of the file at `path` (see FileContent). Throws IoError
+/// "FILE: cannot open: reason" when the file is missing, is a folder or
+/// cannot be read.
+[[nodiscard]] FileContent read_file(const std::filesystem::path& path);
+
+/// The longest line the text readers accept, in bytes. Real point files have
+/// lines of a few dozen bytes; a longer line means binary data or garbage,
+/// and the limit keeps a scan for the end of a line from running through a
+/// whole multi-gigabyte file.
+inline constexpr std::size_t max_line_length = std::size_t{1} << 20;
 
 /// Throw ParseError "FILE:LINE: what" (text content).
 [[noreturn]] void fail_at_line(std::string_view file, std::size_t line, std::string_view what);
@@ -61,8 +104,9 @@ enum class NumberStatus { ok, not_a_number, overflow };
 [[nodiscard]] std::string describe_bad_number(NumberStatus status, std::string_view token, std::string_view what);
 
 /// Parses a coordinate or normal component `what` ("x", "nz", ...) from
-/// text: a finite number, or ParseError "FILE:LINE: ..." saying what is wrong
-/// (not a number, too large for a double, NaN or infinity).
+/// text, or throws ParseError "FILE:LINE: ..." when it is not a number or is
+/// too large for a double. NaN and infinity are returned as they are: the
+/// reader counts them with a PointChecker and refuses them at the end.
 [[nodiscard]] double parse_coordinate(std::string_view file, std::size_t line, std::string_view token,
                                       std::string_view what);
 
@@ -75,11 +119,11 @@ void append_integer(std::string& out, std::uint64_t value);
 void append_vec3_text(std::string& out, const Vec3& v);
 
 /// Field names used in messages about a position or a normal.
-inline constexpr const char* position_names[3] = {"x", "y", "z"};
-inline constexpr const char* normal_names[3] = {"nx", "ny", "nz"};
+inline constexpr std::string_view position_names[3] = {"x", "y", "z"};
+inline constexpr std::string_view normal_names[3] = {"nx", "ny", "nz"};
 /// Three coordinates from tokens[0..2] with parse_coordinate.
 [[nodiscard]] Vec3 parse_vec3(std::string_view file, std::size_t line, const std::string_view* tokens,
-                              const char* const names[3]);
+                              const std::string_view (&names)[3]);
 
 // ---------------------------------------------------------------------------
 // Binary scalars
@@ -123,10 +167,21 @@ constexpr std::uint64_t byte_swap(std::uint64_t v) {
 
 enum class Decoded { finite, nan, infinite };
 
+/// Sets `value` to a quiet NaN or to an infinity of the given sign.
+inline Decoded non_finite(bool is_nan, bool negative, double& value) {
+  if (is_nan) {
+    value = std::numeric_limits<double>::quiet_NaN();
+    return Decoded::nan;
+  }
+  value = negative ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+  return Decoded::infinite;
+}
+
 /// Reads one scalar of `type` at `bytes` (no alignment needed), swapping the
 /// byte order when `swap`. Floating-point values are classified from their
 /// bits before any conversion, so a signalling NaN in a file raises no
-/// floating-point exception; `value` is set only when the result is finite.
+/// floating-point exception: `value` is then a quiet NaN or an infinity of
+/// the same sign.
 inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, double& value) {
   switch (type) {
     case ScalarType::int8: {
@@ -171,7 +226,8 @@ inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, doub
       std::uint32_t bits = 0;
       std::memcpy(&bits, bytes, 4);
       if (swap) bits = byte_swap(bits);
-      if ((bits & 0x7f800000U) == 0x7f800000U) return (bits & 0x007fffffU) != 0 ? Decoded::nan : Decoded::infinite;
+      if ((bits & 0x7f800000U) == 0x7f800000U)
+        return non_finite((bits & 0x007fffffU) != 0, (bits >> 31) != 0, value);
       float f = 0.0F;
       std::memcpy(&f, &bits, 4);
       value = static_cast<double>(f);
@@ -183,7 +239,7 @@ inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, doub
       if (swap) bits = byte_swap(bits);
       constexpr std::uint64_t exponent = 0x7ff0000000000000ULL;
       if ((bits & exponent) == exponent)
-        return (bits & ~(exponent | (1ULL << 63))) != 0 ? Decoded::nan : Decoded::infinite;
+        return non_finite((bits & ~(exponent | (1ULL << 63))) != 0, (bits >> 63) != 0, value);
       std::memcpy(&value, &bits, 8);
       return Decoded::finite;
     }
@@ -203,6 +259,68 @@ void append_little_endian(std::string& out, T value) {
   }
   out.append(bytes, sizeof(T));
 }
+
+// ---------------------------------------------------------------------------
+// Values recon refuses
+
+/// "+-1e+15", for messages.
+[[nodiscard]] std::string coordinate_bound();
+/// True when |value| <= max_coordinate (false for NaN and infinity).
+[[nodiscard]] inline bool coordinate_in_range(double value) {
+  return value >= -max_coordinate && value <= max_coordinate;
+}
+
+/// True when a number read as text for a value of `type` is within the
+/// type's range: an integer type's limits, or float's largest magnitude.
+/// Fractions are not checked (the value is kept as a double); NaN and
+/// infinity fit the floating-point types (PointChecker decides on them).
+[[nodiscard]] bool fits_type(double value, ScalarType type);
+/// "its type uint8 (0 to 255)", ... for messages about a value that does not fit.
+[[nodiscard]] std::string describe_range(ScalarType type);
+
+/// Counts, while a reader goes on reading, the points whose position has a
+/// coordinate that is NaN, infinite or beyond +-max_coordinate, and those
+/// whose normal has a component that is NaN or infinite, remembering where
+/// the first of each is; report() then refuses them all in one message.
+/// Reading on costs nothing for a good file and tells the user of a bad one
+/// how much is wrong, not only the first problem.
+class PointChecker {
+ public:
+  /// `binary`: locations are byte offsets, else line numbers.
+  explicit PointChecker(bool binary) : binary_(binary) {}
+
+  /// Checks a position read at `location`; `names` name its coordinates in
+  /// messages. Binary readers may give the byte offset of each coordinate
+  /// from `location` in `offsets`, so the message points at the bad value.
+  void position(const Vec3& p, std::size_t location, const std::string_view (&names)[3],
+                const std::size_t* offsets = nullptr) {
+    check(p, location, names, offsets, true, positions_);
+  }
+  /// Checks a normal (only finiteness: its length does not matter).
+  void normal(const Vec3& n, std::size_t location, const std::string_view (&names)[3],
+              const std::size_t* offsets = nullptr) {
+    check(n, location, names, offsets, false, normals_);
+  }
+  /// Adopts what `other` found in normals (OBJ checks its normals apart and
+  /// keeps them only when there is one per point).
+  void take_normals(const PointChecker& other) { normals_ = other.normals_; }
+  /// Throws ParseError "FILE: 3 points have a coordinate that is not finite
+  /// or beyond +-1e+15; the first at line 17 (z = inf)" (and the same for
+  /// normals) when anything was found.
+  void report(std::string_view file) const;
+
+ private:
+  struct Found {
+    std::uint64_t count = 0;
+    std::size_t location = 0;
+    std::string first;  ///< "z = inf"
+  };
+  void check(const Vec3& v, std::size_t location, const std::string_view (&names)[3], const std::size_t* offsets,
+             bool bounded, Found& found);
+  bool binary_;
+  Found positions_;
+  Found normals_;
+};
 
 // ---------------------------------------------------------------------------
 // Output
@@ -237,10 +355,11 @@ class BlockWriter {
 // Checks before writing
 
 /// Throws InvalidInputError "FILE: ..." when the cloud cannot be written
-/// faithfully: normals present but not one per position, or a non-finite value.
+/// faithfully or would not read back: normals present but not one per
+/// position, a non-finite value, or a coordinate beyond max_coordinate.
 void check_cloud_for_writing(std::string_view file, const PointCloud& cloud);
-/// Throws InvalidInputError "FILE: ..." for a non-finite vertex or a vertex
-/// index out of range.
+/// Throws InvalidInputError "FILE: ..." for a vertex coordinate that is not
+/// finite or beyond max_coordinate, or a vertex index out of range.
 void check_mesh_for_writing(std::string_view file, const Mesh& mesh);
 
 }  // namespace recon::io::detail

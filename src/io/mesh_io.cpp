@@ -69,7 +69,8 @@ Mesh read_mesh(const std::filesystem::path& path) {
   const std::string file = path.string();
   if (format == MeshFormat::stl)
     throw InvalidInputError(file + ": reading STL is not supported (it has no shared vertices); use PLY, OBJ or OFF");
-  const std::string content = detail::read_file(path);
+  const detail::FileContent file_content = detail::read_file(path);
+  const std::string_view content = file_content.view();
   if (content.empty()) detail::fail_in_file(file, "the file is empty");
   switch (format) {
     case MeshFormat::ply: return detail::read_ply_mesh(file, content);

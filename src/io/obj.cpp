@@ -15,6 +15,7 @@
 #include "io_detail.h"
 #include "text_scanner.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -28,10 +29,21 @@ struct ObjContent {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;
   std::vector<std::array<std::uint32_t, 3>> triangles;
+  PointChecker position_checker{false};
+  PointChecker normal_checker{false};  ///< taken into position_checker only when the normals are kept
 };
 
+/// OBJ ignores statements it does not know, so a binary or garbage file
+/// would be walked to its end; a statement keyword is letters, digits and
+/// '_' (v, vt, usemtl, c_interp, curv2, ...), and anything else is refused.
+bool is_keyword(std::string_view word) {
+  return std::all_of(word.begin(), word.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
 Vec3 parse_three(std::string_view file, std::size_t line, Fields& fields, std::string_view keyword,
-                 const char* const names[3]) {
+                 const std::string_view (&names)[3]) {
   std::array<std::string_view, 3> tokens;
   for (std::size_t k = 0; k < 3; ++k) {
     if (!fields.next(tokens[k]))
@@ -42,7 +54,7 @@ Vec3 parse_three(std::string_view file, std::size_t line, Fields& fields, std::s
 
 ObjContent parse_obj(std::string_view file, std::string_view content, bool faces) {
   ObjContent obj;
-  LineScanner lines(content);
+  LineScanner lines(file, content);
   std::string_view line;
   std::vector<std::uint32_t> corners;
   std::uint64_t largest_index = 0;  // of the positive (forward) references, checked at the end
@@ -54,9 +66,13 @@ ObjContent parse_obj(std::string_view file, std::string_view content, bool faces
     std::string_view keyword;
     if (!fields.next(keyword)) continue;
     if (keyword == "v") {
-      obj.positions.push_back(parse_three(file, n, fields, keyword, position_names));
+      obj.position_checker.position(obj.positions.emplace_back(parse_three(file, n, fields, keyword, position_names)),
+                                    n, position_names);
     } else if (keyword == "vn") {
-      obj.normals.push_back(parse_three(file, n, fields, keyword, normal_names));
+      obj.normal_checker.normal(obj.normals.emplace_back(parse_three(file, n, fields, keyword, normal_names)), n,
+                                normal_names);
+    } else if (!is_keyword(keyword)) {
+      fail_at_line(file, n, "expected an OBJ statement (v, vn, f, ...), found " + excerpt(keyword));
     } else if (keyword == "f" && faces) {
       corners.clear();
       for (std::string_view corner; fields.next(corner);) {
@@ -103,15 +119,19 @@ ObjContent parse_obj(std::string_view file, std::string_view content, bool faces
 PointCloud read_obj_points(std::string_view file, std::string_view content) {
   ObjContent obj = parse_obj(file, content, false);
   if (obj.positions.empty()) fail_in_file(file, "no points: the file has no 'v x y z' line");
+  const bool keep_normals = obj.normals.size() == obj.positions.size();
+  if (keep_normals) obj.position_checker.take_normals(obj.normal_checker);
+  obj.position_checker.report(file);
   PointCloud cloud;
   cloud.positions = std::move(obj.positions);
-  if (obj.normals.size() == cloud.positions.size()) cloud.normals = std::move(obj.normals);
+  if (keep_normals) cloud.normals = std::move(obj.normals);
   return cloud;
 }
 
 Mesh read_obj_mesh(std::string_view file, std::string_view content) {
   ObjContent obj = parse_obj(file, content, true);
   if (obj.triangles.empty()) fail_in_file(file, "no triangles: the file has no 'f' line");
+  obj.position_checker.report(file);
   Mesh mesh;
   mesh.vertices = std::move(obj.positions);
   mesh.triangles = std::move(obj.triangles);

@@ -93,6 +93,8 @@ struct OffReader {
     read_counts(count_fields, {});
   }
 
+  /// The vertices (and their normals for NOFF); non-finite or huge values
+  /// are counted and refused after the last vertex.
   std::vector<Vec3> read_vertices(std::vector<Vec3>& normal_list) {
     std::vector<Vec3> positions;
     // A vertex line takes at least five bytes ("0 0 0"): never reserve more than the file can hold.
@@ -101,6 +103,7 @@ struct OffReader {
     if (normals) normal_list.reserve(positions.capacity());
     static constexpr std::array<std::string_view, 6> names = {"x", "y", "z", "nx", "ny", "nz"};
     const std::size_t wanted = normals ? 6 : 3;
+    PointChecker checker(false);
     std::string_view line;
     for (std::uint64_t i = 0; i < vertex_count; ++i) {
       if (!next_data_line(line))
@@ -117,9 +120,11 @@ struct OffReader {
                            (normals ? " (x y z nx ny nz)" : " (x y z)") + ", found " + std::to_string(k));
         values[k] = parse_coordinate(file, lines.line_number(), token, names[k]);
       }
-      positions.emplace_back(values[0], values[1], values[2]);
-      if (normals) normal_list.emplace_back(values[3], values[4], values[5]);
+      checker.position(positions.emplace_back(values[0], values[1], values[2]), lines.line_number(), position_names);
+      if (normals)
+        checker.normal(normal_list.emplace_back(values[3], values[4], values[5]), lines.line_number(), normal_names);
     }
+    checker.report(file);
     return positions;
   }
 
@@ -166,7 +171,7 @@ struct OffReader {
 };
 
 OffReader start(std::string_view file, std::string_view content) {
-  OffReader reader{file, content, LineScanner(content)};
+  OffReader reader{file, content, LineScanner(file, content)};
   reader.read_header();
   return reader;
 }

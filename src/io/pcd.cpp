@@ -8,7 +8,8 @@
 //
 // PCL marks a point without a measurement (in organized clouds from depth
 // cameras) by x = y = z = NaN; such points are skipped. Any other NaN or
-// infinity in x, y, z or the normal is an error. DATA binary_compressed
+// infinity in x, y, z or the normal, or a coordinate beyond max_coordinate,
+// is counted and refused at the end (PointChecker). DATA binary_compressed
 // (LZF) is refused with a hint to convert the file.
 
 #include "formats.h"
@@ -50,6 +51,7 @@ struct PcdHeader {
 };
 
 constexpr std::array<std::string_view, 6> wanted_names = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
+constexpr std::string_view pcd_normal_names[3] = {"normal_x", "normal_y", "normal_z"};
 
 bool scalar_type_from_pcd(std::string_view type, std::uint64_t size, ScalarType& result) {
   struct Known {
@@ -78,7 +80,7 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
     std::size_t line = 0;  // 0: absent
   };
   Entry names, sizes, types, counts, width, height, points;
-  LineScanner lines(content);
+  LineScanner lines(file, content);
   std::string_view line;
   PcdHeader header;
   for (;;) {
@@ -149,6 +151,13 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
     header.record_size += scalar_size(field.type) * field.count;
     header.columns += field.count;
   }
+  // A text line holds at most max_line_length / 2 values ("0 0 0 ..."): more
+  // columns cannot be read, and sizing the per-column tables by them would
+  // let a short header ask for gigabytes.
+  if (!header.binary && header.columns > max_line_length / 2)
+    fail_at_line(file, counts.line != 0 ? counts.line : names.line,
+                 "the fields add up to " + std::to_string(header.columns) + " values a point, more than a line of " +
+                     std::to_string(max_line_length) + " bytes can hold");
 
   std::array<bool, 6> found{};
   for (std::size_t w = 0; w < wanted_names.size(); ++w) {
@@ -198,14 +207,18 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
 }
 
 void read_ascii_data(std::string_view file, std::string_view content, const PcdHeader& header, PointCloud& cloud) {
-  LineScanner lines(content, header.data_offset, header.data_line + 1);
+  LineScanner lines(file, content, header.data_offset, header.data_line + 1);
+  PointChecker checker(false);
   // A value takes at least two characters: cap the reservation by the text left.
   const std::uint64_t room = (content.size() - header.data_offset) / (2 * header.columns) + 1;
   cloud.positions.reserve(static_cast<std::size_t>(std::min(header.points, room)));
   if (header.normals) cloud.normals.reserve(cloud.positions.capacity());
 
-  // Which slot (0-5) each column fills, or -1.
+  // Which slot (0-5) each column fills, or -1, and the type of its field.
   std::vector<int> slot_of_column(header.columns, -1);
+  std::vector<ScalarType> type_of_column;
+  type_of_column.reserve(header.columns);
+  for (const PcdField& field : header.fields) type_of_column.insert(type_of_column.end(), field.count, field.type);
   const std::size_t slots = header.normals ? 6 : 3;
   for (std::size_t s = 0; s < slots; ++s) slot_of_column[header.fields[header.wanted[s]].column] = static_cast<int>(s);
 
@@ -221,6 +234,9 @@ void read_ascii_data(std::string_view file, std::string_view content, const PcdH
       double value = 0.0;
       const NumberStatus status = parse_double(token, value);
       if (status != NumberStatus::ok) fail_at_line(file, n, describe_bad_number(status, token, "a PCD value"));
+      if (!fits_type(value, type_of_column[column]))
+        fail_at_line(file, n, excerpt(token) + " in column " + std::to_string(column + 1) + " does not fit " +
+                                  describe_range(type_of_column[column]));
       if (const int s = slot_of_column[column]; s >= 0) values[static_cast<std::size_t>(s)] = value;
     }
     if (column == 0) continue;  // blank line
@@ -233,18 +249,15 @@ void read_ascii_data(std::string_view file, std::string_view content, const PcdH
                        " values on a line (one per field, times its COUNT), found " + std::to_string(column));
     ++read;
     if (std::isnan(values[0]) && std::isnan(values[1]) && std::isnan(values[2])) continue;  // no measurement
-    for (std::size_t s = 0; s < slots; ++s) {
-      if (!std::isfinite(values[s]))
-        fail_at_line(file, n,
-                     "non-finite value for " + std::string(wanted_names[s]) + " (NaN and infinity are not allowed)");
-    }
-    cloud.positions.emplace_back(values[0], values[1], values[2]);
-    if (header.normals) cloud.normals.emplace_back(values[3], values[4], values[5]);
+    checker.position(cloud.positions.emplace_back(values[0], values[1], values[2]), n, position_names);
+    if (header.normals)
+      checker.normal(cloud.normals.emplace_back(values[3], values[4], values[5]), n, pcd_normal_names);
   }
   if (read != header.points)
     fail_at_line(file, lines.line_number(),
                  "the file ends after " + std::to_string(read) + " points; the header promises " +
                      std::to_string(header.points));
+  checker.report(file);
 }
 
 void read_binary_data(std::string_view file, std::string_view content, const PcdHeader& header, PointCloud& cloud) {
@@ -260,24 +273,25 @@ void read_binary_data(std::string_view file, std::string_view content, const Pcd
   if (header.normals) cloud.normals.reserve(count);
   const bool swap = needs_swap(false);  // PCL writes the memory of little-endian machines
   const std::size_t slots = header.normals ? 6 : 3;
+  std::array<std::size_t, 6> offsets{};
+  for (std::size_t s = 0; s < slots; ++s) offsets[s] = header.fields[header.wanted[s]].byte_offset;
+  PointChecker checker(true);
   for (std::size_t i = 0; i < count; ++i) {
     const std::size_t start = header.data_offset + i * record;
     std::array<double, 6> values{};
     std::array<Decoded, 6> kinds{};
     for (std::size_t s = 0; s < slots; ++s) {
       const PcdField& field = header.fields[header.wanted[s]];
-      kinds[s] = decode_scalar(content.data() + start + field.byte_offset, field.type, swap, values[s]);
+      kinds[s] = decode_scalar(content.data() + start + offsets[s], field.type, swap, values[s]);
     }
     if (kinds[0] == Decoded::nan && kinds[1] == Decoded::nan && kinds[2] == Decoded::nan) continue;  // no measurement
-    for (std::size_t s = 0; s < slots; ++s) {
-      if (kinds[s] != Decoded::finite)
-        fail_at_byte(file, start + header.fields[header.wanted[s]].byte_offset,
-                     "point " + std::to_string(i) + ": " + std::string(wanted_names[s]) +
-                         " is not a finite number (NaN or infinity)");
-    }
-    cloud.positions.emplace_back(values[0], values[1], values[2]);
-    if (header.normals) cloud.normals.emplace_back(values[3], values[4], values[5]);
+    checker.position(cloud.positions.emplace_back(values[0], values[1], values[2]), start, position_names,
+                     offsets.data());
+    if (header.normals)
+      checker.normal(cloud.normals.emplace_back(values[3], values[4], values[5]), start, pcd_normal_names,
+                     offsets.data() + 3);
   }
+  checker.report(file);
 }
 
 }  // namespace

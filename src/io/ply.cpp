@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -84,11 +85,12 @@ constexpr std::string_view known_types =
     "float64";
 
 PlyHeader parse_header(std::string_view file, std::string_view content) {
-  LineScanner lines(content);
+  LineScanner lines(file, content);
   std::string_view line;
   if (!lines.next(line) || trim(line) != "ply") fail_at_line(file, 1, "not a PLY file: the first line must be 'ply'");
 
   PlyHeader header;
+  std::unordered_set<std::string_view> element_names;  // views into the content
   bool have_format = false;
   for (;;) {
     if (!lines.next(line)) fail_at_line(file, lines.line_number(), "the PLY header has no 'end_header' line");
@@ -128,9 +130,9 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
       PlyElement element;
       if (!fields.next(name) || !fields.next(count) || fields.count_rest() != 0 || !parse_count(count, element.count))
         fail_at_line(file, n, "bad element line " + excerpt(line) + ": expected 'element NAME COUNT'");
-      for (const PlyElement& other : header.elements) {
-        if (other.name == name) fail_at_line(file, n, "a second element named " + excerpt(name));
-      }
+      // A set, not a scan of the elements so far: a header of millions of
+      // elements would otherwise take quadratic time.
+      if (!element_names.insert(name).second) fail_at_line(file, n, "a second element named " + excerpt(name));
       element.name = name;
       element.line = n;
       header.elements.push_back(std::move(element));
@@ -255,15 +257,32 @@ void add_fan(const std::vector<std::uint32_t>& corners, std::vector<std::array<s
   for (std::size_t k = 1; k + 1 < corners.size(); ++k) triangles.push_back({corners[0], corners[k], corners[k + 1]});
 }
 
+/// A value of `property` (of type `type`: the item type for lists) as text:
+/// a number within the range of the type, else ParseError at `line`.
+double parse_value(std::string_view file, std::size_t line, std::string_view token, const PlyProperty& property,
+                   ScalarType type) {
+  double value = 0.0;
+  const NumberStatus status = parse_double(token, value);
+  if (status == NumberStatus::not_a_number)
+    fail_at_line(file, line, describe_bad_number(status, token, property.name));
+  if (status == NumberStatus::overflow || !fits_type(value, type))
+    fail_at_line(file, line, excerpt(token) + " for " + property.name + " does not fit " + describe_range(type));
+  return value;
+}
+
 void read_ascii_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
                      PlyContent& out) {
-  TokenScanner tokens(content, header.body_offset, header.end_header_line + 1);
+  TokenScanner tokens(file, content, header.body_offset, header.end_header_line + 1);
+  PointChecker checker(false);
   const std::uint64_t vertex_count = header.elements[wanted.vertex_element].count;
   std::string_view token;
   std::vector<std::uint32_t> corners;
 
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
+    // An element without properties holds nothing, whatever its count: walking
+    // a count of 10^12 such elements would take hours (found by fuzzing).
+    if (element.properties.empty()) continue;
     const bool is_vertex = e == wanted.vertex_element;
     const bool is_face = e == wanted.face_element;
     if (is_vertex) {
@@ -279,17 +298,12 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
         const PlyProperty& property = element.properties[p];
         if (!tokens.next(token)) fail_at_line(file, tokens.line_number(), ends_early(element, i));
         if (!property.is_list) {
-          if (is_vertex && wanted.slot[p] >= 0) {
-            values[static_cast<std::size_t>(wanted.slot[p])] =
-                parse_coordinate(file, tokens.line_number(), token, property.name);
-          } else if (double ignored = 0.0; parse_double(token, ignored) == NumberStatus::not_a_number) {
-            fail_at_line(file, tokens.line_number(),
-                         describe_bad_number(NumberStatus::not_a_number, token, property.name));
-          }
+          const double value = parse_value(file, tokens.line_number(), token, property, property.type);
+          if (is_vertex && wanted.slot[p] >= 0) values[static_cast<std::size_t>(wanted.slot[p])] = value;
           continue;
         }
         std::uint64_t length = 0;
-        if (!parse_count(token, length))
+        if (!parse_count(token, length) || !fits_type(static_cast<double>(length), property.count_type))
           fail_at_line(file, tokens.line_number(),
                        "expected the length of list " + excerpt(property.name) + " of " + element.name + " " +
                            std::to_string(i) + ", found " + excerpt(token));
@@ -313,16 +327,18 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
                            "face " + std::to_string(i) + " uses vertex " + std::to_string(index) +
                                ", but the file has " + std::to_string(vertex_count) + " vertices");
             corners.push_back(static_cast<std::uint32_t>(index));
-          } else if (double ignored = 0.0; parse_double(token, ignored) == NumberStatus::not_a_number) {
-            fail_at_line(file, tokens.line_number(),
-                         describe_bad_number(NumberStatus::not_a_number, token, property.name));
+          } else {
+            static_cast<void>(parse_value(file, tokens.line_number(), token, property, property.type));
           }
         }
         if (keep) add_fan(corners, out.triangles);
       }
       if (is_vertex) {
-        out.positions.emplace_back(values[0], values[1], values[2]);
-        if (wanted.normals) out.normals.emplace_back(values[3], values[4], values[5]);
+        // The line of the vertex's last value: a vertex normally stands on one line.
+        const std::size_t line = tokens.line_number();
+        checker.position(out.positions.emplace_back(values[0], values[1], values[2]), line, position_names);
+        if (wanted.normals)
+          checker.normal(out.normals.emplace_back(values[3], values[4], values[5]), line, normal_names);
       }
     }
   }
@@ -330,6 +346,7 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
     fail_at_line(file, tokens.line_number(),
                  "unexpected " + excerpt(token) +
                      " after the last element: the file holds more values than its header declares");
+  checker.report(file);
 }
 
 void read_binary_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
@@ -338,6 +355,7 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
   const std::uint64_t vertex_count = header.elements[wanted.vertex_element].count;
   std::size_t position = header.body_offset;
   std::vector<std::uint32_t> corners;
+  PointChecker checker(true);
 
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
@@ -354,16 +372,15 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
                          " bytes; the file has " + std::to_string(content.size()) + ")");
       const std::size_t count = static_cast<std::size_t>(element.count);
       if (e == wanted.vertex_element) {
-        struct Slot {
-          std::size_t offset;
-          ScalarType type;
-          std::string_view name;
-        };
-        std::array<Slot, 6> slots{};
+        // Where x, y, z (and nx, ny, nz) stand in a record, and their types.
+        std::array<std::size_t, 6> offsets{};
+        std::array<ScalarType, 6> types{};
         std::size_t offset = 0;
         for (std::size_t p = 0; p < element.properties.size(); ++p) {
-          if (const int s = wanted.slot[p]; s >= 0)
-            slots[static_cast<std::size_t>(s)] = {offset, element.properties[p].type, element.properties[p].name};
+          if (const int s = wanted.slot[p]; s >= 0) {
+            offsets[static_cast<std::size_t>(s)] = offset;
+            types[static_cast<std::size_t>(s)] = element.properties[p].type;
+          }
           offset += scalar_size(element.properties[p].type);
         }
         const std::size_t used_slots = wanted.normals ? 6 : 3;
@@ -372,15 +389,13 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
         std::array<double, 6> values{};
         for (std::size_t i = 0; i < count; ++i) {
           const std::size_t start = position + i * record;
-          for (std::size_t s = 0; s < used_slots; ++s) {
-            if (decode_scalar(content.data() + start + slots[s].offset, slots[s].type, swap, values[s]) !=
-                Decoded::finite)
-              fail_at_byte(file, start + slots[s].offset,
-                           "vertex " + std::to_string(i) + ": " + std::string(slots[s].name) +
-                               " is not a finite number (NaN or infinity)");
-          }
-          out.positions.emplace_back(values[0], values[1], values[2]);
-          if (wanted.normals) out.normals.emplace_back(values[3], values[4], values[5]);
+          for (std::size_t s = 0; s < used_slots; ++s)
+            static_cast<void>(decode_scalar(content.data() + start + offsets[s], types[s], swap, values[s]));
+          checker.position(out.positions.emplace_back(values[0], values[1], values[2]), start, position_names,
+                           offsets.data());
+          if (wanted.normals)
+            checker.normal(out.normals.emplace_back(values[3], values[4], values[5]), start, normal_names,
+                           offsets.data() + 3);
         }
       }
       position += count * record;
@@ -433,6 +448,7 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
     }
   }
   // Bytes after the last element are ignored (some writers end with a newline).
+  checker.report(file);
 }
 
 PlyContent read_ply(std::string_view file, std::string_view content, bool faces) {

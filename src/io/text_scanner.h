@@ -2,9 +2,18 @@
 // Walking text held in memory: line by line (LineScanner, Fields) for the
 // line-oriented formats, token by token across lines (TokenScanner) for
 // ASCII PLY. Nothing is copied; every piece is a view into the file content.
+//
+// Both refuse, with ParseError "FILE:LINE: ...", a line longer than
+// max_line_length and a NUL byte: neither occurs in a text file, and
+// stopping there is what keeps a large binary or garbage file from being
+// scanned to its end.
 
+#include "io_detail.h"
+
+#include <algorithm>
 #include <cstddef>
 #include <cstring>
+#include <string>
 #include <string_view>
 
 namespace recon::io::detail {
@@ -26,23 +35,41 @@ namespace recon::io::detail {
   return at == std::string_view::npos ? line : line.substr(0, at);
 }
 
+[[noreturn]] inline void fail_long_line(std::string_view file, std::size_t line) {
+  fail_at_line(file, line,
+               "line " + std::to_string(line) + " is longer than " + std::to_string(max_line_length) +
+                   " bytes (1 MiB), the most recon reads on one line: this is not a text file of points");
+}
+
+[[noreturn]] inline void fail_nul_byte(std::string_view file, std::size_t line, std::size_t column) {
+  fail_at_line(file, line,
+               "a NUL byte at column " + std::to_string(column) +
+                   ": this is binary data, not text (is the format or the extension wrong?)");
+}
+
 /// Lines of a text, numbered from 1. "\n" and "\r\n" both end a line; the
 /// last line needs no newline.
 class LineScanner {
  public:
-  /// Starts at byte `start`, which is the beginning of line `first_line`.
-  explicit LineScanner(std::string_view text, std::size_t start = 0, std::size_t first_line = 1)
-      : text_(text), position_(start), line_number_(first_line - 1) {}
+  /// Starts at byte `start`, which is the beginning of line `first_line`;
+  /// `file` names the file in error messages.
+  explicit LineScanner(std::string_view file, std::string_view text, std::size_t start = 0,
+                       std::size_t first_line = 1)
+      : file_(file), text_(text), position_(start), line_number_(first_line - 1) {}
 
   /// The next line without its line end; false at the end of the text.
   bool next(std::string_view& line) {
     if (position_ >= text_.size()) return false;
     const char* begin = text_.data() + position_;
-    const std::size_t left = text_.size() - position_;
+    // Look for the line end no further than the longest line allowed.
+    const std::size_t left = std::min(text_.size() - position_, max_line_length + 1);
     const void* newline = std::memchr(begin, '\n', left);
-    const std::size_t length = newline ? static_cast<std::size_t>(static_cast<const char*>(newline) - begin) : left;
-    position_ += newline ? length + 1 : length;
     ++line_number_;
+    if (newline == nullptr && left > max_line_length) fail_long_line(file_, line_number_);
+    const std::size_t length = newline ? static_cast<std::size_t>(static_cast<const char*>(newline) - begin) : left;
+    if (const void* nul = std::memchr(begin, '\0', length))
+      fail_nul_byte(file_, line_number_, static_cast<std::size_t>(static_cast<const char*>(nul) - begin) + 1);
+    position_ += newline ? length + 1 : length;
     line = std::string_view(begin, length);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     return true;
@@ -55,6 +82,7 @@ class LineScanner {
   [[nodiscard]] bool at_end() const { return position_ >= text_.size(); }
 
  private:
+  std::string_view file_;
   std::string_view text_;
   std::size_t position_;
   std::size_t line_number_;
@@ -91,9 +119,10 @@ class Fields {
 /// which line each token stands.
 class TokenScanner {
  public:
-  /// Starts at byte `start`, which lies on line `line`.
-  TokenScanner(std::string_view text, std::size_t start, std::size_t line)
-      : text_(text), position_(start), line_number_(line), token_line_(line) {
+  /// Starts at byte `start`, which is the beginning of line `line`; `file`
+  /// names the file in error messages.
+  TokenScanner(std::string_view file, std::string_view text, std::size_t start, std::size_t line)
+      : file_(file), text_(text), position_(start), line_start_(start), line_number_(line), token_line_(line) {
     if (start > 0 && start <= text.size() && text[start - 1] == '\n' && line > 1) token_line_ = line - 1;
   }
 
@@ -104,8 +133,11 @@ class TokenScanner {
       const char c = text_[position_];
       if (c == '\n') {
         ++line_number_;
+        line_start_ = position_ + 1;
       } else if (!is_blank(c)) {
         break;
+      } else {
+        check_line_length();
       }
       ++position_;
     }
@@ -114,7 +146,11 @@ class TokenScanner {
       return false;
     }
     const std::size_t begin = position_;
-    while (position_ < size && text_[position_] != '\n' && !is_blank(text_[position_])) ++position_;
+    while (position_ < size && text_[position_] != '\n' && !is_blank(text_[position_])) {
+      if (text_[position_] == '\0') fail_nul_byte(file_, line_number_, position_ - line_start_ + 1);
+      ++position_;
+      check_line_length();
+    }
     token = text_.substr(begin, position_ - begin);
     token_line_ = line_number_;
     return true;
@@ -126,8 +162,13 @@ class TokenScanner {
   [[nodiscard]] std::size_t bytes_left() const { return text_.size() - position_; }
 
  private:
+  void check_line_length() const {
+    if (position_ - line_start_ > max_line_length) fail_long_line(file_, line_number_);
+  }
+  std::string_view file_;
   std::string_view text_;
   std::size_t position_;
+  std::size_t line_start_;  ///< first byte of the current line
   std::size_t line_number_;
   std::size_t token_line_;
 };

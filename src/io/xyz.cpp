@@ -54,7 +54,8 @@ std::size_t split_numbers(std::string_view file, std::size_t line_number, std::s
 
 PointCloud read_xyz_points(std::string_view file, std::string_view content) {
   PointCloud cloud;
-  LineScanner lines(content);
+  PointChecker checker(false);
+  LineScanner lines(file, content);
   std::string_view line;
   Numbers numbers;
   std::size_t columns = 0;
@@ -74,15 +75,19 @@ PointCloud read_xyz_points(std::string_view file, std::string_view content) {
                    "found " + std::to_string(count) + " numbers, but line " + std::to_string(first_line) + " has " +
                        std::to_string(columns) + "; every line must have the same count");
     }
-    cloud.positions.push_back(parse_vec3(file, n, numbers.data(), position_names));
-    if (columns == 6) cloud.normals.push_back(parse_vec3(file, n, numbers.data() + 3, normal_names));
+    checker.position(cloud.positions.emplace_back(parse_vec3(file, n, numbers.data(), position_names)), n,
+                     position_names);
+    if (columns == 6)
+      checker.normal(cloud.normals.emplace_back(parse_vec3(file, n, numbers.data() + 3, normal_names)), n,
+                     normal_names);
   }
   if (cloud.positions.empty()) fail_in_file(file, "no points: the file holds only comments and blank lines");
+  checker.report(file);
   return cloud;
 }
 
 PointCloud read_pts_points(std::string_view file, std::string_view content) {
-  LineScanner lines(content);
+  LineScanner lines(file, content);
   std::string_view line;
   std::string_view first;
   std::size_t first_line = 0;
@@ -96,7 +101,8 @@ PointCloud read_pts_points(std::string_view file, std::string_view content) {
   if (first.empty() || !is_letter(first[0])) return read_xyz_points(file, content);
 
   PointCloud cloud;
-  lines = LineScanner(content);
+  PointChecker checker(false);
+  lines = LineScanner(file, content);
   while (lines.next(line)) {
     const std::size_t n = lines.line_number();
     Fields fields(without_comment(line));
@@ -109,7 +115,8 @@ PointCloud read_pts_points(std::string_view file, std::string_view content) {
         if (count < 3) xyz[count] = token;
       }
       if (count != 3) fail_at_line(file, n, "a 'p' record needs 3 numbers (p x y z), found " + std::to_string(count));
-      cloud.positions.push_back(parse_vec3(file, n, xyz.data(), position_names));
+      checker.position(cloud.positions.emplace_back(parse_vec3(file, n, xyz.data(), position_names)), n,
+                       position_names);
     } else if (record.size() != 1 || !is_letter(record[0])) {
       fail_at_line(file, n,
                    "expected a one-letter record such as 'p x y z', found " + excerpt(record) +
@@ -118,6 +125,7 @@ PointCloud read_pts_points(std::string_view file, std::string_view content) {
     }
   }
   if (cloud.positions.empty()) fail_in_file(file, "no points: the file has no 'p x y z' record");
+  checker.report(file);
   return cloud;
 }
 

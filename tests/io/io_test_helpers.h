@@ -97,11 +97,12 @@ class Bytes {
 };
 
 /// Seeded random cloud with coordinates of very different magnitudes (to
-/// exercise the number printing) and unit normals when asked.
+/// exercise the number printing), all within +-max_coordinate so that they
+/// read back, and unit normals when asked.
 inline PointCloud random_cloud(std::size_t n, bool normals, std::uint64_t seed) {
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::uniform_int_distribution<int> exponent(-30, 30);
+  std::uniform_int_distribution<int> exponent(-30, 14);
   PointCloud cloud;
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 p;
@@ -115,8 +116,8 @@ inline PointCloud random_cloud(std::size_t n, bool normals, std::uint64_t seed) 
   // A few values that are easy to get wrong.
   if (n >= 3) {
     cloud.positions[0] = Vec3(0.1, -0.0, 1e-300);
-    cloud.positions[1] = Vec3(1.7976931348623157e308, -4.9406564584124654e-324, 123456789.0);
-    cloud.positions[2] = Vec3(1.0 / 3.0, 2.0 / 3.0, -1e22);
+    cloud.positions[1] = Vec3(max_coordinate, -4.9406564584124654e-324, 123456789.0);
+    cloud.positions[2] = Vec3(1.0 / 3.0, 2.0 / 3.0, -999999999999999.9);
   }
   return cloud;
 }

@@ -199,8 +199,6 @@ TEST(PointIoXyz, Errors) {
       {"1 2 3\n4 5 6 7 8 9\n", "e.xyz:2:", "every line must have the same count"},
       {"1 2 3 4\n", "e.xyz:1:", "found 4"},
       {"1 2 3\n\n1 2 x\n", "e.xyz:3:", "expected a number for z, found 'x'"},
-      {"1 2 3\n1 nan 3\n", "e.xyz:2:", "non-finite"},
-      {"1 2 3\n1 2 -inf\n", "e.xyz:2:", "non-finite"},
       {"# c\n1 2 1e999\n", "e.xyz:2:", "too large for a double"},
       {"1,,2,3\n", "e.xyz:1:", "comma"},
       {"1 2 3,\n", "e.xyz:1:", "comma"},
@@ -278,11 +276,6 @@ TEST(PointIoPts, Errors) {
   message = point_read_error(folder / "e.pts");
   EXPECT_CONTAINS(message, "e.pts:2:");
   EXPECT_CONTAINS(message, "'point'");
-
-  write_file(folder / "e.pts", "p 1 2 3\np 1 inf 3\n");
-  message = point_read_error(folder / "e.pts");
-  EXPECT_CONTAINS(message, "e.pts:2:");
-  EXPECT_CONTAINS(message, "non-finite");
 }
 
 // --------------------------------------------------------------------------
@@ -304,8 +297,9 @@ TEST(PointIoObj, VerticesAndMatchingNormals) {
 }
 
 TEST(PointIoObj, NormalsOfAnotherCountAreDropped) {
+  // Dropped normals are not checked either: a NaN among them does not matter.
   TempFolder folder;
-  write_file(folder / "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n");
+  write_file(folder / "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan 0 0\nf 1//1 2//1 3//1\n");
   const PointCloud cloud = read_points(folder / "a.obj");
   EXPECT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
@@ -475,7 +469,6 @@ TEST(PointIoPcd, Errors) {
       {header + "DATA ascii\n1 2 3\n", "e.pcd:8:", "promises 2"},
       {header + "DATA ascii\n1 2 3\n1 2\n", "e.pcd:9:", "expected 3 values"},
       {header + "DATA ascii\n1 2 3\n1 2 3\n1 2 3\n", "e.pcd:10:", "more data lines"},
-      {header + "DATA ascii\n1 2 3\n1 nan 3\n", "e.pcd:9:", "non-finite"},
       {header + "DATA ascii\n1 2 3\n1 b 3\n", "e.pcd:9:", "'b'"},
       {header + "DATA zip\n", "e.pcd:7:", "DATA"},
       {"FIELDS a y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", "e.pcd:1:", "'x'"},
@@ -506,19 +499,6 @@ TEST(PointIoPcd, TruncatedBinarySaysWhere) {
   EXPECT_CONTAINS(message, "point 2");
 }
 
-TEST(PointIoPcd, InfinityInBinarySaysWhere) {
-  TempFolder folder;
-  Bytes bytes;
-  bytes.text("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 2\nDATA binary\n");
-  const std::size_t data_start = bytes.size();
-  bytes.put(1.0F).put(2.0F).put(3.0F);
-  bytes.put(1.0F).put(std::numeric_limits<float>::infinity()).put(3.0F);
-  write_file(folder / "i.pcd", bytes.str());
-  const std::string message = point_read_error(folder / "i.pcd");
-  EXPECT_CONTAINS(message, "i.pcd: byte " + std::to_string(data_start + 16) + ":");
-  EXPECT_CONTAINS(message, "point 1");
-}
-
 // --------------------------------------------------------------------------
 // Writing
 
@@ -539,7 +519,11 @@ TEST(PointIoWrite, RefusesWhatItCouldNotReadBack) {
                   "2 normals for 3 points");
   cloud = random_cloud(3, false, 1);
   cloud.positions[1].y() = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_CONTAINS(message_of<InvalidInputError>([&] { write_points(folder / "a.xyz", cloud); }), "point 1");
+  EXPECT_CONTAINS(message_of<InvalidInputError>([&] { write_points(folder / "a.xyz", cloud); }),
+                  "a.xyz: cannot write: point 1 has a coordinate that is not finite or beyond +-1e+15");
+  cloud.positions[1].y() = -2e15;  // would not read back
+  EXPECT_CONTAINS(message_of<InvalidInputError>([&] { write_points(folder / "a.xyz", cloud); }),
+                  "a.xyz: cannot write: point 1 has a coordinate that is not finite or beyond +-1e+15");
   EXPECT_TRUE(folder.entries().empty());
 }
 

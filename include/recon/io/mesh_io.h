@@ -11,8 +11,9 @@
 // decimals that read back exactly; binary STL with float32 corners and a
 // unit facet normal computed from the corner order (zero when degenerate).
 // write_mesh throws InvalidInputError, before creating anything, for a
-// non-finite vertex, an index out of range, or (STL) a coordinate beyond
-// float range.
+// vertex coordinate that is not finite or beyond +-max_coordinate (it would
+// not read back), an index out of range, or (STL) a coordinate beyond float
+// range.
 //
 // Reading: PLY takes the "vertex" element's x, y, z and the "face" element's
 // "vertex_indices" or "vertex_index" list (any integer count type, any index
@@ -20,8 +21,10 @@
 // v/vt/vn, v//vn; negative numbers count back from the last vertex read);
 // OFF takes its vertices and faces. A file without a triangle, a face with
 // fewer than three corners or an index out of range is a ParseError naming
-// the line or byte; reading STL is refused (InvalidInputError). Errors are
-// reported as for read_points (see point_io.h).
+// the line or byte; reading STL is refused (InvalidInputError). Files are
+// mapped, not copied, and errors are reported as for read_points (see
+// point_io.h), including the line limit and the count of vertices with a
+// coordinate that is not finite or beyond +-max_coordinate.
 
 #include "recon/mesh.h"
 

@@ -20,7 +20,9 @@
 //   obj  - "v x y z" lines; numbers after z (the w weight, or a colour) are
 //          ignored. "vn" lines become the normals only when there are exactly
 //          as many as "v" lines (OBJ ties normals to face corners, so another
-//          count cannot be matched to the points). Everything else is ignored.
+//          count cannot be matched to the points; dropped normals are not
+//          checked). Other statements are ignored, but a statement keyword
+//          must be letters, digits and '_' (so garbage is not skipped over).
 //   off  - [ST][C][N]OFF header (NOFF: normals after each position), counts
 //          on the header line or the next one, '#' comments, one vertex a
 //          line (colours after it ignored); faces are not read. 4OFF, nOFF
@@ -32,18 +34,33 @@
 //          organized clouds) are skipped. DATA binary_compressed is refused
 //          with a hint to convert the file.
 //
-// Numbers are parsed with std::from_chars from the whole file held in
-// memory; a header count never sizes an allocation beyond what the file
-// could hold.
+// The file is mapped into memory read-only (mmap), not copied; a pipe or
+// another file that cannot be mapped is read whole. Readers look no further
+// than they need, so a bad file is refused after its first pages, however
+// large, and a header count never sizes an allocation beyond what the file
+// could hold. Numbers are parsed with std::from_chars; in PLY and PCD text
+// each value must fit its declared type (a uchar 0 to 255, a float within
+// +-3.4e38, ...).
 //
 // Errors: ParseError with "FILE:LINE: ..." (text) or "FILE: byte N: ..."
-// (binary) for malformed content, including non-finite coordinates or
-// normals and values too large for a double (values too small become 0);
-// element and point numbers in messages count from 0. "FILE: the file is
-// empty" and "FILE: no points ..." when there is nothing to read. IoError
-// "FILE: cannot open: reason" when the file is missing, a folder or
-// unreadable; InvalidInputError for an unknown format name or extension
-// (the message lists the known ones and the --format option).
+// (binary) for malformed content, stopping at the first such problem:
+// text where a number belongs, a number too large for a double or for its
+// declared type (values too small become 0), a header promising more than
+// the file holds, a text line longer than 1 MiB ("line N is longer than
+// 1048576 bytes"), a NUL byte in text (binary data read as text). Element
+// and point numbers in messages count from 0.
+// Coordinates that are NaN, infinite or beyond +-max_coordinate (1e15), and
+// normal components that are NaN or infinite, are not a stop: the reader
+// reads on and then throws one ParseError that counts them and places the
+// first, "FILE: 3 points have a coordinate that is not finite or beyond
+// +-1e+15; the first at line 17 (z = nan)" ("at byte N" in binary data;
+// "; and 2 points have a normal that is not finite ..." when both occur).
+// PCD's all-NaN points are not counted: they are skipped (see above).
+// "FILE: the file is empty" and "FILE: no points ..." when there is nothing
+// to read. IoError "FILE: cannot open: reason" when the file is missing, a
+// folder or unreadable, "FILE: cannot read: reason" when reading fails;
+// InvalidInputError for an unknown format name or extension (the message
+// lists the known ones and the --format option).
 
 #include "recon/point_cloud.h"
 
@@ -75,7 +92,8 @@ struct WritePointsOptions {
 /// (PLY: property double; text: the shortest decimal that reads back as the
 /// same double, at most 17 significant digits), so a written cloud reads
 /// back bit for bit. Throws InvalidInputError, before creating anything,
-/// when normals are present but not one per point or a value is not finite.
+/// when normals are present but not one per point, a value is not finite or
+/// a coordinate is beyond +-max_coordinate (it would not read back).
 /// The file is written to a temporary file in the same folder and renamed
 /// into place when complete: a failure leaves no partial file.
 void write_points(const std::filesystem::path& path, const PointCloud& cloud, const WritePointsOptions& options = {});

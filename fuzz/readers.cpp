@@ -1,0 +1,37 @@
+#include "readers.h"
+
+#include "formats.h"
+
+#include "recon/errors.h"
+
+#include <utility>
+
+namespace recon::fuzz {
+namespace {
+
+template <auto read>
+void run(std::string_view content) {
+  try {
+    static_cast<void>(read("fuzz-input", content));
+  } catch (const recon::Error&) {
+  }
+}
+
+}  // namespace
+
+Reader reader_named(std::string_view name) {
+  using namespace recon::io::detail;
+  static constexpr std::pair<std::string_view, Reader> readers[] = {
+      {"ply_points", run<read_ply_points>}, {"ply_mesh", run<read_ply_mesh>},
+      {"xyz_points", run<read_xyz_points>}, {"pts_points", run<read_pts_points>},
+      {"obj_points", run<read_obj_points>}, {"obj_mesh", run<read_obj_mesh>},
+      {"off_points", run<read_off_points>}, {"off_mesh", run<read_off_mesh>},
+      {"pcd_points", run<read_pcd_points>},
+  };
+  for (const auto& [known, reader] : readers) {
+    if (known == name) return reader;
+  }
+  return nullptr;
+}
+
+}  // namespace recon::fuzz
