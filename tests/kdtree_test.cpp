@@ -114,7 +114,9 @@ TEST(KdTree, EmptyTreeAnswersNothing) {
 }
 
 TEST(KdTree, AllKnnRowsEqualSingleQueries) {
-  const auto pts = make_points<3>(3000, Layout::clustered, 7);
+  // More points than two chunks of the parallel loop (4096), so that more
+  // than one thread answers.
+  const auto pts = make_points<3>(10000, Layout::clustered, 7);
   const KdTree<3> tree(pts);
   const KnnTable table = tree.all_knn(10);
   ASSERT_EQ(table.size(), pts.size());
