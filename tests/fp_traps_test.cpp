@@ -23,28 +23,29 @@ const ::testing::Environment* const fp_traps_for_every_test =
     ::testing::AddGlobalTestEnvironment(new FpTrapsForEveryTest);
 #endif
 
-/// Sets the traps for the scope of one test, and back as they were.
+/// Sets the traps for a scope, and back as they were.
 class FpTrapsSetTo {
  public:
-  explicit FpTrapsSetTo(bool on) : before_(fp_traps_enabled()) { supported_ = set_fp_traps(on); }
+  explicit FpTrapsSetTo(bool on) : before_(fp_traps_enabled()) { set_fp_traps(on); }
   ~FpTrapsSetTo() { set_fp_traps(before_); }
   FpTrapsSetTo(const FpTrapsSetTo&) = delete;
   FpTrapsSetTo& operator=(const FpTrapsSetTo&) = delete;
-  [[nodiscard]] bool supported() const { return supported_; }
 
  private:
   bool before_;
-  bool supported_ = false;
 };
 
+/// Whether this platform can trap (setting the traps as they are tells).
+bool traps_supported() { return set_fp_traps(fp_traps_enabled()); }
+
 TEST(FpTraps, ReachEveryThreadOfTheParallelPhases) {
+  if (!traps_supported()) GTEST_SKIP() << "no floating-point traps on this platform";
   const int threads = thread_count();
-  set_thread_count(3);  // more threads than before: the pool grows after the traps are set
+  set_thread_count(3);
   {
     const FpTrapsSetTo on(true);
-    if (!on.supported()) GTEST_SKIP() << "no floating-point traps on this platform";
     EXPECT_TRUE(fp_traps_enabled());
-    set_thread_count(4);
+    set_thread_count(4);  // the pool grows after the traps are set: the new thread copies them
     EXPECT_TRUE(fp_traps_enabled());
     {
       const FpTrapsSetTo off(false);
@@ -56,7 +57,7 @@ TEST(FpTraps, ReachEveryThreadOfTheParallelPhases) {
 }
 
 TEST(FpTraps, ZeroOverZeroStopsTheProgram) {
-  if (!set_fp_traps(fp_traps_enabled())) GTEST_SKIP() << "no floating-point traps on this platform";
+  if (!traps_supported()) GTEST_SKIP() << "no floating-point traps on this platform";
   ::testing::FLAGS_gtest_death_test_style = "threadsafe";  // OpenMP's threads are running
   volatile double zero = 0.0;                              // volatile: divided at run time, not folded
   volatile double quotient = 1.0;
