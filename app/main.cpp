@@ -5,6 +5,7 @@
 #include "commands.h"
 
 #include "recon/errors.h"
+#include "recon/fp_traps.h"
 #include "recon/io/atomic_file.h"
 #include "recon/parallel.h"
 
@@ -59,6 +60,10 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
   app.add_option("--threads", global.threads, "Threads for the parallel phases (default: all cores)")
       ->check(CLI::NonNegativeNumber);
+  // A debugging aid, left out of --help: stop with SIGFPE at the first
+  // invalid operation, division by zero or overflow (see recon/fp_traps.h).
+  bool trap_fp = false;
+  app.add_flag("--trap-fp", trap_fp, "Trap floating-point exceptions (debugging)")->group("");
 
   std::map<CLI::App*, recon::cli::Command> commands;
   auto add = [&](const char* name, const char* help, auto adder) {
@@ -84,6 +89,8 @@ int main(int argc, char** argv) {
   }
   try {
     recon::set_thread_count(global.threads);
+    if (trap_fp && !recon::set_fp_traps(true))
+      throw recon::Error("--trap-fp: this platform cannot trap floating-point exceptions");
     for (CLI::App* sub : app.get_subcommands()) commands.at(sub)();
   } catch (const recon::Error& e) {
     std::cerr << "recon: error: " << e.what() << '\n';

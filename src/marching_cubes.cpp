@@ -292,7 +292,12 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
         bool complete = true;
         for (std::size_t c = 0; c < 8; ++c) {
           const double v = corners.value[cube_slots[w][c]];
-          if (std::isnan(v)) complete = false;
+          // An undefined corner (NaN) is never compared: `<` on a NaN raises
+          // the invalid-operation exception (see fp_traps.h).
+          if (std::isnan(v)) {
+            complete = false;
+            continue;
+          }
           if (v < 0.0) config |= 1u << c;
           if (v == 0.0) zero |= 1u << c;
         }

@@ -21,9 +21,18 @@ SymmetricEigen<D> symmetric_eigen(const Mat<D>& input) {
           const double apq = a(p, q);
           if (apq == 0.0) continue;
           // Rotation angle theta with tan(2 theta) = 2 a_pq / (a_qq - a_pp);
-          // t = tan(theta) taken as the smaller root for stability.
-          const double theta = (a(q, q) - a(p, p)) / (2.0 * apq);
-          const double t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+          // t = tan(theta) taken as the smaller root for stability. When
+          // a_pq is negligible against d = a_qq - a_pp, theta is so large
+          // that its square may overflow, and t = 1 / (2 theta) = a_pq / d
+          // to double precision (as in Numerical Recipes' jacobi).
+          const double d = a(q, q) - a(p, p);
+          double t = 0.0;
+          if (std::abs(d) + 100.0 * std::abs(apq) == std::abs(d)) {
+            t = apq / d;  // d is not 0 here: a_pq is not
+          } else {
+            const double theta = d / (2.0 * apq);
+            t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+          }
           const double c = 1.0 / std::sqrt(t * t + 1.0);
           const double s = t * c;
           const double tau = s / (1.0 + c);  // c = 1 - s tau: updates as small corrections

@@ -171,6 +171,9 @@ class CliTest : public ::testing::Test {
     run.command = "recon";
     std::string command = "cd " + shell_quoted(work_folder().string()) + " && exec timeout -k 10 " +
                           std::to_string(run_time_limit) + " " + shell_quoted(RECON_CLI_PATH);
+#ifdef RECON_TRAP_FP
+    command += " --trap-fp";  // the program traps what the library would (see fp_traps_test.cpp)
+#endif
     for (const std::string& argument : args) {
       command += " " + shell_quoted(argument);
       run.command += " " + argument;

@@ -4,6 +4,7 @@
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 #include "recon/mesh.h"
+#include "recon/parallel.h"
 #include "recon/shapes.h"
 #include "test_data.h"
 
@@ -11,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <numbers>
 #include <random>
 
@@ -151,7 +153,7 @@ TEST(Reconstruct, PlanePatchWithHoleStaysOpen) {
   // f is defined up to 1.5 rho_i + delta beyond the last samples (see
   // signed_distance.h), so an open boundary may reach that far past the data,
   // and no farther.
-  const double largest_rho = *std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end());
+  const auto largest_rho = static_cast<double>(*std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end()));
   const double reach = 1.5 * largest_rho + r.delta;
   EXPECT_LT(reach, 0.5 * hole);
   for (const Vec3& v : r.contour.mesh.vertices) {
@@ -173,7 +175,7 @@ TEST(Reconstruct, HemisphereRimStaysOpen) {
   EXPECT_EQ(t.euler_characteristic, 1);  // a disc
   // The rim may run on past the data by f's reach (see the plane test), no
   // farther: nothing closes the bottom.
-  const double largest_rho = *std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end());
+  const auto largest_rho = static_cast<double>(*std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end()));
   const double reach = 1.5 * largest_rho + r.delta;
   EXPECT_LT(reach, 0.2);
   for (const Vec3& v : r.contour.mesh.vertices) EXPECT_GT(v.z(), -reach);
@@ -236,6 +238,26 @@ TEST(Reconstruct, CellAndResolutionOptions) {
   options.resolution.reset();
   options.cell = 1e-6;
   EXPECT_THROW((void)reconstruct(cloud, options), ResourceLimitError);  // refused before allocating
+}
+
+// Large enough that every parallel part splits its work (kd-tree build tasks
+// above 65536 points, OpenMP chunks of 4096), at two threads and at three (a
+// different split). The tsan preset runs it, and the other tests, under
+// ThreadSanitizer; CliDeterminism compares the program's output files.
+TEST(Reconstruct, ThreadCountDoesNotChangeTheResult) {
+  const PointCloud cloud = make_sphere_and_torus(0.3)->sample(70000, 36);
+  const int threads = thread_count();
+  std::vector<Reconstruction> runs;
+  for (const int t : {2, 3}) {
+    set_thread_count(t);
+    runs.push_back(reconstruct(cloud));
+  }
+  set_thread_count(threads);
+  const auto normals0 = runs[0].normals(), normals1 = runs[1].normals();
+  EXPECT_TRUE(std::equal(normals0.begin(), normals0.end(), normals1.begin(), normals1.end()));
+  EXPECT_TRUE(runs[0].contour.mesh.vertices == runs[1].contour.mesh.vertices);
+  EXPECT_TRUE(runs[0].contour.mesh.triangles == runs[1].contour.mesh.triangles);
+  EXPECT_GT(runs[0].contour.mesh.triangles.size(), 10000u);
 }
 
 // --- real data ------------------------------------------------------------

@@ -63,7 +63,7 @@ TEST(TangentPlanes, CountsDuplicatesAndGivenRho) {
   EXPECT_EQ(planes.distinct_points, 500u);
   EXPECT_EQ(planes.rho, 0.25);
   EXPECT_TRUE(planes.rho_given);
-  for (double r : planes.local_rho) EXPECT_EQ(r, 0.25);
+  for (const float r : planes.local_rho) EXPECT_EQ(r, 0.25f);
 }
 
 TEST(TangentPlanes, RefusesDegenerateInput) {

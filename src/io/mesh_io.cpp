@@ -25,7 +25,7 @@ MeshFormat resolve(const std::filesystem::path& path, MeshFormat format) {
 void check_for_stl(const std::string& file, const Mesh& mesh) {
   if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
     throw InvalidInputError(file + ": cannot write: STL holds at most 2^32 - 1 triangles");
-  constexpr double largest = std::numeric_limits<float>::max();
+  constexpr auto largest = static_cast<double>(std::numeric_limits<float>::max());
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     if (mesh.vertices[i].cwiseAbs().maxCoeff() > largest)
       throw InvalidInputError(file + ": cannot write: vertex " + std::to_string(i) +
