@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <random>
@@ -125,6 +126,7 @@ std::string parse_size(const std::string& text, std::size_t& bytes) {
   } catch (const std::exception&) {
     return "expected a size such as 800M or 2G, found '" + text + "'";
   }
+  if (!std::isfinite(value)) return "expected a size such as 800M or 2G, found '" + text + "'";
   std::string unit = text.substr(used);
   unit.erase(std::remove(unit.begin(), unit.end(), ' '), unit.end());
   for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
