@@ -8,6 +8,7 @@
 #include "recon/point_cloud.h"
 
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -267,7 +268,9 @@ void append_little_endian(std::string& out, T value) {
 [[nodiscard]] std::string coordinate_bound();
 /// True when |value| <= max_coordinate (false for NaN and infinity).
 [[nodiscard]] inline bool coordinate_in_range(double value) {
-  return value >= -max_coordinate && value <= max_coordinate;
+  // isfinite first: an ordered comparison with NaN raises FE_INVALID, which
+  // the floating-point traps of the sanitize build turn into a crash.
+  return std::isfinite(value) && std::abs(value) <= max_coordinate;
 }
 
 /// True when a number read as text for a value of `type` is within the
