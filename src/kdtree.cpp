@@ -187,10 +187,10 @@ void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offs
   // return" written as 0 0 0 again and again, stay logarithmic instead of
   // visiting every copy). k-NN does without: phase I asks once per run of
   // copies, and the check would cost every other search.
-  if constexpr (requires { visitor.visit_identical(node, 0.0); }) {
+  if constexpr (requires { visitor.visit_identical(id, node, 0.0); }) {
     if (node.identical) {
       const double d2 = (points_[node.begin] - q).squaredNorm();
-      if (d2 <= visitor.bound() && visitor.visit_identical(node, d2)) return;
+      if (d2 <= visitor.bound() && visitor.visit_identical(id, node, d2)) return;
     }
   }
   if (node.is_leaf()) {
@@ -304,7 +304,6 @@ Neighbor KdTree<D>::nearest_with_other_label(const Point& q, std::int32_t own_la
     const std::int32_t* point_labels;
     const std::int32_t* node_labels;
     const std::uint32_t* order;
-    const Node* nodes;
     Neighbor best;
     [[nodiscard]] double bound() const { return best.distance2; }
     [[nodiscard]] bool skip(std::uint32_t id) const { return node_labels[id] == own; }
@@ -314,14 +313,13 @@ Neighbor KdTree<D>::nearest_with_other_label(const Point& q, std::int32_t own_la
       if (point_labels[i] != own && before(d2, i, best.distance2, best.index)) best = {i, d2};
     }
     // Copies of one point under one other label: the first (smallest index) wins.
-    bool visit_identical(const Node& node, double d2) {
-      if (node_labels[static_cast<std::size_t>(&node - nodes)] < 0) return false;  // own labels are skipped
+    bool visit_identical(std::uint32_t id, const Node& node, double d2) {
+      if (node_labels[id] < 0) return false;  // own labels are skipped
       const std::uint32_t i = order[node.begin];
       if (before(d2, i, best.distance2, best.index)) best = {i, d2};
       return true;
     }
-  } visitor{own_label,     point_labels.data(), node_labels.data(), order_.data(), nodes_.data(),
-             Neighbor{no_child, max_distance2}};
+  } visitor{own_label, point_labels.data(), node_labels.data(), order_.data(), Neighbor{no_child, max_distance2}};
   search(q, visitor);
   return visitor.best;
 }
