@@ -8,6 +8,7 @@
 #include "recon/io/point_io.h"
 #include "recon/mesh.h"
 #include "recon/reconstruct.h"
+#include "recon/report.h"
 #include "recon/resource_usage.h"
 #include "recon/orientation.h"
 #include "recon/parallel.h"
@@ -98,6 +99,26 @@ void check_outputs(const std::filesystem::path& input, const std::vector<std::fi
     if (std::filesystem::is_directory(out, ec))
       throw IoError(out.string() + ": cannot write: it is a folder");
   }
+}
+
+// --report FILE.html, shared by reconstruct and normals.
+void add_report_option(CLI::App& app, std::filesystem::path& report) {
+  app.add_option("--report", report,
+                 "Also write an interactive HTML report of every phase (one self-contained file, opens offline)");
+}
+
+// Writes the report of a finished run. The statistics embedded are the
+// --stats JSON as it will be written, so the page and the file agree.
+void write_run_report(const std::filesystem::path& path, const ReportInput& input, const std::filesystem::path& source,
+                      Summary& summary) {
+  Timer timer;
+  ReportOptions options;
+  options.title = source.filename().string();
+  options.stats_json = summary.stats().dump(0);
+  const ReportLayers layers = make_report_layers(input, options);
+  write_report(path, layers, options);
+  summary.say("wrote     " + path.string() + " (report: " + std::to_string(layers.points.size() / 3) + " of " +
+              std::to_string(layers.points_total) + " points drawn; " + format_seconds(timer.elapsed()) + ")");
 }
 
 // The formats write_points can write.
@@ -280,7 +301,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   struct Options {
     InputOptions in;
     PhaseOptions phases;
-    std::filesystem::path output, stats;
+    std::filesystem::path output, stats, report;
     std::optional<double> delta, cell;
     std::optional<int> resolution;
     bool ascii = false, use_normals = false;
@@ -299,13 +320,14 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   app.add_flag("--use-normals", o->use_normals, "Use the input's own normals (skips phase II)");
   app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
   app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
+  add_report_option(app, o->report);
   return [o, &global] {
     Timer total;
     Summary summary(global.quiet);
     io::WriteMeshOptions write_options;
     write_options.format = io::mesh_format_from_path(o->output);  // fail early on a bad extension
     write_options.ascii = o->ascii;
-    check_outputs(o->in.path, {o->output, o->stats});
+    check_outputs(o->in.path, {o->output, o->stats, o->report});
     StepPeaks memory;
     memory.start("read");
     PointCloud cloud = read_input(o->in, summary);
@@ -318,7 +340,10 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     options.resolution = o->resolution;
     options.use_input_normals = o->use_normals;
     options.max_memory = o->phases.max_memory;
-    options.keep_graph = false;  // only the counts are reported
+    // Without a report only the counts are reported; the report draws the
+    // graph and the evaluated corners.
+    options.keep_graph = !o->report.empty();
+    options.keep_corners = !o->report.empty();
     Progress progress(!global.quiet);
     options.on_phase = [&progress, &memory](const char* phase) {
       progress.phase(phase);
@@ -346,6 +371,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     summary.stats()["output"]["seconds"] = timer.elapsed();
     summary.stats()["threads"] = thread_count();
     summary.stats()["seconds_total"] = total.elapsed();
+    if (!o->report.empty()) write_run_report(o->report, report_input(r), o->in.path, summary);
     if (!o->stats.empty()) summary.write_stats(o->stats);
   };
 }
@@ -387,10 +413,12 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
   auto output = std::make_shared<std::filesystem::path>();
   auto ascii = std::make_shared<bool>(false);
   auto stats = std::make_shared<std::filesystem::path>();
+  auto report = std::make_shared<std::filesystem::path>();
   add_input(app, *in);
   app.add_option("-o,--output", *output, "Oriented cloud to write (.ply or .xyz)")->required();
   app.add_flag("--ascii", *ascii, "Write ASCII PLY instead of binary");
   app.add_option("--stats", *stats, "Also write the run's figures as JSON to this file");
+  add_report_option(app, *report);
   add_phase_options(app, *phases);
   return [=, &global] {
     Timer total;
@@ -398,7 +426,7 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     io::WritePointsOptions write_options;
     write_options.format = writable_point_format(*output);  // fail early on a bad extension
     write_options.ascii = *ascii;
-    check_outputs(in->path, {*output, *stats});
+    check_outputs(in->path, {*output, *stats, *report});
     StepPeaks memory;
     memory.start("read");
     PointCloud cloud = read_input(*in, summary);
@@ -432,6 +460,14 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
     summary.stats()["output"]["file"] = output->string();
     summary.stats()["threads"] = thread_count();
     summary.stats()["seconds_total"] = total.elapsed();
+    if (!report->empty()) {
+      ReportInput input;
+      input.points = planes.point_tree.points();
+      input.planes = &planes;
+      input.oriented = &oriented;
+      input.normals = oriented.normals;
+      write_run_report(*report, input, in->path, summary);
+    }
     if (!stats->empty()) summary.write_stats(*stats);
   };
 }

@@ -225,6 +225,30 @@ MeshTopology analyze_topology(const Mesh& mesh) {
   return topology;
 }
 
+std::vector<std::array<std::uint32_t, 2>> boundary_edges(const Mesh& mesh) {
+  // Directed edges keyed by their undirected pair; a key met once is a
+  // boundary edge.
+  std::vector<std::pair<std::uint64_t, std::array<std::uint32_t, 2>>> edges;
+  edges.reserve(3 * mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t a = t[static_cast<std::size_t>(c)], b = t[static_cast<std::size_t>((c + 1) % 3)];
+      edges.push_back({edge_key(a, b), {a, b}});
+    }
+  }
+  std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<std::array<std::uint32_t, 2>> boundary;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+    if (j == i + 1) boundary.push_back(edges[i].second);
+    i = j;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  return boundary;
+}
+
 double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);

@@ -251,6 +251,7 @@ using CliLattice = CliTest;
 using CliInfo = CliTest;
 using CliDeterminism = CliTest;
 using CliRealData = CliTest;
+using CliReport = CliTest;
 
 // ---------------------------------------------------------------- help
 
@@ -797,6 +798,53 @@ TEST_F(CliDeterminism, ThreadCountDoesNotChangeTheOutput) {
     EXPECT_TRUE(mesh == read_bytes(at("m" + threads + ".ply"))) << "--threads " << threads << " wrote another mesh";
     EXPECT_TRUE(normals == read_bytes(at("n" + threads + ".ply"))) << "--threads " << threads << " wrote other normals";
   }
+}
+
+// ---------------------------------------------------------------- report
+// (what the page shows is tested in a browser: web/tests/report.test.mjs)
+
+TEST_F(CliReport, ReconstructWritesOnePageWithTheRunsStatsAndTheSameMesh) {
+  ASSERT_NO_FATAL_FAILURE(generate("torus", 6000, "t.ply"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "plain.ply"})));
+  const RunResult run = recon({"reconstruct", "t.ply", "-o", "m.ply", "--report", "r.html", "--stats", "s.json"});
+  ASSERT_TRUE(succeeded(run)) << describe(run);
+  EXPECT_EQ(lines_starting_with(run.out, "wrote     r.html (report: 6000 of 6000 points drawn").size(), 1U) << run.out;
+  // Keeping the graph and the corners for the report changes nothing.
+  EXPECT_TRUE(read_bytes(at("m.ply")) == read_bytes(at("plain.ply")));
+  const std::string page = read_bytes(at("r.html"));
+  EXPECT_TRUE(page.starts_with("<!doctype html>"));
+  EXPECT_TRUE(page.ends_with("</html>\n"));
+  EXPECT_NE(page.find("id=\"recon-data\""), std::string::npos);
+  // The stats in the page are the file's: the same face count and phase times.
+  const std::string stats = read_bytes(at("s.json"));
+  const long faces = stat_count(stats, "mesh", "faces");
+  EXPECT_GT(faces, 1000);
+  EXPECT_NE(page.find("\"faces\":" + std::to_string(faces)), std::string::npos);
+  EXPECT_EQ(hidden_entries(), std::vector<std::string>{});
+}
+
+TEST_F(CliReport, NormalsWritesAReportWithoutLatticeLayers) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 3000, "s.xyz"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "s.xyz", "-o", "n.ply", "--report", "r.html"})));
+  const std::string page = read_bytes(at("r.html"));
+  EXPECT_NE(page.find("\"graph\":{"), std::string::npos);
+  EXPECT_EQ(page.find("\"mesh\":{"), std::string::npos);
+  EXPECT_EQ(page.find("\"corners\":{"), std::string::npos);
+}
+
+TEST_F(CliReport, BadReportPathIsRefusedBeforeAnyWork) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 3000, "s.xyz"));
+  RunResult run = recon({"reconstruct", "s.xyz", "-o", "m.ply", "--report", "missing/r.html"});
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("missing/r.html: cannot write: folder 'missing' does not exist"), std::string::npos) << run.err;
+  EXPECT_EQ(run.out, "");  // refused before reading
+  run = recon({"reconstruct", "s.xyz", "-o", "m.ply", "--report", "m.ply"});
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("m.ply is named for two outputs"), std::string::npos) << run.err;
+  run = recon({"normals", "s.xyz", "-o", "n.ply", "--report", "s.xyz"});
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("refusing to overwrite the input file"), std::string::npos) << run.err;
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.xyz"});
 }
 
 // ---------------------------------------------------------------- real data

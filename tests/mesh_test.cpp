@@ -168,6 +168,35 @@ TEST(MeshTopology, AnnulusHasTwoBoundaryLoops) {
   EXPECT_NEAR(topology.area, 8.0, 1e-14);
 }
 
+TEST(MeshTopology, BoundaryEdgesAreTheOnesOfOneTriangleAsTraversed) {
+  EXPECT_TRUE(boundary_edges(tetrahedron()).empty());
+  EXPECT_TRUE(boundary_edges(cube()).empty());
+  // The square's four sides, each in its triangle's direction; the diagonal
+  // is shared.
+  const auto square = boundary_edges(unit_square());
+  const MeshTopology t = analyze_topology(unit_square());
+  ASSERT_EQ(square.size(), t.boundary_edges);
+  const Mesh mesh = unit_square();
+  for (const auto& [a, b] : square) {
+    int uses = 0;
+    for (const auto& tri : mesh.triangles)
+      for (int c = 0; c < 3; ++c) {
+        const auto x = tri[static_cast<std::size_t>(c)], y = tri[static_cast<std::size_t>((c + 1) % 3)];
+        uses += (x == a && y == b) ? 1 : 0;
+        EXPECT_FALSE(x == b && y == a) << "edge " << a << "-" << b << " is used in both directions";
+      }
+    EXPECT_EQ(uses, 1);
+  }
+  // A collapsed triangle adds no edge.
+  Mesh with_collapsed = tetrahedron();
+  with_collapsed.triangles.push_back({0, 0, 1});
+  EXPECT_TRUE(boundary_edges(with_collapsed).empty());
+  // Removing one face of the tetrahedron opens its three edges.
+  Mesh open = tetrahedron();
+  open.triangles.pop_back();
+  EXPECT_EQ(boundary_edges(open).size(), 3U);
+}
+
 TEST(MeshTopology, TwoDisjointTetrahedraAreTwoComponents) {
   Mesh mesh = tetrahedron();
   const Mesh second = tetrahedron(Vec3(5, 0, 0));

@@ -50,6 +50,11 @@ struct MeshTopology {
 
 [[nodiscard]] MeshTopology analyze_topology(const Mesh& mesh);
 
+/// The edges used by exactly one triangle (collapsed triangles left out, as
+/// in analyze_topology), each as it is traversed by its triangle, sorted.
+/// Precondition: every index is below mesh.vertices.size().
+[[nodiscard]] std::vector<std::array<std::uint32_t, 2>> boundary_edges(const Mesh& mesh);
+
 /// Euclidean distance from p to the triangle abc (to its closest point,
 /// found by the regions of the triangle's plane: interior, edges, corners).
 [[nodiscard]] double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);

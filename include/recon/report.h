@@ -1,0 +1,148 @@
+#pragma once
+// The reconstruction report: one self-contained HTML file that shows every
+// phase of a run in an interactive 3D view, with the run's statistics
+// beside it (`recon reconstruct ... --report FILE.html`).
+//
+// This is the visual feedback layer. It reads the phase results the library
+// already returns and writes them as data; the drawing is done in the
+// browser by the viewer in web/report/ (three.js), which the build bundles
+// into this library, so a report needs no network and no other file.
+//
+// Seven layers, each taken from one phase's result:
+//   1. the input points, coloured by component (phase II's pieces);
+//   2. the kd-tree's cells, node boxes down to a depth chosen on the page;
+//   3. the tangent planes' normals before orientation, coloured by the
+//      planarity of their neighbourhood (surface variation, see below);
+//   4. the Riemannian graph and its minimum spanning tree, tree edges across
+//      which the orientation was reversed highlighted;
+//   5. the oriented normals;
+//   6. the signed distance at the lattice corners the walk evaluated, by
+//      sign, undefined corners marked;
+//   7. the mesh, shaded, with its boundary edges.
+//
+// Large runs stay viewable: each layer draws at most a budget of elements
+// (ReportOptions) and beyond it a regular subsample (every s-th point, edge
+// source, corner or triangle), which the page states. Per-point arrays are
+// in spatial order, so every s-th point is an even sample of the surface.
+// Geometry is stored as little-endian float32 relative to `centre` (the
+// middle of the points' bounding box), normals as int8, base64-encoded in a
+// JSON block (4 characters per 3 bytes). With the default budgets a report
+// is at most about 45 MB, whatever the size of the run.
+
+#include "recon/marching_cubes.h"
+#include "recon/orientation.h"
+#include "recon/tangent_planes.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace recon {
+
+struct Reconstruction;
+
+struct ReportOptions {
+  std::size_t max_points = 100'000;      ///< points drawn, with their planes and normals (27 bytes each)
+  std::size_t max_edges = 100'000;       ///< Riemannian-graph edges drawn (24 bytes each; tree edges: one per drawn point)
+  std::size_t max_corners = 200'000;     ///< lattice corners drawn (16 bytes each)
+  std::size_t max_triangles = 1'000'000; ///< mesh triangles drawn (12 bytes each, and the vertices)
+  int max_kdtree_depth = 12;             ///< kd-tree cells stored down to this depth (the root is depth 0)
+  std::string title;                     ///< shown as the page's heading (the input file, say)
+  std::string stats_json = "{}";         ///< the run's statistics (the --stats JSON), shown beside the view
+};
+
+/// What the report is drawn from. Per-point spans are indexed alike (spatial
+/// order, as Reconstruction keeps them); positions are relative to `offset`
+/// (input coordinates = position + offset), except the mesh, which is in
+/// input coordinates.
+struct ReportInput {
+  std::span<const Vec3> points;
+  Vec3 offset = Vec3::Zero();
+  const TangentPlanes<3>* planes = nullptr;          ///< required
+  const OrientedNormals<3>* oriented = nullptr;      ///< phase II with its graph kept; null: no layer 4
+  std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's)
+  const MarchingCubesResult* contour = nullptr;      ///< null: no layers 6 and 7 (`recon normals`)
+};
+
+/// A Reconstruction made with keep_graph and keep_corners (without them,
+/// layers 4 and 6 are left out).
+[[nodiscard]] ReportInput report_input(const Reconstruction& r);
+
+/// The layers as drawn: float positions relative to `centre`, three floats
+/// per point, six per segment. `*_total` counts what the run had, the array
+/// sizes what is drawn.
+struct ReportLayers {
+  Vec3 centre = Vec3::Zero();  ///< input coordinates of the drawing's origin
+  double diagonal = 0.0;       ///< of the points' bounding box
+  double rho = 0.0;            ///< phase I's median sampling density (the normals are drawn this long)
+
+  // 1. points
+  std::size_t points_total = 0;
+  std::size_t point_stride = 1;            ///< every point_stride-th point is drawn
+  std::vector<float> points;               ///< 3 per drawn point
+  std::vector<std::uint32_t> component;    ///< per drawn point (0 when phase II did not run)
+  std::size_t component_count = 1;
+
+  // 2. kd-tree cells: the node boxes down to kdtree_drawn_depth, in pre-order
+  int kdtree_depth = 0;                    ///< of the whole tree
+  int kdtree_drawn_depth = 0;
+  std::vector<float> kdtree_boxes;         ///< 6 per node: min xyz, max xyz
+  std::vector<std::uint8_t> kdtree_level;  ///< per node: its depth; leaves shallower than the drawn depth + 128
+
+  // 3. and 5. planes and normals, per drawn point
+  std::vector<float> origins;              ///< o_i
+  std::vector<std::int8_t> pca_normals;    ///< n_i before orientation, 3 per point, times 127 (a normal drawn needs no more)
+  std::vector<float> planarity;            ///< surface variation lambda_0 / (lambda_0 + lambda_1 + lambda_2), in [0, 1/3]
+  std::vector<std::uint8_t> no_plane;      ///< 1 where the sample draws no surface (isolated, or copies only)
+  std::vector<std::int8_t> normals;        ///< oriented, as pca_normals
+  std::vector<std::uint8_t> flipped;       ///< 1 where the oriented normal is the PCA normal reversed
+
+  // 4. graph and spanning tree
+  bool has_graph = false;
+  std::size_t graph_edges_total = 0;
+  std::size_t graph_vertex_stride = 1;     ///< edges of every graph_vertex_stride-th vertex are drawn
+  std::vector<float> graph_segments;
+  std::size_t tree_edges_total = 0;
+  std::vector<float> tree_segments;        ///< each drawn point to its parent
+  std::vector<std::uint8_t> tree_flip;     ///< per tree segment: orientation reversed across it
+  std::size_t tree_flips_total = 0;        ///< over the whole tree
+
+  // 6. signed distance at the lattice corners
+  bool has_corners = false;
+  std::size_t corners_total = 0;
+  std::size_t undefined_corners_total = 0;
+  std::size_t corner_stride = 1;
+  std::vector<float> corners;              ///< 3 per drawn corner
+  std::vector<float> corner_values;        ///< f, NaN where undefined
+  double cell = 0.0;
+
+  // 7. mesh
+  bool has_mesh = false;
+  std::size_t triangles_total = 0;
+  std::size_t triangle_stride = 1;
+  std::vector<float> mesh_vertices;
+  std::vector<std::uint32_t> mesh_triangles;  ///< 3 per drawn triangle
+  std::size_t boundary_edges_total = 0;
+  std::vector<float> boundary_segments;       ///< every boundary edge (of the whole mesh)
+};
+
+/// Throws InvalidInputError when input.planes is null or the spans' sizes
+/// disagree.
+[[nodiscard]] ReportLayers make_report_layers(const ReportInput& input, const ReportOptions& options = {});
+
+/// The whole page: the viewer (HTML, CSS, bundled JavaScript) and the data.
+[[nodiscard]] std::string report_html(const ReportLayers& layers, const ReportOptions& options = {});
+
+/// report_html written atomically to `path` (IoError when it cannot be).
+void write_report(const std::filesystem::path& path, const ReportLayers& layers, const ReportOptions& options = {});
+
+/// The viewer's page around the data, as bundled at build time:
+/// the page is head + JSON + tail.
+struct ReportPage {
+  std::string_view head, tail;
+};
+[[nodiscard]] ReportPage report_page();
+
+}  // namespace recon

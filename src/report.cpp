@@ -1,0 +1,407 @@
+#include "recon/report.h"
+
+#include "recon/errors.h"
+#include "recon/io/atomic_file.h"
+#include "recon/mesh.h"
+#include "recon/reconstruct.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace recon {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the report stores little-endian arrays as they lie in memory");
+
+// Every stride-th element of n so that at most `budget` are taken.
+std::size_t stride_for(std::size_t n, std::size_t budget) {
+  if (budget == 0) return n + 1;  // nothing drawn
+  return n <= budget ? 1 : (n + budget - 1) / budget;
+}
+
+void push(std::vector<float>& out, const Vec3& p) {
+  out.push_back(static_cast<float>(p.x()));
+  out.push_back(static_cast<float>(p.y()));
+  out.push_back(static_cast<float>(p.z()));
+}
+
+void push_normal(std::vector<std::int8_t>& out, const Vec3& n) {
+  for (int c = 0; c < 3; ++c) out.push_back(static_cast<std::int8_t>(std::lround(127.0 * std::clamp(n[c], -1.0, 1.0))));
+}
+
+void push_segment(std::vector<float>& out, const Vec3& a, const Vec3& b) {
+  push(out, a);
+  push(out, b);
+}
+
+void add_kdtree(const KdTree<3>& tree, const Vec3& centre, int max_depth, ReportLayers& layers) {
+  layers.kdtree_depth = tree.depth();
+  layers.kdtree_drawn_depth = std::min(max_depth, tree.depth());
+  const auto& nodes = tree.nodes();
+  const auto& boxes = tree.boxes();
+  if (nodes.empty()) return;
+  // Pre-order walk with an explicit stack of (node, depth).
+  std::vector<std::pair<std::uint32_t, int>> stack{{0u, 0}};
+  while (!stack.empty()) {
+    const auto [id, depth] = stack.back();
+    stack.pop_back();
+    const auto& node = nodes[id];
+    push(layers.kdtree_boxes, boxes[id].min - centre);
+    push(layers.kdtree_boxes, boxes[id].max - centre);
+    const bool shallow_leaf = node.is_leaf() && depth < layers.kdtree_drawn_depth;
+    layers.kdtree_level.push_back(static_cast<std::uint8_t>(depth + (shallow_leaf ? 128 : 0)));
+    if (!node.is_leaf() && depth < layers.kdtree_drawn_depth) {
+      stack.emplace_back(node.right, depth + 1);
+      stack.emplace_back(node.left, depth + 1);
+    }
+  }
+}
+
+void add_graph(const ReportInput& in, const ReportOptions& options, ReportLayers& layers) {
+  const OrientedNormals<3>& o = *in.oriented;
+  const Graph& g = o.graph.graph;
+  const std::size_t n = in.points.size();
+  if (g.vertex_count() != n || o.tree.parent.size() != n || o.flipped.size() != n) return;  // graph released
+  layers.has_graph = true;
+  const auto p = [&](std::size_t i) -> Vec3 { return in.points[i] + in.offset - layers.centre; };
+
+  layers.graph_edges_total = g.edge_count();
+  // The edges of every sv-th vertex (its whole row: about k edges), an edge
+  // between two such vertices once. sv is at least the points' stride, so
+  // that the edges drawn start at drawn points, and grows from the average
+  // row until the edges fit the budget.
+  const auto drawn = [&](std::size_t sv, auto&& edge) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < n; i += sv)
+      for (const std::uint32_t j : g.neighbors(static_cast<std::uint32_t>(i)))
+        if (j % sv != 0 || j > i) {
+          ++count;
+          edge(i, j);
+        }
+    return count;
+  };
+  const std::size_t row = n > 0 ? std::max<std::size_t>(1, 2 * g.edge_count() / n) : 1;
+  std::size_t sv = std::max(layers.point_stride, stride_for(n, options.max_edges / row));
+  while (sv <= n && drawn(sv, [](std::size_t, std::size_t) {}) > options.max_edges) sv += std::max<std::size_t>(1, sv / 8);
+  layers.graph_vertex_stride = sv;
+  drawn(sv, [&](std::size_t i, std::size_t j) { push_segment(layers.graph_segments, p(i), p(j)); });
+
+  const auto& parent = o.tree.parent;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (parent[i] == SpanningForest::no_parent) continue;
+    ++layers.tree_edges_total;
+    const bool flip = o.flipped[i] != o.flipped[parent[i]];
+    layers.tree_flips_total += flip ? 1 : 0;
+    if (i % layers.point_stride != 0) continue;
+    push_segment(layers.tree_segments, p(i), p(parent[i]));
+    layers.tree_flip.push_back(flip ? 1 : 0);
+  }
+}
+
+void add_corners(const MarchingCubesResult& c, const ReportInput& in, const ReportOptions& options,
+                 ReportLayers& layers) {
+  layers.cell = c.cell;
+  layers.corners_total = c.evaluated_corners;
+  layers.undefined_corners_total = c.undefined_corners;
+  if (c.corners.empty()) return;  // not kept
+  layers.has_corners = true;
+  layers.corner_stride = stride_for(c.corners.size(), options.max_corners);
+  const Vec3 shift = c.origin + in.offset - layers.centre;
+  for (std::size_t i = 0; i < c.corners.size(); i += layers.corner_stride) {
+    const LatticeCorner& corner = c.corners[i];
+    const Vec3 position(corner.index[0], corner.index[1], corner.index[2]);
+    push(layers.corners, shift + c.cell * position);
+    layers.corner_values.push_back(corner.defined ? static_cast<float>(corner.value)
+                                                  : std::numeric_limits<float>::quiet_NaN());
+  }
+}
+
+void add_mesh(const Mesh& mesh, const ReportOptions& options, ReportLayers& layers) {
+  layers.has_mesh = true;
+  layers.triangles_total = mesh.triangles.size();
+  layers.triangle_stride = stride_for(mesh.triangles.size(), options.max_triangles);
+  layers.mesh_vertices.reserve(3 * mesh.vertices.size());
+  for (const Vec3& v : mesh.vertices) push(layers.mesh_vertices, v - layers.centre);
+  for (std::size_t t = 0; t < mesh.triangles.size(); t += layers.triangle_stride)
+    layers.mesh_triangles.insert(layers.mesh_triangles.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
+  const auto boundary = boundary_edges(mesh);
+  layers.boundary_edges_total = boundary.size();
+  for (const auto& [a, b] : boundary)
+    push_segment(layers.boundary_segments, mesh.vertices[a] - layers.centre, mesh.vertices[b] - layers.centre);
+}
+
+// ---- writing
+
+void append_base64(std::string& out, const void* data, std::size_t bytes) {
+  static constexpr char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* b = static_cast<const unsigned char*>(data);
+  out.reserve(out.size() + (bytes + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 3 <= bytes; i += 3) {
+    const unsigned v = (unsigned{b[i]} << 16) | (unsigned{b[i + 1]} << 8) | b[i + 2];
+    out += digits[v >> 18];
+    out += digits[(v >> 12) & 63];
+    out += digits[(v >> 6) & 63];
+    out += digits[v & 63];
+  }
+  if (i < bytes) {
+    const unsigned v = (unsigned{b[i]} << 16) | (i + 1 < bytes ? unsigned{b[i + 1]} << 8 : 0u);
+    out += digits[v >> 18];
+    out += digits[(v >> 12) & 63];
+    out += i + 1 < bytes ? digits[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+}
+
+// A small writer for the data block: keys and values in order, no indentation.
+class JsonWriter {
+ public:
+  explicit JsonWriter(std::string& out) : out_(out) {}
+  void open(std::string_view key) {
+    this->key(key);
+    out_ += '{';
+    first_ = true;
+  }
+  void close() {
+    out_ += '}';
+    first_ = false;
+  }
+  void number(std::string_view k, double v) {
+    key(k);
+    if (!std::isfinite(v)) {
+      out_ += "null";
+      return;
+    }
+    char buffer[32];
+    const auto end = std::to_chars(buffer, buffer + sizeof buffer, v).ptr;
+    out_.append(buffer, end);
+  }
+  void boolean(std::string_view k, bool v) {
+    key(k);
+    out_ += v ? "true" : "false";
+  }
+  void string(std::string_view k, std::string_view v) {
+    key(k);
+    out_ += '"';
+    for (const char c : v) {
+      if (c == '"' || c == '\\') {
+        out_ += '\\';
+        out_ += c;
+      } else if (static_cast<unsigned char>(c) < 0x20) {
+        char buffer[8];
+        std::snprintf(buffer, sizeof buffer, "\\u%04x", static_cast<unsigned>(c));
+        out_ += buffer;
+      } else {
+        out_ += c;
+      }
+    }
+    out_ += '"';
+  }
+  // A binary array goes into its own element after the JSON (see
+  // report_html); the JSON holds its number.
+  template <class T>
+  void array(std::string_view k, const std::vector<T>& v) {
+    key(k);
+    char buffer[24];
+    out_.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, arrays_.size()).ptr);
+    arrays_.push_back({v.data(), v.size() * sizeof(T)});
+  }
+  struct Bytes {
+    const void* data;
+    std::size_t size;
+  };
+  [[nodiscard]] const std::vector<Bytes>& arrays() const { return arrays_; }
+  void raw(std::string_view k, std::string_view json) {
+    key(k);
+    out_ += json;
+  }
+  void vec(std::string_view k, const Vec3& v) {
+    key(k);
+    out_ += '[';
+    for (int i = 0; i < 3; ++i) {
+      if (i > 0) out_ += ',';
+      char buffer[32];
+      out_.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, v[i]).ptr);
+    }
+    out_ += ']';
+  }
+
+ private:
+  void key(std::string_view k) {
+    if (!first_) out_ += ',';
+    first_ = false;
+    if (k.empty()) return;
+    out_ += '"';
+    out_ += k;
+    out_ += "\":";
+  }
+  std::string& out_;
+  bool first_ = true;
+  std::vector<Bytes> arrays_;
+};
+
+}  // namespace
+
+ReportInput report_input(const Reconstruction& r) {
+  ReportInput in;
+  in.points = r.points();
+  in.offset = r.offset;
+  in.planes = &r.planes;
+  in.oriented = r.oriented ? &*r.oriented : nullptr;
+  in.normals = r.normals();
+  in.contour = &r.contour;
+  return in;
+}
+
+ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& options) {
+  if (in.planes == nullptr) throw InvalidInputError("report: the tangent planes are required");
+  const TangentPlanes<3>& planes = *in.planes;
+  const std::size_t n = in.points.size();
+  if (planes.origins.size() != n || planes.normals.size() != n || in.normals.size() != n)
+    throw InvalidInputError("report: " + std::to_string(n) + " points but " + std::to_string(planes.origins.size()) +
+                            " planes and " + std::to_string(in.normals.size()) + " oriented normals");
+
+  ReportLayers layers;
+  const Box<3> box = bounding_box<3>(in.points);
+  layers.centre = box.empty() ? in.offset : Vec3(0.5 * (box.min + box.max) + in.offset);
+  layers.diagonal = box.diagonal();
+  layers.rho = planes.rho;
+  const auto p = [&](const Vec3& q) -> Vec3 { return q + in.offset - layers.centre; };
+
+  layers.points_total = n;
+  layers.point_stride = stride_for(n, options.max_points);
+  const Components* components =
+      in.oriented != nullptr && in.oriented->graph.components.label.size() == n ? &in.oriented->graph.components
+                                                                                  : nullptr;
+  layers.component_count = components != nullptr ? std::max<std::size_t>(1, components->sizes.size()) : 1;
+  for (std::size_t i = 0; i < n; i += layers.point_stride) {
+    push(layers.points, p(in.points[i]));
+    layers.component.push_back(components != nullptr ? components->label[i] : 0);
+    push(layers.origins, p(planes.origins[i]));
+    push_normal(layers.pca_normals, planes.normals[i]);
+    layers.planarity.push_back(static_cast<float>(planes.surface_variation(i)));
+    layers.no_plane.push_back(planes.local_rho[i] > 0.0F ? 0 : 1);
+    push_normal(layers.normals, in.normals[i]);
+    layers.flipped.push_back(planes.normals[i].dot(in.normals[i]) < 0.0 ? 1 : 0);
+  }
+
+  add_kdtree(planes.point_tree, layers.centre - in.offset, options.max_kdtree_depth, layers);
+  if (in.oriented != nullptr) add_graph(in, options, layers);
+  if (in.contour != nullptr) {
+    add_corners(*in.contour, in, options, layers);
+    add_mesh(in.contour->mesh, options, layers);
+  }
+  return layers;
+}
+
+std::string report_html(const ReportLayers& layers, const ReportOptions& options) {
+  std::string data;
+  JsonWriter w(data);
+  w.open("");
+  w.string("title", options.title);
+  w.vec("centre", layers.centre);
+  w.number("diagonal", layers.diagonal);
+  w.number("rho", layers.rho);
+  w.raw("stats", options.stats_json.empty() ? std::string_view("{}") : std::string_view(options.stats_json));
+
+  w.open("points");
+  w.number("total", static_cast<double>(layers.points_total));
+  w.number("stride", static_cast<double>(layers.point_stride));
+  w.number("drawn", static_cast<double>(layers.points.size() / 3));
+  w.number("components", static_cast<double>(layers.component_count));
+  w.array("position", layers.points);
+  w.array("component", layers.component);
+  w.array("origin", layers.origins);
+  w.array("pca_normal", layers.pca_normals);
+  w.array("planarity", layers.planarity);
+  w.array("no_plane", layers.no_plane);
+  w.array("normal", layers.normals);
+  w.array("flipped", layers.flipped);
+  w.close();
+
+  w.open("kdtree");
+  w.number("depth", layers.kdtree_depth);
+  w.number("drawn_depth", layers.kdtree_drawn_depth);
+  w.array("boxes", layers.kdtree_boxes);
+  w.array("level", layers.kdtree_level);
+  w.close();
+
+  if (layers.has_graph) {
+    w.open("graph");
+    w.number("edges_total", static_cast<double>(layers.graph_edges_total));
+    w.number("vertex_stride", static_cast<double>(layers.graph_vertex_stride));
+    w.number("drawn", static_cast<double>(layers.graph_segments.size() / 6));
+    w.number("tree_drawn", static_cast<double>(layers.tree_flip.size()));
+    w.array("segments", layers.graph_segments);
+    w.number("tree_total", static_cast<double>(layers.tree_edges_total));
+    w.number("flips_total", static_cast<double>(layers.tree_flips_total));
+    w.array("tree_segments", layers.tree_segments);
+    w.array("tree_flip", layers.tree_flip);
+    w.close();
+  }
+  if (layers.has_corners) {
+    w.open("corners");
+    w.number("total", static_cast<double>(layers.corners_total));
+    w.number("undefined_total", static_cast<double>(layers.undefined_corners_total));
+    w.number("stride", static_cast<double>(layers.corner_stride));
+    w.number("drawn", static_cast<double>(layers.corner_values.size()));
+    w.number("cell", layers.cell);
+    w.array("position", layers.corners);
+    w.array("value", layers.corner_values);
+    w.close();
+  }
+  if (layers.has_mesh) {
+    w.open("mesh");
+    w.number("triangles_total", static_cast<double>(layers.triangles_total));
+    w.number("stride", static_cast<double>(layers.triangle_stride));
+    w.number("drawn", static_cast<double>(layers.mesh_triangles.size() / 3));
+    w.number("boundary_drawn", static_cast<double>(layers.boundary_segments.size() / 6));
+    w.array("vertices", layers.mesh_vertices);
+    w.array("triangles", layers.mesh_triangles);
+    w.number("boundary_total", static_cast<double>(layers.boundary_edges_total));
+    w.array("boundary", layers.boundary_segments);
+    w.close();
+  }
+  w.close();
+
+  const ReportPage page = report_page();
+  std::size_t size = page.head.size() + data.size() + page.tail.size() + 200;
+  for (const auto& a : w.arrays()) size += (a.size + 2) / 3 * 4 + 80;
+  std::string html;
+  html.reserve(size);
+  html += page.head;
+  // The data: the JSON in one element, each array base64-encoded in its own
+  // (the viewer decodes them straight from the page's text, and no large
+  // JSON string is ever parsed). Inside <script>, "</script" or "<!--" would
+  // end or confuse the element; '<' occurs in JSON only inside strings,
+  // where \u003c means the same character.
+  html += "<script id=\"recon-data\" type=\"application/json\">";
+  for (const char c : data) {
+    if (c == '<') {
+      html += "\\u003c";
+    } else {
+      html += c;
+    }
+  }
+  html += "</script>\n";
+  for (std::size_t i = 0; i < w.arrays().size(); ++i) {
+    html += "<script id=\"recon-array-" + std::to_string(i) + "\" type=\"application/octet-stream\">";
+    append_base64(html, w.arrays()[i].data, w.arrays()[i].size);
+    html += "</script>\n";
+  }
+  html += page.tail;
+  return html;
+}
+
+void write_report(const std::filesystem::path& path, const ReportLayers& layers, const ReportOptions& options) {
+  const std::string html = report_html(layers, options);
+  io::AtomicFile file(path);
+  file.stream().write(html.data(), static_cast<std::streamsize>(html.size()));
+  file.commit();
+}
+
+}  // namespace recon

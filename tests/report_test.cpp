@@ -1,0 +1,335 @@
+#include "recon/report.h"
+
+#include "recon/errors.h"
+#include "recon/mesh.h"
+#include "recon/reconstruct.h"
+#include "recon/shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+namespace recon {
+namespace {
+
+Reconstruction reconstruct_for_report(const PointCloud& cloud) {
+  ReconstructionOptions options;
+  options.keep_graph = true;
+  options.keep_corners = true;
+  return reconstruct(cloud, options);
+}
+
+// A half sphere (open: the mesh has a boundary) beside a whole one, far
+// enough apart to be two components.
+const Reconstruction& open_and_closed() {
+  static const Reconstruction r = [] {
+    PointCloud cloud;
+    for (const Vec3& p : make_sphere()->sample(6000, 5).positions)
+      if (p.z() > 0.0) cloud.positions.push_back(p);
+    for (const Vec3& p : make_sphere()->sample(3000, 6).positions) cloud.positions.push_back(p + Vec3(4.0, 0.0, 0.0));
+    return reconstruct_for_report(cloud);
+  }();
+  return r;
+}
+
+Vec3 at(const std::vector<float>& v, std::size_t i) {
+  return {static_cast<double>(v[3 * i]), static_cast<double>(v[3 * i + 1]), static_cast<double>(v[3 * i + 2])};
+}
+Vec3 normal_at(const std::vector<std::int8_t>& v, std::size_t i) {
+  return Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]) / 127.0;
+}
+
+std::string_view element(std::string_view html, const std::string& id);
+
+TEST(Report, EveryPointWithItsPlaneNormalsAndComponentWhenWithinBudget) {
+  const Reconstruction& r = open_and_closed();
+  const ReportLayers layers = make_report_layers(report_input(r));
+  const std::size_t n = r.points().size();
+  ASSERT_EQ(layers.points_total, n);
+  ASSERT_EQ(layers.point_stride, 1u);
+  ASSERT_EQ(layers.points.size(), 3 * n);
+  const double tolerance = 1e-6 * layers.diagonal;  // float storage
+  std::set<std::uint32_t> components;
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_LT((at(layers.points, i) + layers.centre - r.points()[i] - r.offset).norm(), tolerance);
+    EXPECT_LT((at(layers.origins, i) + layers.centre - r.planes.origins[i] - r.offset).norm(), tolerance);
+    // int8 normals: within 1/127 per coordinate of the true ones.
+    EXPECT_LT((normal_at(layers.pca_normals, i) - r.planes.normals[i]).lpNorm<Eigen::Infinity>(), 0.5 / 127 + 1e-9);
+    EXPECT_LT((normal_at(layers.normals, i) - r.normals()[i]).lpNorm<Eigen::Infinity>(), 0.5 / 127 + 1e-9);
+    EXPECT_EQ(layers.flipped[i] == 1, r.planes.normals[i].dot(r.normals()[i]) < 0.0);
+    EXPECT_GE(layers.planarity[i], 0.0F);
+    EXPECT_LE(layers.planarity[i], 1.0F / 3.0F + 1e-6F);
+    EXPECT_EQ(layers.component[i], r.oriented->graph.components.label[i]);
+    components.insert(layers.component[i]);
+  }
+  EXPECT_EQ(components.size(), 2u);
+  EXPECT_EQ(layers.component_count, 2u);
+  // The centre is the middle of the points' box, in input coordinates.
+  const Box<3> box = bounding_box<3>(r.points());
+  EXPECT_LT((layers.centre - (0.5 * (box.min + box.max) + r.offset)).norm(), 1e-12);
+}
+
+TEST(Report, KdTreeCellsAreTheNodeBoxesDownToTheDrawnDepth) {
+  const Reconstruction& r = open_and_closed();
+  ReportOptions options;
+  options.max_kdtree_depth = 5;
+  const ReportLayers layers = make_report_layers(report_input(r), options);
+  const KdTree<3>& tree = r.planes.point_tree;
+  EXPECT_EQ(layers.kdtree_depth, tree.depth());
+  EXPECT_EQ(layers.kdtree_drawn_depth, 5);
+  // A full binary tree down to depth 5 (the leaves are deeper): 63 nodes.
+  ASSERT_EQ(layers.kdtree_level.size(), 63u);
+  ASSERT_EQ(layers.kdtree_boxes.size(), 6 * 63u);
+  std::map<int, std::size_t> per_level;
+  for (const auto level : layers.kdtree_level) ++per_level[level];
+  for (int d = 0; d <= 5; ++d) EXPECT_EQ(per_level[d], std::size_t{1} << d);
+  // The cells of one depth hold every point, each point in one cell.
+  const float slack = 1e-5F;
+  for (int d : {1, 3, 5}) {
+    for (std::size_t i = 0; i < r.points().size(); i += 37) {
+      const Vec3 p = r.points()[i] + r.offset - layers.centre;
+      int holding = 0;
+      for (std::size_t b = 0; b < layers.kdtree_level.size(); ++b) {
+        if (layers.kdtree_level[b] != d) continue;
+        const Vec3 lo = at(layers.kdtree_boxes, 2 * b), hi = at(layers.kdtree_boxes, 2 * b + 1);
+        holding += ((p.array() >= lo.array() - slack) && (p.array() <= hi.array() + slack)).all() ? 1 : 0;
+      }
+      EXPECT_GE(holding, 1) << "point " << i << " at depth " << d;
+    }
+  }
+}
+
+TEST(Report, GraphAndSpanningTreeWithTheEdgesWhereTheOrientationTurns) {
+  const Reconstruction& r = open_and_closed();
+  ReportOptions options;
+  options.max_edges = 10'000'000;
+  const ReportLayers layers = make_report_layers(report_input(r), options);
+  ASSERT_TRUE(layers.has_graph);
+  const auto& o = *r.oriented;
+  EXPECT_EQ(layers.graph_edges_total, o.graph.graph.edge_count());
+  EXPECT_EQ(layers.graph_vertex_stride, 1u);
+  EXPECT_EQ(layers.graph_segments.size(), 6 * o.graph.graph.edge_count());  // every edge once
+  // Every vertex but the two roots has a tree edge to its parent.
+  const std::size_t n = r.points().size();
+  EXPECT_EQ(layers.tree_edges_total, n - 2);
+  ASSERT_EQ(layers.tree_flip.size(), n - 2);
+  std::size_t e = 0, flips = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t parent = o.tree.parent[i];
+    if (parent == SpanningForest::no_parent) continue;
+    const Vec3 a = at(layers.tree_segments, 2 * e) + layers.centre, b = at(layers.tree_segments, 2 * e + 1) + layers.centre;
+    EXPECT_LT((a - r.points()[i] - r.offset).norm(), 1e-5);
+    EXPECT_LT((b - r.points()[parent] - r.offset).norm(), 1e-5);
+    // Where the oriented normals agree across the edge (everywhere but a
+    // few the vote turned), a flip is where the PCA normals disagree.
+    if (r.normals()[i].dot(r.normals()[parent]) > 0.0) {
+      EXPECT_EQ(layers.tree_flip[e] == 1, r.planes.normals[i].dot(r.planes.normals[parent]) < 0.0) << "edge " << e;
+    }
+    flips += layers.tree_flip[e];
+    ++e;
+  }
+  EXPECT_EQ(flips, layers.tree_flips_total);
+  EXPECT_GT(flips, 0u);  // PCA's signs are arbitrary: a walk over a sphere must turn some
+}
+
+TEST(Report, BudgetsDrawARegularSubsampleAndSaySo) {
+  const Reconstruction& r = open_and_closed();
+  const std::size_t n = r.points().size();
+  ReportOptions options;
+  options.max_points = 1000;
+  options.max_edges = 5000;
+  options.max_corners = 700;
+  options.max_triangles = 2000;
+  const ReportLayers layers = make_report_layers(report_input(r), options);
+  EXPECT_EQ(layers.point_stride, (n + 999) / 1000);
+  EXPECT_LE(layers.points.size() / 3, 1000u);
+  EXPECT_GT(layers.points.size() / 3, 900u);
+  for (std::size_t j = 0; j < layers.points.size() / 3; ++j)
+    EXPECT_LT((at(layers.points, j) + layers.centre - r.points()[j * layers.point_stride] - r.offset).norm(), 1e-5);
+  EXPECT_LE(layers.graph_segments.size() / 6, 5000u);
+  EXPECT_GT(layers.graph_segments.size() / 6, 2500u);  // the stride is the smallest that fits, give or take 1/8
+  EXPECT_GE(layers.graph_vertex_stride, layers.point_stride);
+  std::size_t drawn_with_parent = 0;
+  for (std::size_t i = 0; i < n; i += layers.point_stride)
+    drawn_with_parent += r.oriented->tree.parent[i] != SpanningForest::no_parent ? 1U : 0U;
+  EXPECT_EQ(layers.tree_flip.size(), drawn_with_parent) << "one tree edge per drawn point that has a parent";
+  EXPECT_LE(layers.corner_values.size(), 700u);
+  EXPECT_LE(layers.mesh_triangles.size() / 3, 2000u);
+  EXPECT_EQ(layers.triangles_total, r.contour.mesh.triangles.size());
+  EXPECT_EQ(layers.corners_total, r.contour.evaluated_corners);
+}
+
+TEST(Report, CornersAreTheEvaluatedLatticeCornersWithUndefinedOnesMarked) {
+  const Reconstruction& r = open_and_closed();
+  const ReportLayers layers = make_report_layers(report_input(r));
+  ASSERT_TRUE(layers.has_corners);
+  const auto& corners = r.contour.corners;
+  ASSERT_EQ(layers.corner_values.size(), corners.size());
+  std::size_t undefined = 0;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const Vec3 index(corners[i].index[0], corners[i].index[1], corners[i].index[2]);
+    const Vec3 expected = r.contour.origin + r.contour.cell * index + r.offset;
+    EXPECT_LT((at(layers.corners, i) + layers.centre - expected).norm(), 1e-5);
+    if (corners[i].defined) {
+      EXPECT_FLOAT_EQ(layers.corner_values[i], static_cast<float>(corners[i].value));
+    } else {
+      EXPECT_TRUE(std::isnan(layers.corner_values[i]));
+      ++undefined;
+    }
+  }
+  EXPECT_EQ(undefined, r.contour.undefined_corners);
+  EXPECT_GT(undefined, 0u);  // under the open half sphere
+}
+
+TEST(Report, MeshWithItsBoundaryEdges) {
+  const Reconstruction& r = open_and_closed();
+  const ReportLayers layers = make_report_layers(report_input(r));
+  const Mesh& mesh = r.contour.mesh;
+  ASSERT_TRUE(layers.has_mesh);
+  ASSERT_EQ(layers.mesh_triangles.size(), 3 * mesh.triangles.size());
+  ASSERT_EQ(layers.mesh_vertices.size(), 3 * mesh.vertices.size());
+  for (std::size_t v = 0; v < mesh.vertices.size(); v += 11)
+    EXPECT_LT((at(layers.mesh_vertices, v) + layers.centre - mesh.vertices[v]).norm(), 1e-5);
+  const MeshTopology t = analyze_topology(mesh);
+  EXPECT_GT(t.boundary_edges, 0u);
+  EXPECT_EQ(layers.boundary_edges_total, t.boundary_edges);
+  EXPECT_EQ(layers.boundary_segments.size(), 6 * t.boundary_edges);
+  // The boundary is the half sphere's rim: near z = 0, on the first sphere.
+  for (std::size_t e = 0; e < 2 * t.boundary_edges; ++e) {
+    const Vec3 p = at(layers.boundary_segments, e) + layers.centre;
+    EXPECT_LT(p.x(), 2.0);
+    EXPECT_LT(std::abs(p.z()), 0.25);
+  }
+}
+
+TEST(Report, NormalsOnlyRunHasNoLatticeLayers) {
+  const Reconstruction& r = open_and_closed();
+  ReportInput input = report_input(r);
+  input.contour = nullptr;
+  const ReportLayers layers = make_report_layers(input);
+  EXPECT_FALSE(layers.has_corners);
+  EXPECT_FALSE(layers.has_mesh);
+  EXPECT_TRUE(layers.has_graph);
+  const std::string html = report_html(layers);
+  const std::string_view json = element(html, "recon-data");
+  EXPECT_NE(json.find("\"graph\":{"), std::string::npos);
+  EXPECT_EQ(json.find("\"mesh\""), std::string::npos);
+  EXPECT_EQ(json.find("\"corners\""), std::string::npos);
+}
+
+TEST(Report, GraphReleasedOrSkippedMeansNoGraphLayer) {
+  ReconstructionOptions options;
+  options.keep_graph = false;
+  const Reconstruction r = reconstruct(make_sphere()->sample(3000, 9), options);
+  const ReportLayers layers = make_report_layers(report_input(r));
+  EXPECT_FALSE(layers.has_graph);
+  EXPECT_FALSE(layers.has_corners);  // keep_corners was off
+  EXPECT_TRUE(layers.has_mesh);
+}
+
+TEST(Report, RefusesMismatchedInput) {
+  const Reconstruction& r = open_and_closed();
+  ReportInput input = report_input(r);
+  input.normals = input.normals.subspan(1);
+  EXPECT_THROW((void)make_report_layers(input), InvalidInputError);
+  input.planes = nullptr;
+  EXPECT_THROW((void)make_report_layers(input), InvalidInputError);
+}
+
+// ---- the page
+
+std::vector<unsigned char> base64_decode(std::string_view text) {
+  auto digit = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    return c == '+' ? 62 : c == '/' ? 63 : -1;
+  };
+  std::vector<unsigned char> out;
+  unsigned value = 0;
+  int bits = 0;
+  for (const char c : text) {
+    const int d = digit(c);
+    if (d < 0) break;  // '=' padding
+    value = (value << 6) | static_cast<unsigned>(d);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<unsigned char>((value >> bits) & 0xff));
+    }
+  }
+  return out;
+}
+
+// The text of the element with this id.
+std::string_view element(std::string_view html, const std::string& id) {
+  const std::string open = "id=\"" + id + "\"";
+  const auto at = html.find(open);
+  if (at == std::string_view::npos) return {};
+  const auto start = html.find('>', at) + 1;
+  return html.substr(start, html.find("</script>", start) - start);
+}
+
+template <class T>
+std::vector<T> decode(std::string_view html, int array) {
+  const auto raw = base64_decode(element(html, "recon-array-" + std::to_string(array)));
+  std::vector<T> values(raw.size() / sizeof(T));
+  std::memcpy(values.data(), raw.data(), values.size() * sizeof(T));
+  return values;
+}
+
+TEST(ReportPage, ArraysRoundTripThroughThePage) {
+  const Reconstruction& r = open_and_closed();
+  ReportOptions options;
+  options.title = "half </script><script>alert(1)</script> & whole";
+  options.stats_json = R"({"note":"a </script> in a string","n":3})";
+  const ReportLayers layers = make_report_layers(report_input(r), options);
+  const std::string html = report_html(layers, options);
+  // The viewer is in the page and the data elements sit before it.
+  const auto data_at = html.find("id=\"recon-data\"");
+  ASSERT_NE(data_at, std::string::npos);
+  EXPECT_LT(data_at, html.rfind("<script>"));
+  EXPECT_NE(html.find("recon report"), std::string::npos);
+  // Nothing in the data ends its element early: each data element holds
+  // exactly one "</script>", its own.
+  const std::string_view json = element(html, "recon-data");
+  EXPECT_EQ(json.find('<'), std::string_view::npos);
+  EXPECT_NE(json.find("half \\u003c/script>\\u003cscript>alert(1)\\u003c/script> & whole"), std::string_view::npos);
+  EXPECT_NE(json.find("\"stats\":{\"note\":\"a \\u003c/script> in a string\",\"n\":3}"), std::string_view::npos);
+  // The arrays are numbered in the order written: points.position is 0,
+  // points.component 1, ..., kdtree.boxes 8.
+  EXPECT_NE(json.find("\"position\":0,\"component\":1,\"origin\":2,\"pca_normal\":3"), std::string_view::npos);
+  EXPECT_EQ(decode<float>(html, 0), layers.points);
+  EXPECT_EQ(decode<std::uint32_t>(html, 1), layers.component);
+  EXPECT_EQ(decode<std::int8_t>(html, 3), layers.pca_normals);
+  EXPECT_EQ(decode<float>(html, 8), layers.kdtree_boxes);
+  // ... graph 10-12, corners 13-14, mesh 15-17.
+  EXPECT_EQ(decode<float>(html, 14).size(), layers.corner_values.size());
+  EXPECT_EQ(decode<std::uint32_t>(html, 16), layers.mesh_triangles);
+  EXPECT_EQ(decode<float>(html, 17), layers.boundary_segments);
+  EXPECT_TRUE(element(html, "recon-array-18").empty());
+}
+
+TEST(ReportPage, WrittenWholeOrNotAtAll) {
+  const Reconstruction& r = open_and_closed();
+  const ReportLayers layers = make_report_layers(report_input(r));
+  const auto folder = std::filesystem::temp_directory_path() / "recon_report_test";
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  EXPECT_THROW(write_report(folder / "missing" / "r.html", layers), IoError);
+  write_report(folder / "r.html", layers);
+  std::ifstream in(folder / "r.html", std::ios::binary);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(written, report_html(layers));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), std::filesystem::directory_iterator{}), 1)
+      << "no temporary file left";
+  std::filesystem::remove_all(folder);
+}
+
+}  // namespace
+}  // namespace recon

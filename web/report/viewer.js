@@ -1,0 +1,436 @@
+// The report's viewer: reads the data block recon wrote into the page
+// (src/report.cpp) and draws each phase as a layer with three.js. Bundled
+// with three.js into one script by web/report/build.mjs at build time, so
+// the page needs nothing from the network.
+//
+// The JSON block holds the figures; each array is base64 text in its own
+// element, little-endian; positions are float32 relative to data.centre. The page renders only when something changes
+// (a toggle, the slider, the camera), and exposes window.reconReport for the
+// browser tests (web/tests/report.test.mjs).
+
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+const timings = { start: performance.now() };
+const dataText = document.getElementById('recon-data').textContent;
+timings.text = performance.now();
+const data = JSON.parse(dataText);
+
+// An array is given by its number: the element recon-array-N holds it.
+function bytes(id) {
+  const b64 = document.getElementById(`recon-array-${id}`).textContent;
+  if (typeof Uint8Array.fromBase64 === 'function') return Uint8Array.fromBase64(b64);
+  const text = atob(b64);
+  const out = new Uint8Array(text.length);
+  for (let i = 0; i < text.length; ++i) out[i] = text.charCodeAt(i);
+  return out;
+}
+const f32 = (b64) => { const b = bytes(b64); return new Float32Array(b.buffer, b.byteOffset, b.byteLength / 4); };
+const u32 = (b64) => { const b = bytes(b64); return new Uint32Array(b.buffer, b.byteOffset, b.byteLength / 4); };
+const u8 = (b64) => bytes(b64);
+// Normals are stored as int8 times 127.
+const normals8 = (b64) => { const b = bytes(b64); return Float32Array.from(new Int8Array(b.buffer, b.byteOffset, b.byteLength), (v) => v / 127); };
+
+const count = (n) => Math.round(n).toLocaleString('en-US');
+function formatNumber(v) {
+  if (typeof v !== 'number') return String(v);
+  if (Number.isInteger(v)) return count(v);
+  return String(Number(v.toPrecision(4)));
+}
+
+// ---- colours
+
+const palette = [0x1f77b4, 0xff7f0e, 0x2ca02c, 0xd62728, 0x9467bd, 0x8c564b, 0xe377c2, 0x7f7f7f, 0xbcbd22, 0x17becf]
+  .map((hex) => new THREE.Color(hex));
+// Planarity: blue (flat) through green and yellow to red (surface variation 0.1 and above).
+const rampStops = [[0.0, 0x2b59c3], [0.33, 0x2ca02c], [0.66, 0xe8c21a], [1.0, 0xd62728]].map(([t, c]) => [t, new THREE.Color(c)]);
+const planarityFull = 0.1;
+function ramp(t, out) {
+  t = Math.min(1, Math.max(0, t));
+  for (let s = 1; s < rampStops.length; ++s) {
+    if (t <= rampStops[s][0]) {
+      const [t0, c0] = rampStops[s - 1];
+      const [t1, c1] = rampStops[s];
+      return out.copy(c0).lerp(c1, (t - t0) / (t1 - t0));
+    }
+  }
+  return out.copy(rampStops[rampStops.length - 1][1]);
+}
+const colours = {
+  kdtree: 0x3c4a5c, graph: 0x9aa0a6, tree: 0x1a73e8, flip: 0xd62728,
+  outside: 0xe8710a, inside: 0x1a73e8, undefined: 0xc000c0,
+  meshFront: 0xd8d8d8, meshBack: 0xb04040, boundary: 0xe00000,
+};
+const css = (hex) => '#' + new THREE.Color(hex).getHexString();
+
+// ---- scene
+
+const canvas = document.getElementById('canvas');
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(Math.min(2, window.devicePixelRatio));
+renderer.setClearColor(0xf4f5f7);
+const scene = new THREE.Scene();
+const diagonal = data.diagonal > 0 ? data.diagonal : 1;
+const camera = new THREE.PerspectiveCamera(40, 1, diagonal * 1e-3, diagonal * 20);
+camera.up.set(0, 0, 1);  // Hoppe's orientation starts from the largest z: z is up
+scene.add(camera);
+const controls = new OrbitControls(camera, canvas);
+controls.screenSpacePanning = true;
+
+// Frames are drawn on demand, at most one per animation frame, and none
+// before the page is set up (a frame of a large mesh is costly when the
+// browser draws in software).
+let started = false, renderQueued = false;
+function render() {
+  renderer.render(scene, camera);
+}
+function requestRender() {
+  if (!started || renderQueued) return;
+  renderQueued = true;
+  requestAnimationFrame(() => { renderQueued = false; render(); });
+}
+controls.addEventListener('change', requestRender);
+
+function resetView() {
+  camera.position.set(0.55 * diagonal, -0.8 * diagonal, 0.5 * diagonal);
+  controls.target.set(0, 0, 0);
+  controls.update();
+  requestRender();
+}
+
+const view = document.getElementById('view');
+function resize() {
+  const w = Math.max(1, view.clientWidth), h = Math.max(1, view.clientHeight);
+  const size = renderer.getSize(new THREE.Vector2());
+  if (size.x === w && size.y === h) return;
+  renderer.setSize(w, h, false);
+  camera.aspect = w / h;
+  camera.updateProjectionMatrix();
+  requestRender();
+}
+new ResizeObserver(resize).observe(view);
+
+function lineSegments(positions, colour, opacity = 1) {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+  const material = new THREE.LineBasicMaterial({ color: colour, transparent: opacity < 1, opacity });
+  return new THREE.LineSegments(geometry, material);
+}
+function colouredSegments(positions, colours3) {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+  geometry.setAttribute('color', new THREE.BufferAttribute(colours3, 3));
+  return new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ vertexColors: true }));
+}
+function points(positions, colours3, size) {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+  geometry.setAttribute('color', new THREE.BufferAttribute(colours3, 3));
+  return new THREE.Points(geometry, new THREE.PointsMaterial({ size, sizeAttenuation: false, vertexColors: true }));
+}
+// Segments from each origin along its normal (length len); `keep(i)` filters.
+function normalSegments(origin, normal, len, keep) {
+  const n = origin.length / 3;
+  const out = new Float32Array(6 * n);
+  let m = 0;
+  for (let i = 0; i < n; ++i) {
+    if (!keep(i)) continue;
+    for (let c = 0; c < 3; ++c) {
+      out[6 * m + c] = origin[3 * i + c];
+      out[6 * m + 3 + c] = origin[3 * i + c] + len * normal[3 * i + c];
+    }
+    ++m;
+  }
+  return { positions: out.subarray(0, 6 * m), kept: m };
+}
+
+timings.parsed = performance.now();
+// ---- the layers
+
+const P = data.points;
+const drawnPoints = P.drawn;
+const normalLength = 1.5 * (data.rho > 0 ? data.rho : diagonal / 100);
+const subsample = (drawn, total, what, stride) =>
+  drawn >= total ? `all ${count(total)} ${what}` :
+    `${count(drawn)} of ${count(total)} ${what} drawn (every ${count(stride)}th)`;
+
+// A layer's geometry is built the first time it is shown, so that a large
+// report opens as fast as its default layers allow.
+const layers = [];
+function addLayer(id, label, build, note, legend, visible) {
+  layers.push({ id, label, build, available: build !== null, visible: false, object: null, note, legend,
+    defaultVisible: visible && build !== null });
+}
+function layerObject(layer) {
+  if (layer.object === null) {
+    layer.object = layer.build();
+    scene.add(layer.object);
+  }
+  return layer.object;
+}
+
+// 1. input points by component
+addLayer('points', '1. Input points', () => {
+  const component = u32(P.component);
+  const c = new Float32Array(3 * drawnPoints);
+  for (let i = 0; i < drawnPoints; ++i) palette[component[i] % palette.length].toArray(c, 3 * i);
+  return points(f32(P.position), c, 2);
+}, subsample(drawnPoints, P.total, 'points', P.stride) + `; ${count(P.components)} component${P.components === 1 ? '' : 's'}`,
+'coloured by component (piece of the data)', !data.mesh);
+
+// 2. kd-tree cells
+const K = data.kdtree;
+const kdBoxes = f32(K.boxes), kdLevel = u8(K.level);
+let kdDepth = Math.min(4, K.drawn_depth);
+function kdSegments(depth) {
+  const out = [];
+  for (let b = 0; b < kdLevel.length; ++b) {
+    const level = kdLevel[b] & 127, shallowLeaf = kdLevel[b] >= 128;
+    if (!(level === depth || (shallowLeaf && level < depth))) continue;
+    const lo = kdBoxes.subarray(6 * b, 6 * b + 3), hi = kdBoxes.subarray(6 * b + 3, 6 * b + 6);
+    const corner = (i) => [(i & 1) ? hi[0] : lo[0], (i & 2) ? hi[1] : lo[1], (i & 4) ? hi[2] : lo[2]];
+    for (const [a, z] of [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]])
+      out.push(...corner(a), ...corner(z));
+  }
+  return new Float32Array(out);
+}
+addLayer('kdtree', '2. kd-tree cells', () => lineSegments(kdSegments(kdDepth), colours.kdtree, 0.7),
+  `the tree is ${K.depth} levels deep; the cells of one depth are drawn`, null, false);
+const kdLayer = layers[layers.length - 1];
+function setKdDepth(depth) {
+  kdDepth = Math.max(0, Math.min(K.drawn_depth, depth));
+  if (kdLayer.object !== null) {
+    kdLayer.object.geometry.dispose();
+    kdLayer.object.geometry = new THREE.BufferGeometry();
+    kdLayer.object.geometry.setAttribute('position', new THREE.BufferAttribute(kdSegments(kdDepth), 3));
+  }
+  document.getElementById('kd-depth-value').textContent = String(kdDepth);
+  requestRender();
+}
+
+// 3. normals before orientation, by planarity
+let origins = null, noPlane = null;  // decoded when layer 3 or 5 is first shown
+function planeArrays() {
+  if (origins === null) { origins = f32(P.origin); noPlane = u8(P.no_plane); }
+}
+addLayer('pca', '3. Tangent planes (unoriented normals)', () => {
+  planeArrays();
+  const { positions, kept } = normalSegments(origins, normals8(P.pca_normal), normalLength, (i) => !noPlane[i]);
+  const planarity = f32(P.planarity);
+  const c = new Float32Array(3 * positions.length / 3);
+  const colour = new THREE.Color();
+  let m = 0;
+  for (let i = 0; i < drawnPoints && m < kept; ++i) {
+    if (noPlane[i]) continue;
+    ramp(planarity[i] / planarityFull, colour);
+    colour.toArray(c, 6 * m);
+    colour.toArray(c, 6 * m + 3);
+    ++m;
+  }
+  return colouredSegments(positions, c);
+}, 'from each plane origin o_i along n_i (PCA), before orientation',
+`<span class="swatch" style="background:${css(0x2b59c3)}"></span>flat <span class="ramp" style="background:linear-gradient(90deg,${rampStops.map(([t, c]) => '#' + c.getHexString() + ' ' + 100 * t + '%').join(',')})"></span> surface variation ≥ ${planarityFull}`,
+false);
+
+// 4. Riemannian graph and spanning tree
+const G = data.graph;
+addLayer('graph', '4. Riemannian graph and spanning tree', G ? () => {
+  const group = new THREE.Group();
+  group.add(lineSegments(f32(G.segments), colours.graph, 0.55));
+  const tree = f32(G.tree_segments), flip = u8(G.tree_flip);
+  const kept = [], flipped = [];
+  for (let e = 0; e < flip.length; ++e) (flip[e] ? flipped : kept).push(...tree.subarray(6 * e, 6 * e + 6));
+  group.add(lineSegments(new Float32Array(kept), colours.tree));
+  group.add(lineSegments(new Float32Array(flipped), colours.flip));
+  return group;
+} : null, G ? (G.vertex_stride === 1 ? `all ${count(G.edges_total)} graph edges; ` :
+  `${count(G.drawn)} of ${count(G.edges_total)} graph edges drawn (those of every ${count(G.vertex_stride)}th point); `) +
+  'the tree edge of each drawn point; ' +
+  `orientation reversed across ${count(G.flips_total)} of ${count(G.tree_total)} tree edges` :
+  'not available: phase II was skipped (the input normals were used)',
+`<span class="swatch" style="background:${css(colours.graph)}"></span>graph <span class="swatch" style="background:${css(colours.tree)}"></span>spanning tree <span class="swatch" style="background:${css(colours.flip)}"></span>flip`,
+false);
+
+// 5. oriented normals, coloured by direction
+addLayer('normals', '5. Oriented normals', () => {
+  planeArrays();
+  const normal = normals8(P.normal);
+  const { positions, kept } = normalSegments(origins, normal, normalLength, (i) => !noPlane[i]);
+  const c = new Float32Array(positions.length);
+  let m = 0;
+  for (let i = 0; i < drawnPoints && m < kept; ++i) {
+    if (noPlane[i]) continue;
+    for (let k = 0; k < 3; ++k) c[6 * m + k] = c[6 * m + 3 + k] = 0.5 + 0.5 * normal[3 * i + k];
+    ++m;
+  }
+  return colouredSegments(positions, c);
+}, 'coloured by direction (x, y, z as red, green, blue): consistent normals change colour smoothly', null, !data.mesh);
+
+// 6. signed distance at the lattice corners
+const C = data.corners;
+addLayer('distance', '6. Signed distance at lattice corners', C ? () => {
+  const value = f32(C.value);
+  const c = new Float32Array(3 * value.length);
+  const outside = new THREE.Color(colours.outside), inside = new THREE.Color(colours.inside),
+    undef = new THREE.Color(colours.undefined);
+  for (let i = 0; i < value.length; ++i) (Number.isNaN(value[i]) ? undef : value[i] > 0 ? outside : inside).toArray(c, 3 * i);
+  return points(f32(C.position), c, 3);
+} : null, C ? `${subsample(C.drawn, C.total, 'evaluated corners', C.stride)}; ${count(C.undefined_total)} undefined; cell ${formatNumber(C.cell)}` :
+  'not available in this run',
+`<span class="swatch" style="background:${css(colours.outside)}"></span>f &gt; 0 outside <span class="swatch" style="background:${css(colours.inside)}"></span>f &lt; 0 inside <span class="swatch" style="background:${css(colours.undefined)}"></span>undefined`,
+false);
+
+// 7. the mesh and its boundary
+// One pass for both sides: diffuse light from the viewer's direction, the
+// outside grey, the inside (a back face: a hole, or a wrongly oriented part)
+// red.
+function meshMaterial() {
+  return new THREE.ShaderMaterial({
+    side: THREE.DoubleSide,
+    uniforms: { front: { value: new THREE.Color(colours.meshFront) }, back: { value: new THREE.Color(colours.meshBack) } },
+    vertexShader: `
+      varying vec3 viewNormal;
+      varying vec3 viewPosition;
+      void main() {
+        vec4 p = modelViewMatrix * vec4(position, 1.0);
+        viewPosition = p.xyz;
+        viewNormal = normalMatrix * normal;
+        gl_Position = projectionMatrix * p;
+      }`,
+    fragmentShader: `
+      uniform vec3 front;
+      uniform vec3 back;
+      varying vec3 viewNormal;
+      varying vec3 viewPosition;
+      void main() {
+        vec3 n = normalize(viewNormal) * (gl_FrontFacing ? 1.0 : -1.0);
+        float light = 0.3 + 0.7 * abs(dot(n, normalize(-viewPosition)));
+        gl_FragColor = vec4((gl_FrontFacing ? front : back) * light, 1.0);
+      }`,
+  });
+}
+const M = data.mesh;
+addLayer('mesh', '7. Mesh', M ? () => {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(f32(M.vertices), 3));
+  geometry.setIndex(new THREE.BufferAttribute(u32(M.triangles), 1));
+  geometry.computeVertexNormals();
+  const group = new THREE.Group();
+  group.add(new THREE.Mesh(geometry, meshMaterial()));
+  group.add(lineSegments(f32(M.boundary), colours.boundary));
+  timings.meshBuilt = performance.now();
+  return group;
+} : null, M ? `${subsample(M.drawn, M.triangles_total, 'triangles', M.stride)}; ${count(M.boundary_total)} boundary edges` :
+  'not available: this run made no mesh',
+`<span class="swatch" style="background:${css(colours.meshFront)}"></span>outside <span class="swatch" style="background:${css(colours.meshBack)}"></span>inside (seen from behind) <span class="swatch" style="background:${css(colours.boundary)}"></span>boundary edge`,
+true);
+
+timings.layers = performance.now();
+// ---- the panel
+
+function setVisible(id, on) {
+  const layer = layers.find((l) => l.id === id);
+  if (!layer || !layer.available) return false;
+  layer.visible = on;
+  if (on || layer.object !== null) layerObject(layer).visible = on;
+  document.getElementById('layer-' + id).checked = on;
+  requestRender();
+  return true;
+}
+
+const layerSection = document.getElementById('layers');
+for (const layer of layers) {
+  const div = document.createElement('div');
+  div.className = 'layer';
+  div.innerHTML = `<input type="checkbox" id="layer-${layer.id}"${layer.available ? '' : ' disabled'}>` +
+    ` <label for="layer-${layer.id}">${layer.label}</label>` +
+    `<div class="note" id="note-${layer.id}">${layer.note}</div>` +
+    (layer.legend && layer.available ? `<div class="legend">${layer.legend}</div>` : '');
+  layerSection.appendChild(div);
+  div.querySelector('input').addEventListener('change', (e) => setVisible(layer.id, e.target.checked));
+  if (layer.id === 'kdtree') {
+    const slider = document.createElement('div');
+    slider.className = 'note';
+    slider.innerHTML = `depth <input type="range" id="kd-depth" min="0" max="${K.drawn_depth}" value="${kdDepth}">` +
+      ` <span id="kd-depth-value">${kdDepth}</span> of ${K.drawn_depth} stored`;
+    div.appendChild(slider);
+    slider.querySelector('input').addEventListener('input', (e) => setKdDepth(Number(e.target.value)));
+  }
+}
+document.getElementById('reset').addEventListener('click', resetView);
+
+// Statistics: the run's --stats JSON as it was written, section by section;
+// each value cell carries its key path and exact value (data-key, data-value).
+const stats = data.stats || {};
+const lookup = (path) => path.split('.').reduce((o, k) => (o && typeof o === 'object' ? o[k] : undefined), stats);
+function valueCell(path, value) {
+  const td = document.createElement('td');
+  td.className = 'value';
+  td.dataset.key = path;
+  td.dataset.value = JSON.stringify(value);
+  td.textContent = Array.isArray(value) ? value.map(formatNumber).join(' × ') :
+    typeof value === 'boolean' ? (value ? 'yes' : 'no') : formatNumber(value);
+  return td;
+}
+function row(table, key, cell, section = false) {
+  const tr = document.createElement('tr');
+  if (section) tr.className = 'section';
+  const td = document.createElement('td');
+  td.className = 'key';
+  td.textContent = key;
+  tr.appendChild(td);
+  if (cell) tr.appendChild(cell); else td.colSpan = 2;
+  table.appendChild(tr);
+}
+function statsTable(object, prefix, table) {
+  for (const [key, value] of Object.entries(object)) {
+    const path = prefix ? `${prefix}.${key}` : key;
+    if (value && typeof value === 'object' && !Array.isArray(value)) {
+      row(table, path.replaceAll('_', ' '), null, true);
+      statsTable(value, path, table);
+    } else {
+      row(table, key.replaceAll('_', ' '), valueCell(path, value));
+    }
+  }
+}
+const statsElement = document.createElement('table');
+statsTable(stats, '', statsElement);
+document.getElementById('statistics').appendChild(statsElement);
+
+const parameters = [
+  ['points', 'input.points'], ['k (neighbours)', 'tangent_planes.k'], ['ρ (sampling density)', 'tangent_planes.rho'],
+  ['δ (noise)', 'signed_distance.delta'], ['cell', 'contouring.cell'], ['threads', 'threads'],
+];
+const parameterTable = document.createElement('table');
+for (const [label, path] of parameters) {
+  const value = lookup(path);
+  if (value !== undefined) row(parameterTable, label, valueCell(path, value));
+}
+document.getElementById('parameters').appendChild(parameterTable);
+
+const title = data.title || 'recon report';
+document.getElementById('title').textContent = title;
+document.title = `recon report: ${title}`;
+
+for (const layer of layers) if (layer.defaultVisible) setVisible(layer.id, true);
+timings.shown = performance.now();
+resize();
+resetView();
+render();
+// Wait for the frame itself (a pixel read waits for the drawing to finish),
+// so that loadMs is the time until the picture is there.
+const gl = renderer.getContext();
+gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+started = true;
+timings.rendered = performance.now();
+
+window.reconReport = {
+  ready: true,
+  loadMs: performance.now(),
+  timings,
+  layers: layers.map(({ id, label, available }) => ({ id, label, available })),
+  visible: (id) => layers.find((l) => l.id === id)?.visible ?? false,
+  setVisible,
+  setKdDepth,
+  stats,
+};
