@@ -44,7 +44,7 @@ const palette = [0x1f77b4, 0xff7f0e, 0x2ca02c, 0xd62728, 0x9467bd, 0x8c564b, 0xe
   .map((hex) => new THREE.Color(hex));
 // Planarity: blue (flat) through green and yellow to red (surface variation 0.1 and above).
 const rampStops = [[0.0, 0x2b59c3], [0.33, 0x2ca02c], [0.66, 0xe8c21a], [1.0, 0xd62728]].map(([t, c]) => [t, new THREE.Color(c)]);
-const planarityFull = 0.1;
+const planarityFull = 0.05;
 function ramp(t, out) {
   t = Math.min(1, Math.max(0, t));
   for (let s = 1; s < rampStops.length; ++s) {
@@ -92,7 +92,7 @@ function requestRender() {
 controls.addEventListener('change', requestRender);
 
 function resetView() {
-  camera.position.set(0.55 * diagonal, -0.8 * diagonal, 0.5 * diagonal);
+  camera.position.set(0.65 * diagonal, -0.95 * diagonal, 0.6 * diagonal);
   controls.target.set(0, 0, 0);
   controls.update();
   requestRender();
@@ -149,7 +149,7 @@ timings.parsed = performance.now();
 
 const P = data.points;
 const drawnPoints = P.drawn;
-const normalLength = 1.5 * (data.rho > 0 ? data.rho : diagonal / 100);
+const normalLength = data.rho > 0 ? data.rho : diagonal / 100;  // one sample spacing
 const subsample = (drawn, total, what, stride) =>
   drawn >= total ? `all ${count(total)} ${what}` :
     `${count(drawn)} of ${count(total)} ${what} drawn (every ${count(stride)}th)`;
@@ -236,7 +236,7 @@ false);
 const G = data.graph;
 addLayer('graph', '4. Riemannian graph and spanning tree', G ? () => {
   const group = new THREE.Group();
-  group.add(lineSegments(f32(G.segments), colours.graph, 0.55));
+  group.add(lineSegments(f32(G.segments), colours.graph, 0.4));
   const tree = f32(G.tree_segments), flip = u8(G.tree_flip);
   const kept = [], flipped = [];
   for (let e = 0; e < flip.length; ++e) (flip[e] ? flipped : kept).push(...tree.subarray(6 * e, 6 * e + 6));
@@ -432,5 +432,12 @@ window.reconReport = {
   visible: (id) => layers.find((l) => l.id === id)?.visible ?? false,
   setVisible,
   setKdDepth,
+  resetView,
+  // Moves the camera towards the target: the distance times `factor`.
+  zoom(factor) {
+    camera.position.sub(controls.target).multiplyScalar(factor).add(controls.target);
+    controls.update();
+    requestRender();
+  },
   stats,
 };
