@@ -66,7 +66,11 @@ const css = (hex) => '#' + new THREE.Color(hex).getHexString();
 // ---- scene
 
 const canvas = document.getElementById('canvas');
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+// Antialiasing (multisampling) costs little on a graphics card but doubles
+// the time of a frame drawn in software; large meshes, which fill the
+// picture with tiny triangles anyway, go without.
+const antialias = (data.mesh?.drawn ?? 0) <= 200000;
+const renderer = new THREE.WebGLRenderer({ canvas, antialias, preserveDrawingBuffer: true });
 renderer.setPixelRatio(Math.min(2, window.devicePixelRatio));
 renderer.setClearColor(0xf4f5f7);
 const scene = new THREE.Scene();
