@@ -73,7 +73,7 @@ void add_graph(const ReportInput& in, const ReportOptions& options, ReportLayers
   // The edges of every sv-th vertex (its whole row: about k edges), an edge
   // between two such vertices once. sv is at least the points' stride, so
   // that the edges drawn start at drawn points, and grows from the average
-  // row until the edges fit the budget.
+  // row until the edges fit the budget, in multiples of the points' stride.
   const auto drawn = [&](std::size_t sv, auto&& edge) {
     std::size_t count = 0;
     for (std::size_t i = 0; i < n; i += sv)
@@ -85,8 +85,10 @@ void add_graph(const ReportInput& in, const ReportOptions& options, ReportLayers
     return count;
   };
   const std::size_t row = n > 0 ? std::max<std::size_t>(1, 2 * g.edge_count() / n) : 1;
-  std::size_t sv = std::max(layers.point_stride, stride_for(n, options.max_edges / row));
-  while (sv <= n && drawn(sv, [](std::size_t, std::size_t) {}) > options.max_edges) sv += std::max<std::size_t>(1, sv / 8);
+  const std::size_t ps = layers.point_stride;
+  const auto multiple = [ps](std::size_t s) { return (s + ps - 1) / ps * ps; };
+  std::size_t sv = multiple(std::max(ps, stride_for(n, options.max_edges / row)));
+  while (sv <= n && drawn(sv, [](std::size_t, std::size_t) {}) > options.max_edges) sv = multiple(sv + std::max<std::size_t>(1, sv / 8));
   layers.graph_vertex_stride = sv;
   drawn(sv, [&](std::size_t i, std::size_t j) { push_segment(layers.graph_segments, p(i), p(j)); });
 

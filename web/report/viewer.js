@@ -4,9 +4,10 @@
 // the page needs nothing from the network.
 //
 // The JSON block holds the figures; each array is base64 text in its own
-// element, little-endian; positions are float32 relative to data.centre. The page renders only when something changes
-// (a toggle, the slider, the camera), and exposes window.reconReport for the
-// browser tests (web/tests/report.test.mjs).
+// element, little-endian; positions are float32 relative to data.centre.
+// The page renders only when something changes (a toggle, the slider, the
+// camera), and exposes window.reconReport for the browser tests
+// (web/tests/report.test.mjs) and scripts/phase-pictures.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -42,7 +43,7 @@ function formatNumber(v) {
 
 const palette = [0x1f77b4, 0xff7f0e, 0x2ca02c, 0xd62728, 0x9467bd, 0x8c564b, 0xe377c2, 0x7f7f7f, 0xbcbd22, 0x17becf]
   .map((hex) => new THREE.Color(hex));
-// Planarity: blue (flat) through green and yellow to red (surface variation 0.1 and above).
+// Planarity: blue (flat) through green and yellow to red (surface variation planarityFull and above).
 const rampStops = [[0.0, 0x2b59c3], [0.33, 0x2ca02c], [0.66, 0xe8c21a], [1.0, 0xd62728]].map(([t, c]) => [t, new THREE.Color(c)]);
 const planarityFull = 0.05;
 function ramp(t, out) {
@@ -308,8 +309,9 @@ function meshMaterial() {
       varying vec3 viewPosition;
       void main() {
         vec3 n = normalize(viewNormal) * (gl_FrontFacing ? 1.0 : -1.0);
-        float light = 0.3 + 0.7 * abs(dot(n, normalize(-viewPosition)));
+        float light = 0.35 + 0.65 * abs(dot(n, normalize(-viewPosition)));
         gl_FragColor = vec4((gl_FrontFacing ? front : back) * light, 1.0);
+        #include <colorspace_fragment>
       }`,
   });
 }

@@ -140,6 +140,18 @@ test('a reconstruction report opens offline, and every layer toggle changes the 
   await page.locator('#reset').click();
   await snapshot(page, 'reset');
   assert.equal(await difference(page, 'before-orbit', 'reset'), 0, 'Reset view restores the first view');
+  // The wheel zooms, a right-drag pans.
+  await page.mouse.move(canvas.x + canvas.width / 2, canvas.y + canvas.height / 2);
+  await page.mouse.wheel(0, -400);
+  await snapshot(page, 'zoomed');
+  assert.ok(await difference(page, 'reset', 'zoomed') > 0.002, 'the wheel zooms');
+  await page.locator('#reset').click();
+  await page.mouse.move(canvas.x + canvas.width / 2, canvas.y + canvas.height / 2);
+  await page.mouse.down({ button: 'right' });
+  await page.mouse.move(canvas.x + canvas.width / 2 + 120, canvas.y + canvas.height / 2, { steps: 5 });
+  await page.mouse.up({ button: 'right' });
+  await snapshot(page, 'panned');
+  assert.ok(await difference(page, 'reset', 'panned') > 0.002, 'a right-drag pans');
 
   // The page says what it drew: two components, a closed mesh.
   assert.match(await page.locator('#note-points').textContent(), /all 12,000 points; 2 components/);
