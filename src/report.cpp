@@ -87,7 +87,9 @@ void add_graph(const ReportInput& in, const ReportOptions& options, ReportLayers
   const std::size_t row = n > 0 ? std::max<std::size_t>(1, 2 * g.edge_count() / n) : 1;
   const std::size_t ps = layers.point_stride;
   const auto multiple = [ps](std::size_t s) { return (s + ps - 1) / ps * ps; };
-  std::size_t sv = multiple(std::max(ps, stride_for(n, options.max_edges / row)));
+  // At stride 1 every edge is drawn once; beyond, a drawn vertex brings
+  // about its whole row.
+  std::size_t sv = g.edge_count() <= options.max_edges ? ps : multiple(std::max(ps, stride_for(n, options.max_edges / row)));
   while (sv <= n && drawn(sv, [](std::size_t, std::size_t) {}) > options.max_edges) sv = multiple(sv + std::max<std::size_t>(1, sv / 8));
   layers.graph_vertex_stride = sv;
   drawn(sv, [&](std::size_t i, std::size_t j) { push_segment(layers.graph_segments, p(i), p(j)); });

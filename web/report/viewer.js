@@ -33,6 +33,11 @@ const u8 = (b64) => bytes(b64);
 const normals8 = (b64) => { const b = bytes(b64); return Float32Array.from(new Int8Array(b.buffer, b.byteOffset, b.byteLength), (v) => v / 127); };
 
 const count = (n) => Math.round(n).toLocaleString('en-US');
+// "every 2nd", "every 11th", "every 23rd".
+function every(n) {
+  const suffix = n % 100 >= 11 && n % 100 <= 13 ? 'th' : ['th', 'st', 'nd', 'rd'][n % 10] ?? 'th';
+  return `every ${count(n)}${suffix}`;
+}
 function formatNumber(v) {
   if (typeof v !== 'number') return String(v);
   if (Number.isInteger(v)) return count(v);
@@ -157,7 +162,7 @@ const drawnPoints = P.drawn;
 const normalLength = data.rho > 0 ? data.rho : diagonal / 100;  // one sample spacing
 const subsample = (drawn, total, what, stride) =>
   drawn >= total ? `all ${count(total)} ${what}` :
-    `${count(drawn)} of ${count(total)} ${what} drawn (every ${count(stride)}th)`;
+    `${count(drawn)} of ${count(total)} ${what} drawn (${every(stride)})`;
 
 // A layer's geometry is built the first time it is shown, so that a large
 // report opens as fast as its default layers allow.
@@ -249,7 +254,7 @@ addLayer('graph', '4. Riemannian graph and spanning tree', G ? () => {
   group.add(lineSegments(new Float32Array(flipped), colours.flip));
   return group;
 } : null, G ? (G.vertex_stride === 1 ? `all ${count(G.edges_total)} graph edges; ` :
-  `${count(G.drawn)} of ${count(G.edges_total)} graph edges drawn (those of every ${count(G.vertex_stride)}th point); `) +
+  `${count(G.drawn)} of ${count(G.edges_total)} graph edges drawn (those of ${every(G.vertex_stride)} point); `) +
   'the tree edge of each drawn point; ' +
   `orientation reversed across ${count(G.flips_total)} of ${count(G.tree_total)} tree edges` :
   'not available: phase II was skipped (the input normals were used)',
