@@ -1,5 +1,6 @@
 #include "commands.h"
 
+#include "curves.h"
 #include "progress.h"
 #include "summary.h"
 
@@ -308,7 +309,8 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   };
   auto o = std::make_shared<Options>();
   add_input(app, o->in);
-  app.add_option("-o,--output", o->output, "Mesh to write (.ply .obj .off .stl)")->required();
+  app.add_option("-o,--output", o->output, "Mesh to write (.ply .obj .off .stl); for 2D points, curves (.svg .obj .txt)")
+      ->required();
   add_phase_options(app, o->phases);
   app.add_option("--delta", o->delta, "Noise level, a length (default: estimated from the tangent-plane fits)")
       ->check(CLI::NonNegativeNumber);
@@ -322,6 +324,14 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
   add_report_option(app, o->report);
   return [o, &global] {
+    if (wants_curves(o->in.path, o->in.format, o->output)) {  // 2D points: curves (curves.cpp)
+      check_outputs(o->in.path, {o->output, o->stats});
+      const auto& p = o->phases;
+      reconstruct_curves({o->in.path, o->output, o->stats, o->in.format,
+                          p.k_option->count() > 0 ? std::optional<int>(p.k) : std::nullopt, p.rho, o->delta, o->cell,
+                          o->resolution, p.max_memory, o->use_normals, global.quiet});
+      return;
+    }
     Timer total;
     Summary summary(global.quiet);
     io::WriteMeshOptions write_options;

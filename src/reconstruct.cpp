@@ -14,20 +14,23 @@
 
 namespace recon {
 
+double chosen_cell(std::optional<double> cell, std::optional<int> resolution, const std::function<double()>& longest_side,
+                   double fallback) {
+  if (cell && resolution) throw InvalidInputError("give either a cell size or a resolution, not both");
+  if (cell) {
+    if (!std::isfinite(*cell) || !(*cell > 0.0)) throw InvalidInputError("the cell size must be a positive length");
+    return *cell;
+  }
+  if (resolution) {
+    if (*resolution < 1) throw InvalidInputError("the resolution must be at least 1 cell");
+    return longest_side() / *resolution;
+  }
+  return fallback;
+}
+
 double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes, const ReconstructionOptions& options) {
-  if (options.cell && options.resolution)
-    throw InvalidInputError("give either a cell size or a resolution, not both");
-  if (options.cell) {
-    if (!(*options.cell > 0.0) || !std::isfinite(*options.cell))
-      throw InvalidInputError("the cell size must be a positive length");
-    return *options.cell;
-  }
-  if (options.resolution) {
-    if (*options.resolution < 1) throw InvalidInputError("the resolution must be at least 1 cube");
-    const Box<3> box = bounding_box<3>(points);
-    return box.extent().maxCoeff() / *options.resolution;
-  }
-  return planes.rho;
+  return chosen_cell(
+      options.cell, options.resolution, [&] { return bounding_box<3>(points).extent().maxCoeff(); }, planes.rho);
 }
 
 namespace {

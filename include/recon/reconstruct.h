@@ -102,6 +102,13 @@ void check_memory(double bytes, std::size_t limit, std::string_view what, std::s
 /// check_memory for phases I-II of `points` points at k.
 void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit);
 
+/// A lattice cell a run asks for: `cell` when given; the longest side of
+/// the data's bounding box (computed only then) over `resolution` when that
+/// is given; `fallback` otherwise. Throws InvalidInputError when both are
+/// given or the one given is not positive. (Shared by the 3D and 2D runs.)
+[[nodiscard]] double chosen_cell(std::optional<double> cell, std::optional<int> resolution,
+                                 const std::function<double()>& longest_side, double fallback);
+
 /// The cube side that `options` asks for, given the points and the phase I result.
 [[nodiscard]] double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes,
                                   const ReconstructionOptions& options);

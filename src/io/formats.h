@@ -1,7 +1,7 @@
 #pragma once
 // The readers and writers of each file format, one source file per format
-// (ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp, stl.cpp). point_io.cpp and
-// mesh_io.cpp choose among them.
+// (ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp, stl.cpp, svg.cpp). point_io.cpp,
+// mesh_io.cpp and curve_io.cpp choose among them.
 //
 // A reader gets the file name (for messages only) and the whole content of
 // the file, which is not empty (usually a memory map of it: a reader must
@@ -10,9 +10,12 @@
 
 #include "recon/mesh.h"
 #include "recon/point_cloud.h"
+#include "recon/polyline.h"
 
 #include <ostream>
+#include <span>
 #include <string_view>
+#include <vector>
 
 namespace recon::io::detail {
 
@@ -23,6 +26,12 @@ void write_ply_mesh(std::ostream& out, const Mesh& mesh, bool ascii);
 
 [[nodiscard]] PointCloud read_xyz_points(std::string_view file, std::string_view content);
 [[nodiscard]] PointCloud read_pts_points(std::string_view file, std::string_view content);
+/// Numbers on the first line of plain text columns that has any (0: none).
+[[nodiscard]] std::size_t xyz_column_count(std::string_view file, std::string_view content);
+/// Plain text columns of two numbers a line: 2D points.
+[[nodiscard]] std::vector<Vec2> read_xy_points(std::string_view file, std::string_view content);
+/// True when .pts content is Hoppe's record format (its first field is a letter).
+[[nodiscard]] bool pts_has_records(std::string_view file, std::string_view content);
 void write_xyz_points(std::ostream& out, const PointCloud& cloud);
 
 [[nodiscard]] PointCloud read_obj_points(std::string_view file, std::string_view content);
@@ -34,6 +43,11 @@ void write_obj_mesh(std::ostream& out, const Mesh& mesh);
 void write_off_mesh(std::ostream& out, const Mesh& mesh);
 
 [[nodiscard]] PointCloud read_pcd_points(std::string_view file, std::string_view content);
+
+void write_svg_curves(std::ostream& out, const PolylineSet& curves, std::span<const Vec2> points,
+                      std::span<const Vec2> normals, double normal_length);
+void write_obj_curves(std::ostream& out, const PolylineSet& curves);
+void write_text_curves(std::ostream& out, const PolylineSet& curves);
 
 void write_stl_mesh(std::ostream& out, const Mesh& mesh);
 

@@ -164,4 +164,36 @@ void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
   writer.finish();
 }
 
+void write_obj_curves(std::ostream& stream, const PolylineSet& curves) {
+  BlockWriter writer(stream);
+  std::string& out = writer.buffer();
+  out += "# written by recon: ";
+  out += std::to_string(curves.polylines.size());
+  out += " curves (";
+  out += std::to_string(curves.closed_count());
+  out += " closed), ";
+  out += std::to_string(curves.vertices.size());
+  out += " vertices in the z = 0 plane; a closed curve's 'l' line ends at its first vertex\n";
+  for (const Vec2& v : curves.vertices) {
+    out += "v ";
+    append_vec3_text(out, Vec3(v.x(), v.y(), 0.0));
+    out += '\n';
+    writer.flush_if_full();
+  }
+  for (const Polyline& line : curves.polylines) {
+    out += 'l';
+    for (const std::uint32_t v : line.vertices) {
+      out += ' ';
+      append_integer(out, std::uint64_t{v} + 1);
+      writer.flush_if_full();
+    }
+    if (line.closed && !line.vertices.empty()) {
+      out += ' ';
+      append_integer(out, std::uint64_t{line.vertices.front()} + 1);
+    }
+    out += '\n';
+  }
+  writer.finish();
+}
+
 }  // namespace recon::io::detail

@@ -5,6 +5,7 @@
 //   are separated by blanks, or by a single comma with optional blanks around
 //   it ("1.5, 2, 3" as exported by spreadsheets). '#' starts a comment, on its
 //   own line or after the numbers; blank lines are skipped.
+// xy (2D, read by read_points_2d): the same text with two numbers a line.
 // pts: either Hoppe's format, records of one letter and numbers where
 //   "p x y z" is a point and every other one-letter record ("d", "s", "g",
 //   "n", ...) is ignored, or plain columns read as xyz. The first record
@@ -16,6 +17,8 @@
 
 #include <array>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace recon::io::detail {
 namespace {
@@ -67,7 +70,8 @@ PointCloud read_xyz_points(std::string_view file, std::string_view content) {
     if (columns == 0) {
       if (count != 3 && count != 6)
         fail_at_line(file, n,
-                     "expected 3 numbers (x y z) or 6 (x y z nx ny nz) on a line, found " + std::to_string(count));
+                     "expected 3 numbers (x y z) or 6 (x y z nx ny nz) on a line, found " + std::to_string(count) +
+                         (count == 2 ? " (two columns are 2D points: recon reconstruct makes curves of them)" : ""));
       columns = count;
       first_line = n;
     } else if (count != columns) {
@@ -86,23 +90,68 @@ PointCloud read_xyz_points(std::string_view file, std::string_view content) {
   return cloud;
 }
 
-PointCloud read_pts_points(std::string_view file, std::string_view content) {
+std::size_t xyz_column_count(std::string_view file, std::string_view content) {
   LineScanner lines(file, content);
   std::string_view line;
-  std::string_view first;
-  std::size_t first_line = 0;
+  Numbers numbers;
   while (lines.next(line)) {
-    if (Fields(without_comment(line)).next(first)) {
-      first_line = lines.line_number();
-      break;
-    }
+    const std::size_t count = split_numbers(file, lines.line_number(), without_comment(line), numbers);
+    if (count != 0) return count;
   }
-  const auto is_letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
-  if (first.empty() || !is_letter(first[0])) return read_xyz_points(file, content);
+  return 0;
+}
+
+std::vector<Vec2> read_xy_points(std::string_view file, std::string_view content) {
+  std::vector<Vec2> points;
+  PointChecker checker(false);
+  LineScanner lines(file, content);
+  std::string_view line;
+  Numbers numbers;
+  while (lines.next(line)) {
+    const std::size_t n = lines.line_number();
+    const std::size_t count = split_numbers(file, n, without_comment(line), numbers);
+    if (count == 0) continue;
+    if (count != 2)
+      fail_at_line(file, n,
+                   "expected 2 numbers (x y) on a line, found " + std::to_string(count) +
+                       " (the first line of points has 2, so the file was read as 2D points)");
+    const Vec2 p(parse_coordinate(file, n, numbers[0], position_names[0]),
+                 parse_coordinate(file, n, numbers[1], position_names[1]));
+    checker.position(Vec3(p.x(), p.y(), 0.0), n, position_names);
+    points.push_back(p);
+  }
+  if (points.empty()) fail_in_file(file, "no points: the file holds only comments and blank lines");
+  checker.report(file);
+  return points;
+}
+
+namespace {
+bool is_letter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+
+// The first field of the first record of a .pts file and its line (an
+// empty field when the file has none).
+std::pair<std::string_view, std::size_t> first_pts_field(std::string_view file, std::string_view content) {
+  LineScanner lines(file, content);
+  std::string_view line, first;
+  while (lines.next(line))
+    if (Fields(without_comment(line)).next(first)) return {first, lines.line_number()};
+  return {{}, 0};
+}
+}  // namespace
+
+bool pts_has_records(std::string_view file, std::string_view content) {
+  const std::string_view first = first_pts_field(file, content).first;
+  return !first.empty() && is_letter(first[0]);
+}
+
+PointCloud read_pts_points(std::string_view file, std::string_view content) {
+  if (!pts_has_records(file, content)) return read_xyz_points(file, content);
+  const std::size_t first_line = first_pts_field(file, content).second;
 
   PointCloud cloud;
   PointChecker checker(false);
-  lines = LineScanner(file, content);
+  LineScanner lines(file, content);
+  std::string_view line;
   while (lines.next(line)) {
     const std::size_t n = lines.line_number();
     Fields fields(without_comment(line));
@@ -142,6 +191,30 @@ void write_xyz_points(std::ostream& stream, const PointCloud& cloud) {
     }
     out += '\n';
     writer.flush_if_full();
+  }
+  writer.finish();
+}
+
+void write_text_curves(std::ostream& stream, const PolylineSet& curves) {
+  BlockWriter writer(stream);
+  std::string& out = writer.buffer();
+  out += "# written by recon: ";
+  out += std::to_string(curves.polylines.size());
+  out += " curves, \"x y\" a line, a blank line between curves; a closed curve repeats its first vertex at the end\n";
+  for (std::size_t c = 0; c < curves.polylines.size(); ++c) {
+    const Polyline& line = curves.polylines[c];
+    if (c > 0) out += '\n';
+    out += "# curve " + std::to_string(c + 1) + ": " + (line.closed ? "closed, " : "open, ") +
+           std::to_string(line.vertices.size()) + " vertices\n";
+    auto vertex = [&](std::uint32_t v) {
+      append_number(out, curves.vertices[v].x());
+      out += ' ';
+      append_number(out, curves.vertices[v].y());
+      out += '\n';
+      writer.flush_if_full();
+    };
+    for (const std::uint32_t v : line.vertices) vertex(v);
+    if (line.closed && !line.vertices.empty()) vertex(line.vertices.front());
   }
   writer.finish();
 }

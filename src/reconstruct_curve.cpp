@@ -1,0 +1,37 @@
+#include "recon/reconstruct_curve.h"
+
+#include "recon/reconstruct.h"  // chosen_cell
+#include "recon/timer.h"
+
+#include <functional>
+
+namespace recon {
+
+double curve_lattice_cell(std::span<const Vec2> points, double rho, const CurveReconstructionOptions& options) {
+  return chosen_cell(
+      options.cell, options.resolution, [&] { return bounding_box<2>(points).extent().maxCoeff(); }, 0.5 * rho);
+}
+
+CurveReconstruction reconstruct_curve(std::span<const Vec2> points, const CurveReconstructionOptions& options) {
+  CurveReconstruction r;
+  r.planes = estimate_tangent_planes<2>(points, options.planes);
+  const double cell = curve_lattice_cell(points, r.planes.rho, options);
+  r.oriented = orient_normals<2>(r.planes, options.orientation);
+
+  Timer timer;
+  r.origin_tree = KdTree<2>(std::span<const Vec2>(r.planes.origins));
+  const SignedDistance<2> f =
+      make_signed_distance<2>(r.planes, std::span<const Vec2>(r.oriented.normals), r.origin_tree, options.distance);
+  r.delta = f.delta();
+  r.delta_given = f.delta_given();
+  r.seconds_distance_setup = timer.lap();
+
+  MarchingSquaresOptions squares;
+  squares.cell = cell;
+  squares.max_slope = options.max_slope;
+  squares.max_squares = options.max_squares;
+  r.contour = marching_squares(std::cref(f), points, squares, options.keep_corners);
+  return r;
+}
+
+}  // namespace recon
