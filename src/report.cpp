@@ -184,10 +184,7 @@ class JsonWriter {
     const auto end = std::to_chars(buffer, buffer + sizeof buffer, v).ptr;
     out_.append(buffer, end);
   }
-  void boolean(std::string_view k, bool v) {
-    key(k);
-    out_ += v ? "true" : "false";
-  }
+  void count(std::string_view k, std::size_t v) { number(k, static_cast<double>(v)); }
   void string(std::string_view k, std::string_view v) {
     key(k);
     out_ += '"';
@@ -313,10 +310,10 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
   w.raw("stats", options.stats_json.empty() ? std::string_view("{}") : std::string_view(options.stats_json));
 
   w.open("points");
-  w.number("total", static_cast<double>(layers.points_total));
-  w.number("stride", static_cast<double>(layers.point_stride));
-  w.number("drawn", static_cast<double>(layers.points.size() / 3));
-  w.number("components", static_cast<double>(layers.component_count));
+  w.count("total", layers.points_total);
+  w.count("stride", layers.point_stride);
+  w.count("drawn", layers.points.size() / 3);
+  w.count("components", layers.component_count);
   w.array("position", layers.points);
   w.array("component", layers.component);
   w.array("origin", layers.origins);
@@ -336,23 +333,23 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
 
   if (layers.has_graph) {
     w.open("graph");
-    w.number("edges_total", static_cast<double>(layers.graph_edges_total));
-    w.number("vertex_stride", static_cast<double>(layers.graph_vertex_stride));
-    w.number("drawn", static_cast<double>(layers.graph_segments.size() / 6));
-    w.number("tree_drawn", static_cast<double>(layers.tree_flip.size()));
+    w.count("edges_total", layers.graph_edges_total);
+    w.count("vertex_stride", layers.graph_vertex_stride);
+    w.count("drawn", layers.graph_segments.size() / 6);
+    w.count("tree_drawn", layers.tree_flip.size());
     w.array("segments", layers.graph_segments);
-    w.number("tree_total", static_cast<double>(layers.tree_edges_total));
-    w.number("flips_total", static_cast<double>(layers.tree_flips_total));
+    w.count("tree_total", layers.tree_edges_total);
+    w.count("flips_total", layers.tree_flips_total);
     w.array("tree_segments", layers.tree_segments);
     w.array("tree_flip", layers.tree_flip);
     w.close();
   }
   if (layers.has_corners) {
     w.open("corners");
-    w.number("total", static_cast<double>(layers.corners_total));
-    w.number("undefined_total", static_cast<double>(layers.undefined_corners_total));
-    w.number("stride", static_cast<double>(layers.corner_stride));
-    w.number("drawn", static_cast<double>(layers.corner_values.size()));
+    w.count("total", layers.corners_total);
+    w.count("undefined_total", layers.undefined_corners_total);
+    w.count("stride", layers.corner_stride);
+    w.count("drawn", layers.corner_values.size());
     w.number("cell", layers.cell);
     w.array("position", layers.corners);
     w.array("value", layers.corner_values);
@@ -360,13 +357,13 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
   }
   if (layers.has_mesh) {
     w.open("mesh");
-    w.number("triangles_total", static_cast<double>(layers.triangles_total));
-    w.number("stride", static_cast<double>(layers.triangle_stride));
-    w.number("drawn", static_cast<double>(layers.mesh_triangles.size() / 3));
-    w.number("boundary_drawn", static_cast<double>(layers.boundary_segments.size() / 6));
+    w.count("triangles_total", layers.triangles_total);
+    w.count("stride", layers.triangle_stride);
+    w.count("drawn", layers.mesh_triangles.size() / 3);
+    w.count("boundary_drawn", layers.boundary_segments.size() / 6);
     w.array("vertices", layers.mesh_vertices);
     w.array("triangles", layers.mesh_triangles);
-    w.number("boundary_total", static_cast<double>(layers.boundary_edges_total));
+    w.count("boundary_total", layers.boundary_edges_total);
     w.array("boundary", layers.boundary_segments);
     w.close();
   }
