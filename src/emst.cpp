@@ -1,5 +1,7 @@
 #include "recon/emst.h"
 
+#include "recon/parallel.h"  // AtomicRef
+
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -27,7 +29,7 @@ struct Candidate {
 
 // Lowers `bound` to `value` if smaller; safe from many threads.
 void lower(double& bound, double value) {
-  std::atomic_ref<double> shared(bound);
+  AtomicRef<double> shared(bound);
   double current = shared.load(std::memory_order_relaxed);
   while (value < current && !shared.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
   }
@@ -91,7 +93,7 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
     for (std::int64_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::uint32_t>(s);
       double& best = bound[static_cast<std::size_t>(label[i])];
-      const double limit = std::atomic_ref<double>(best).load(std::memory_order_relaxed);
+      const double limit = AtomicRef<double>(best).load(std::memory_order_relaxed);
       if (hinted && (per_point[i].valid() || hints.certain_radius2[i] > limit)) continue;
       // An exact copy of an earlier point (its list starts with that point)
       // shares its component from the first round on and would ask the very

@@ -4,6 +4,7 @@
 #include "recon/timer.h"
 
 #include <functional>
+#include <vector>
 
 namespace recon {
 
@@ -30,7 +31,13 @@ CurveReconstruction reconstruct_curve(std::span<const Vec2> points, const CurveR
   squares.cell = cell;
   squares.max_slope = options.max_slope;
   squares.max_squares = options.max_squares;
-  r.contour = marching_squares(std::cref(f), points, squares, options.keep_corners);
+  // Seeds: the samples, and the tangent lines' origins, where f vanishes
+  // (each origin is its own nearest): with few samples around a tight bend
+  // the lines pass a square or more inside the samples, and a walk started
+  // from the samples alone would not find them.
+  std::vector<Vec2> seeds(points.begin(), points.end());
+  seeds.insert(seeds.end(), r.planes.origins.begin(), r.planes.origins.end());
+  r.contour = marching_squares(std::cref(f), seeds, squares, options.keep_corners);
   return r;
 }
 

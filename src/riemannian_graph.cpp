@@ -2,6 +2,7 @@
 
 #include "recon/emst.h"
 #include "recon/errors.h"
+#include "recon/parallel.h"  // AtomicRef
 #include "recon/timer.h"
 
 #include <algorithm>
@@ -104,7 +105,7 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       std::uint64_t bits = 1;
       if (!lists(j, i)) {
         bits |= 2;
-        std::atomic_ref<std::uint32_t>(degree[j]).fetch_add(1, std::memory_order_relaxed);
+        AtomicRef<std::uint32_t>(degree[j]).fetch_add(1, std::memory_order_relaxed);
       }
       marks[i * words + e / 32] |= bits << (2 * (e % 32));
     }
@@ -140,7 +141,7 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       if (bits & 1) g.targets[write++] = r[e];
       if (bits & 2) {
         const std::uint32_t j = r[e];
-        const std::uint32_t slot = std::atomic_ref<std::uint32_t>(degree[j]).fetch_add(1, std::memory_order_relaxed);
+        const std::uint32_t slot = AtomicRef<std::uint32_t>(degree[j]).fetch_add(1, std::memory_order_relaxed);
         g.targets[g.offsets[j] + own[j] + slot] = i;
       }
     }

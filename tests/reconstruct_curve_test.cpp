@@ -220,6 +220,26 @@ TEST(ReconstructCurve, OpenArcStaysOpen) {
   EXPECT_LT(length(curves, line), std::numbers::pi + 2.0 * overshoot);
 }
 
+TEST(ReconstructCurve, FewPointsAroundATightBendAreStillFound) {
+  // 20 points on a unit circle at k = 8: each neighbourhood spans 126
+  // degrees, so the tangent lines pass well inside the samples, more than a
+  // square from any of them. The walk also starts at the lines' origins.
+  std::vector<Vec2> points;
+  for (int i = 0; i < 20; ++i) {
+    const double a = 2.0 * std::numbers::pi * (i + 0.3) / 20.0;
+    points.emplace_back(std::cos(a), std::sin(a));
+  }
+  CurveReconstructionOptions options;
+  options.planes.adapt_k = false;
+  const CurveReconstruction r = reconstruct_curve(points, options);
+  const PolylineSet& curves = r.contour.curves;
+  ASSERT_EQ(curves.polylines.size(), 1U);
+  EXPECT_TRUE(curves.polylines[0].closed);
+  EXPECT_GT(signed_area(curves, curves.polylines[0]), 0.0);
+  const double bound = distance_bound(r, 1.0);
+  for (const Vec2& v : curves.vertices) EXPECT_LE(std::abs(v.norm() - 1.0), bound);
+}
+
 TEST(ReconstructCurve, CollinearPointsGiveAStraightOpenCurve) {
   // Collinear points are a degenerate surface in 3D but a fine curve in 2D.
   std::vector<Vec2> points;

@@ -1,11 +1,50 @@
 #pragma once
 // Thread control for the parallel phases (OpenMP underneath when built
-// with it). Results never depend on the thread count.
+// with it), and atomic access for their shared counters. Results never
+// depend on the thread count.
+
+#include <atomic>
+#include <version>
 
 namespace recon {
 
 /// Threads the parallel loops use; n <= 0 means all cores.
 void set_thread_count(int n);
 [[nodiscard]] int thread_count();
+
+#if defined(__cpp_lib_atomic_ref)
+/// Atomic access to a plain variable shared by the threads of a parallel loop.
+template <class T>
+using AtomicRef = std::atomic_ref<T>;
+#else
+// Standard libraries without std::atomic_ref (Emscripten 3.1's libc++, for
+// the WebAssembly playground) build recon single-threaded, where plain
+// access is all the loops need.
+#if defined(_OPENMP)
+#error "recon's parallel phases need std::atomic_ref (C++20) when built with OpenMP"
+#endif
+template <class T>
+class AtomicRef {
+ public:
+  explicit AtomicRef(T& value) : value_(value) {}
+  T load(std::memory_order = std::memory_order_seq_cst) const { return value_; }
+  bool compare_exchange_weak(T& expected, T desired, std::memory_order = std::memory_order_seq_cst) {
+    if (value_ != expected) {
+      expected = value_;
+      return false;
+    }
+    value_ = desired;
+    return true;
+  }
+  T fetch_add(T increment, std::memory_order = std::memory_order_seq_cst) {
+    const T old = value_;
+    value_ += increment;
+    return old;
+  }
+
+ private:
+  T& value_;
+};
+#endif
 
 }  // namespace recon

@@ -9,6 +9,10 @@
 // rule); phase IV is marching squares. Collinear points are a legitimate
 // curve here (a straight line), unlike in 3D.
 //
+// Marching squares starts its walk from the squares holding a sample or a
+// tangent-line origin (f vanishes at each origin: few samples around a
+// tight bend put the lines a square or more inside the samples).
+//
 // Per-point results (planes, normals) are indexed like the input points.
 // Unlike reconstruct(), the points are not renumbered in spatial order nor
 // moved near the origin: 2D inputs are small (drawings, clicks, sections)
