@@ -168,7 +168,7 @@ std::string parse_size(const std::string& text, std::size_t& bytes) {
 
 void add_phase_options(CLI::App& app, PhaseOptions& p) {
   p.k_option = app.add_option("-k,--k", p.k,
-                              "Neighbours per tangent plane, the point itself included (default 20, raised "
+                              "Neighbours per tangent plane, the point itself included (default 20, 8 for curves; raised "
                               "automatically for noisy data unless given)")
                    ->check(CLI::Range(3, 256));
   app.add_option("--rho", p.rho,
@@ -325,6 +325,9 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   add_report_option(app, o->report);
   return [o, &global] {
     if (wants_curves(o->in.path, o->in.format, o->output)) {  // 2D points: curves (curves.cpp)
+      if (!o->report.empty())
+        throw InvalidInputError("--report draws 3D reconstructions; for curves, the SVG output shows the points, "
+                                "their normals and the curves (and the playground, web/playground, every phase)");
       check_outputs(o->in.path, {o->output, o->stats});
       const auto& p = o->phases;
       reconstruct_curves({o->in.path, o->output, o->stats, o->in.format,

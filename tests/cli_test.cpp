@@ -980,6 +980,15 @@ TEST_F(CliCurves, HoppeCurve1IsOneOpenCurve) {
   EXPECT_FALSE(closed(obj.lines[0]));
 }
 
+TEST_F(CliCurves, ReportIsRefusedWithWhereToLook) {
+  write_file(at("circle.txt"), circle_xy_text(Vec2::Zero(), 1.0, 100, 6));
+  const RunResult run = recon({"reconstruct", "circle.txt", "-o", "c.svg", "--report", "r.html"});
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("--report draws 3D reconstructions; for curves, the SVG output shows"), std::string::npos)
+      << run.err;
+  EXPECT_EQ(entries(), std::vector<std::string>{"circle.txt"});
+}
+
 // ---------------------------------------------------------------- real data
 
 TEST_F(CliRealData, HoppeCactus) {
