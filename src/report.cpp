@@ -128,14 +128,30 @@ void add_mesh(const Mesh& mesh, const ReportOptions& options, ReportLayers& laye
   layers.has_mesh = true;
   layers.triangles_total = mesh.triangles.size();
   layers.triangle_stride = stride_for(mesh.triangles.size(), options.max_triangles);
-  layers.mesh_vertices.reserve(3 * mesh.vertices.size());
-  for (const Vec3& v : mesh.vertices) push(layers.mesh_vertices, v - layers.centre);
-  for (std::size_t t = 0; t < mesh.triangles.size(); t += layers.triangle_stride)
-    layers.mesh_triangles.insert(layers.mesh_triangles.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
+  if (layers.triangle_stride == 1) {
+    layers.mesh_vertices.reserve(3 * mesh.vertices.size());
+    for (const Vec3& v : mesh.vertices) push(layers.mesh_vertices, v - layers.centre);
+    for (const auto& t : mesh.triangles) layers.mesh_triangles.insert(layers.mesh_triangles.end(), t.begin(), t.end());
+  } else {
+    // Only the vertices of the drawn triangles, renumbered in order of use.
+    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> renumbered(mesh.vertices.size(), unused);
+    std::uint32_t next = 0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); t += layers.triangle_stride)
+      for (const std::uint32_t v : mesh.triangles[t]) {
+        if (renumbered[v] == unused) {
+          renumbered[v] = next++;
+          push(layers.mesh_vertices, mesh.vertices[v] - layers.centre);
+        }
+        layers.mesh_triangles.push_back(renumbered[v]);
+      }
+  }
   const auto boundary = boundary_edges(mesh);
   layers.boundary_edges_total = boundary.size();
-  for (const auto& [a, b] : boundary)
-    push_segment(layers.boundary_segments, mesh.vertices[a] - layers.centre, mesh.vertices[b] - layers.centre);
+  layers.boundary_stride = stride_for(boundary.size(), options.max_boundary_edges);
+  for (std::size_t e = 0; e < boundary.size(); e += layers.boundary_stride)
+    push_segment(layers.boundary_segments, mesh.vertices[boundary[e][0]] - layers.centre,
+                 mesh.vertices[boundary[e][1]] - layers.centre);
 }
 
 // ---- writing
@@ -364,6 +380,7 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
     w.array("vertices", layers.mesh_vertices);
     w.array("triangles", layers.mesh_triangles);
     w.count("boundary_total", layers.boundary_edges_total);
+    w.count("boundary_stride", layers.boundary_stride);
     w.array("boundary", layers.boundary_segments);
     w.close();
   }

@@ -161,6 +161,21 @@ TEST(Report, BudgetsDrawARegularSubsampleAndSaySo) {
   EXPECT_LE(layers.corner_values.size(), 700u);
   EXPECT_LE(layers.mesh_triangles.size() / 3, 2000u);
   EXPECT_EQ(layers.triangles_total, r.contour.mesh.triangles.size());
+  // A thinned mesh keeps only its drawn triangles' vertices, renumbered:
+  // each drawn triangle has the corners of the triangle it stands for.
+  const Mesh& mesh = r.contour.mesh;
+  ASSERT_GT(layers.triangle_stride, 1u);
+  std::set<std::uint32_t> used;
+  for (std::size_t t = 0; 3 * t < layers.mesh_triangles.size(); ++t)
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::uint32_t v = layers.mesh_triangles[3 * t + c];
+      ASSERT_LT(v, layers.mesh_vertices.size() / 3);
+      used.insert(v);
+      const Vec3 original = mesh.vertices[mesh.triangles[t * layers.triangle_stride][c]];
+      EXPECT_LT((at(layers.mesh_vertices, v) + layers.centre - original).norm(), 1e-5);
+    }
+  EXPECT_EQ(used.size(), layers.mesh_vertices.size() / 3) << "no vertex stored that no drawn triangle uses";
+  EXPECT_LT(layers.mesh_vertices.size() / 3, mesh.vertices.size());
   EXPECT_EQ(layers.corners_total, r.contour.evaluated_corners);
 }
 
@@ -204,6 +219,23 @@ TEST(Report, MeshWithItsBoundaryEdges) {
     const Vec3 p = at(layers.boundary_segments, e) + layers.centre;
     EXPECT_LT(p.x(), 2.0);
     EXPECT_LT(std::abs(p.z()), 0.25);
+  }
+}
+
+TEST(Report, BoundaryEdgesWithinTheirBudget) {
+  const Reconstruction& r = open_and_closed();
+  ReportOptions options;
+  options.max_boundary_edges = 10;
+  const ReportLayers layers = make_report_layers(report_input(r), options);
+  const auto boundary = boundary_edges(r.contour.mesh);
+  ASSERT_GT(boundary.size(), 10u);
+  EXPECT_EQ(layers.boundary_edges_total, boundary.size());
+  EXPECT_EQ(layers.boundary_stride, (boundary.size() + 9) / 10);
+  ASSERT_EQ(layers.boundary_segments.size(), 6 * ((boundary.size() + layers.boundary_stride - 1) / layers.boundary_stride));
+  for (std::size_t e = 0; 6 * e < layers.boundary_segments.size(); ++e) {
+    const auto& [a, b] = boundary[e * layers.boundary_stride];
+    EXPECT_LT((at(layers.boundary_segments, 2 * e) + layers.centre - r.contour.mesh.vertices[a]).norm(), 1e-5);
+    EXPECT_LT((at(layers.boundary_segments, 2 * e + 1) + layers.centre - r.contour.mesh.vertices[b]).norm(), 1e-5);
   }
 }
 

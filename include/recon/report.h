@@ -47,7 +47,8 @@ struct ReportOptions {
   std::size_t max_points = 100'000;      ///< points drawn, with their planes and normals (27 bytes each)
   std::size_t max_edges = 100'000;       ///< Riemannian-graph edges drawn (24 bytes each; tree edges: one per drawn point)
   std::size_t max_corners = 200'000;     ///< lattice corners drawn (16 bytes each)
-  std::size_t max_triangles = 1'000'000; ///< mesh triangles drawn (12 bytes each, and the vertices)
+  std::size_t max_triangles = 1'000'000; ///< mesh triangles drawn (12 bytes each, and their vertices)
+  std::size_t max_boundary_edges = 100'000;  ///< mesh boundary edges drawn (24 bytes each)
   int max_kdtree_depth = 12;             ///< kd-tree cells stored down to this depth (the root is depth 0)
   std::string title;                     ///< shown as the page's heading (the input file, say)
   std::string stats_json = "{}";         ///< the run's statistics (the --stats JSON), shown beside the view
@@ -122,10 +123,11 @@ struct ReportLayers {
   bool has_mesh = false;
   std::size_t triangles_total = 0;
   std::size_t triangle_stride = 1;
-  std::vector<float> mesh_vertices;
-  std::vector<std::uint32_t> mesh_triangles;  ///< 3 per drawn triangle
+  std::vector<float> mesh_vertices;           ///< all, or (when subsampled) those of the drawn triangles
+  std::vector<std::uint32_t> mesh_triangles;  ///< 3 per drawn triangle, indices into mesh_vertices
   std::size_t boundary_edges_total = 0;
-  std::vector<float> boundary_segments;       ///< every boundary edge (of the whole mesh)
+  std::size_t boundary_stride = 1;
+  std::vector<float> boundary_segments;       ///< every boundary_stride-th boundary edge (of the whole mesh)
 };
 
 /// Throws InvalidInputError when input.planes is null or the spans' sizes

@@ -331,7 +331,7 @@ addLayer('mesh', '7. Mesh', M ? () => {
   group.add(lineSegments(f32(M.boundary), colours.boundary));
   timings.meshBuilt = performance.now();
   return group;
-} : null, M ? `${subsample(M.drawn, M.triangles_total, 'triangles', M.stride)}; ${count(M.boundary_total)} boundary edges` :
+} : null, M ? `${subsample(M.drawn, M.triangles_total, 'triangles', M.stride)}; ${M.boundary_stride > 1 ? subsample(M.boundary_drawn, M.boundary_total, 'boundary edges', M.boundary_stride) : `${count(M.boundary_total)} boundary edges`}` :
   'not available: this run made no mesh',
 `<span class="swatch" style="background:${css(colours.meshFront)}"></span>outside <span class="swatch" style="background:${css(colours.meshBack)}"></span>inside (seen from behind) <span class="swatch" style="background:${css(colours.boundary)}"></span>boundary edge`,
 true);
