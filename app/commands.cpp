@@ -28,12 +28,6 @@
 namespace recon::cli {
 namespace {
 
-std::string plural(std::size_t n, const std::string& word) {
-  if (n == 1) return "1 " + word;
-  if (word == "vertex") return std::to_string(n) + " vertices";
-  return std::to_string(n) + " " + word + "s";
-}
-
 // Options every command that reads a cloud shares.
 struct InputOptions {
   std::filesystem::path path;

@@ -21,10 +21,6 @@ namespace {
 // --max-memory.
 constexpr double bytes_per_square = 200.0;
 
-std::string count_of(std::size_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
 io::ReadPointsOptions read_options(const std::string& format) {
   io::ReadPointsOptions options;
   if (!format.empty()) options.format = io::point_format_from_name(format);
@@ -38,8 +34,8 @@ void report(const CurveReconstruction& r, std::size_t points, Summary& summary) 
   if (planes.k != planes.k_requested)
     line << " (raised from " << planes.k_requested << ": noise " << format_length(planes.noise) << " is large)";
   line << ", rho = " << format_length(planes.rho) << (planes.rho_given ? " (given)" : " (estimated)") << ", "
-       << count_of(points - planes.distinct_points, "duplicate", "duplicates") << ", "
-       << count_of(planes.isolated, "isolated point", "isolated points") << " ("
+       << plural(points - planes.distinct_points, "duplicate") << ", "
+       << plural(planes.isolated, "isolated point") << " ("
        << format_seconds(planes.seconds_tree + planes.seconds_knn_pca + planes.seconds_spacing) << ")";
   summary.say(line.str());
   Json& s1 = summary.stats()["tangent_planes"];
@@ -54,8 +50,8 @@ void report(const CurveReconstruction& r, std::size_t points, Summary& summary) 
 
   const OrientedNormals<2>& o = r.oriented;
   line.str("");
-  line << "phase II  orientation: " << count_of(o.component_count(), "component", "components") << ", graph of "
-       << count_of(o.graph.edge_count, "edge", "edges") << ", " << count_of(o.flip_count, "flip", "flips") << " ("
+  line << "phase II  orientation: " << plural(o.component_count(), "component") << ", graph of "
+       << plural(o.graph.edge_count, "edge") << ", " << plural(o.flip_count, "flip") << " ("
        << format_seconds(o.graph.seconds_emst + o.graph.seconds_graph + o.seconds_mst) << ")";
   summary.say(line.str());
   Json& s2 = summary.stats()["orientation"];
@@ -80,7 +76,7 @@ void report(const CurveReconstruction& r, std::size_t points, Summary& summary) 
   line.str("");
   line << "phase IV  marching squares: cell = " << format_length(c.cell) << ", " << c.visited_squares
        << " squares visited of " << static_cast<double>(c.size[0]) * c.size[1] << " in the lattice (" << c.size[0]
-       << " x " << c.size[1] << "), " << count_of(c.saddle_squares, "saddle", "saddles") << " ("
+       << " x " << c.size[1] << "), " << plural(c.saddle_squares, "saddle") << " ("
        << format_seconds(c.seconds - c.seconds_field) << ")";
   summary.say(line.str());
   Json& s4 = summary.stats()["contouring"];
@@ -95,8 +91,8 @@ void report(const CurveReconstruction& r, std::size_t points, Summary& summary) 
   double total_length = 0.0;
   for (const Polyline& p : curves.polylines) total_length += length(curves, p);
   line.str("");
-  line << "curves    " << count_of(curves.polylines.size(), "curve", "curves") << ": " << curves.closed_count()
-       << " closed, " << curves.open_count() << " open; " << count_of(curves.vertices.size(), "vertex", "vertices")
+  line << "curves    " << plural(curves.polylines.size(), "curve") << ": " << curves.closed_count()
+       << " closed, " << curves.open_count() << " open; " << plural(curves.vertices.size(), "vertex")
        << ", length " << format_length(total_length);
   summary.say(line.str());
   Json& s5 = summary.stats()["curves"];
@@ -127,7 +123,7 @@ void reconstruct_curves(const CurveRun& run) {
 
   Timer timer;
   const std::vector<Vec2> points = io::read_points_2d(run.input, read_options(run.format));
-  summary.say("read      " + run.input.string() + ": " + count_of(points.size(), "point", "points") + " in 2D (" +
+  summary.say("read      " + run.input.string() + ": " + plural(points.size(), "point") + " in 2D (" +
               format_seconds(timer.elapsed()) + ")");
   summary.stats()["input"]["file"] = run.input.string();
   summary.stats()["input"]["points"] = points.size();

@@ -97,6 +97,12 @@ void Summary::write_stats(const std::filesystem::path& path) const {
   file.commit();
 }
 
+std::string plural(std::size_t n, const std::string& word) {
+  if (n == 1) return "1 " + word;
+  if (word == "vertex") return std::to_string(n) + " vertices";
+  return std::to_string(n) + " " + word + "s";
+}
+
 std::string format_seconds(double s) {
   char buffer[32];
   if (s < 1.0)

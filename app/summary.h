@@ -52,6 +52,8 @@ class Summary {
   Json stats_;
 };
 
+/// "1 point", "3 points", "2 vertices".
+std::string plural(std::size_t n, const std::string& word);
 /// "1.23 s", "45 ms".
 std::string format_seconds(double s);
 /// Shortest round-trip decimal form of a length.
