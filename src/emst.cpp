@@ -5,6 +5,8 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <span>
+#include <vector>
 
 namespace recon {
 namespace {
@@ -48,70 +50,94 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
   UnionFind sets(n);
   std::vector<std::int32_t> label(n);
   std::vector<Candidate> per_point(n);
-  std::vector<Candidate> per_component(n);
-  std::vector<double> bound(n);  // per component: the best squared length known so far
-  std::vector<std::uint8_t> interior(n, 0);
+  std::vector<Candidate> per_component(n);  // indexed by a component's root
+  std::vector<double> bound(n);             // per component: the best squared length known so far
   const auto count = static_cast<std::int64_t>(n);
+  // The current components by root, ascending, and the points whose list
+  // still reaches outside their component (only they are scanned in step
+  // 1). Both shrink every round, so the rounds after the first cost what
+  // their components and active points do, not what n does.
+  std::vector<std::uint32_t> roots(n);
+  for (std::uint32_t i = 0; i < n; ++i) roots[i] = i;
+  std::vector<std::uint32_t> active;
+  if (hinted) active = roots;
+  std::vector<std::uint32_t> queried;  // points whose candidate came from a tree query this round
 
-  while (sets.set_count() > 1) {
-    for (std::uint32_t i = 0; i < n; ++i) label[i] = static_cast<std::int32_t>(sets.find(i));
+  for (std::uint32_t i = 0; i < n; ++i) label[i] = static_cast<std::int32_t>(i);
+  std::vector<std::uint32_t> merged_into(n);  // per root of the round before: its root now
+
+  while (roots.size() > 1) {
     const std::vector<std::int32_t> node_label = tree.node_labels(label);
 
     // 1. What the lists give for free: the first entry of another component
     //    is the point's nearest outside point. A point whose whole list is
-    //    in its own component stays so (components only merge): it is not
-    //    scanned again.
+    //    in its own component stays so (components only merge): it leaves
+    //    the active points for good.
+    const auto active_count = static_cast<std::int64_t>(active.size());
 #pragma omp parallel for schedule(static)
-    for (std::int64_t s = 0; s < count; ++s) {
-      const auto i = static_cast<std::uint32_t>(s);
+    for (std::int64_t s = 0; s < active_count; ++s) {
+      const std::uint32_t i = active[static_cast<std::size_t>(s)];
       per_point[i] = Candidate{};
-      if (!hinted || interior[i]) continue;
-      bool outside = false;
       for (const std::uint32_t j : hints.lists->row(i)) {
         if (label[j] == label[i]) continue;
         per_point[i] = Candidate::make((points[j] - points[i]).squaredNorm(), i, j);
-        outside = true;
         break;
       }
-      if (!outside) interior[i] = 1;
     }
-    std::fill(per_component.begin(), per_component.end(), Candidate{});
-    auto reduce = [&] {
-      for (std::uint32_t i = 0; i < n; ++i) {
+    for (const std::uint32_t r : roots) per_component[r] = Candidate{};
+    auto reduce = [&](std::span<const std::uint32_t> which) {
+      for (const std::uint32_t i : which) {
         Candidate& best = per_component[static_cast<std::size_t>(label[i])];
         if (per_point[i] < best) best = per_point[i];
       }
     };
-    reduce();
-    for (std::size_t c = 0; c < n; ++c) bound[c] = per_component[c].d2;
+    reduce(active);
+    for (const std::uint32_t r : roots) bound[r] = per_component[r].d2;
 
     // 2. Tree queries where a point could still beat its component's best:
     //    bounded by that best, which the queries lower as they go (only the
     //    work depends on the order, not the answer: the reduction below
     //    keeps the least candidate under the strict order).
-#pragma omp parallel for schedule(dynamic, 1024)
-    for (std::int64_t s = 0; s < count; ++s) {
-      const auto i = static_cast<std::uint32_t>(s);
-      double& best = bound[static_cast<std::size_t>(label[i])];
-      const double limit = AtomicRef<double>(best).load(std::memory_order_relaxed);
-      if (hinted && (per_point[i].valid() || hints.certain_radius2[i] > limit)) continue;
-      // An exact copy of an earlier point (its list starts with that point)
-      // shares its component from the first round on and would ask the very
-      // same question: only the first of the copies asks it. Thousands of
-      // copies of one point, each query a few hundred nodes, took seconds.
-      if (hinted && hints.lists->row(i)[0] != i) continue;
-      const Neighbor nb = tree.nearest_with_other_label(points[i], label[i], label, node_label, limit);
-      if (nb.index == KdTree<D>::no_child) continue;
-      const Candidate c = Candidate::make(nb.distance2, i, nb.index);
-      if (c < per_point[i]) per_point[i] = c;
-      lower(best, nb.distance2);
+    queried.clear();
+#pragma omp parallel
+    {
+      std::vector<std::uint32_t> mine;
+#pragma omp for schedule(dynamic, 1024) nowait
+      for (std::int64_t s = 0; s < count; ++s) {
+        const auto i = static_cast<std::uint32_t>(s);
+        double& best = bound[static_cast<std::size_t>(label[i])];
+        const double limit = AtomicRef<double>(best).load(std::memory_order_relaxed);
+        if (hinted && (per_point[i].valid() || hints.certain_radius2[i] > limit)) continue;
+        // An exact copy of an earlier point (its list starts with that point)
+        // shares its component from the first round on and would ask the very
+        // same question: only the first of the copies asks it. Thousands of
+        // copies of one point, each query a few hundred nodes, took seconds.
+        if (hinted && hints.lists->row(i)[0] != i) continue;
+        const Neighbor nb = tree.nearest_with_other_label(points[i], label[i], label, node_label, limit);
+        if (nb.index == KdTree<D>::no_child) continue;
+        per_point[i] = Candidate::make(nb.distance2, i, nb.index);
+        mine.push_back(i);
+        lower(best, nb.distance2);
+      }
+#pragma omp critical(recon_emst_queried)
+      queried.insert(queried.end(), mine.begin(), mine.end());
     }
-    reduce();
+    reduce(queried);
+    for (const std::uint32_t i : queried) per_point[i] = Candidate{};  // not an active point's: cleared here
 
-    for (std::uint32_t c = 0; c < n; ++c) {
-      const Candidate& best = per_component[c];
+    for (const std::uint32_t r : roots) {
+      const Candidate& best = per_component[r];
       if (best.valid() && sets.unite(best.lo, best.hi)) edges.push_back({best.lo, best.hi, std::sqrt(best.d2)});
     }
+    for (const std::uint32_t r : roots) merged_into[r] = sets.find(r);
+    std::erase_if(roots, [&](std::uint32_t r) { return merged_into[r] != r; });
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < count; ++s) {
+      std::int32_t& l = label[static_cast<std::size_t>(s)];
+      l = static_cast<std::int32_t>(merged_into[static_cast<std::size_t>(l)]);
+    }
+    // Points whose list lay inside their component this round stay inside.
+    std::erase_if(active, [&](std::uint32_t i) { return !per_point[i].valid(); });
   }
   return edges;
 }

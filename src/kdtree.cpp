@@ -204,12 +204,14 @@ void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offs
   const double to_left = q[a] - node.left_max;    // > 0: q beyond the left child's points
   const double to_right = q[a] - node.right_min;  // < 0: q before the right child's points
   std::uint32_t near_child = node.left, far_child = node.right;
-  double cut = to_right * to_right;
+  // The far child's slab is 0 away when q lies inside it: only possible
+  // where the children's ranges overlap (a refitted tree).
+  double cut = to_right < 0.0 ? to_right * to_right : 0.0;
   // On the split itself, left first: in a leaf-numbered tree it holds the
   // smaller indices, which win ties (see the pruning below).
   if (to_left + to_right > 0) {
     std::swap(near_child, far_child);
-    cut = to_left * to_left;
+    cut = to_left > 0.0 ? to_left * to_left : 0.0;
   }
   descend(near_child, q, rd, offsets, visitor);
   const double old = offsets[a];
@@ -340,6 +342,56 @@ std::vector<std::int32_t> KdTree<D>::node_labels(std::span<const std::int32_t> p
     }
   }
   return labels;
+}
+
+template <int D>
+KdTree<D> KdTree<D>::refit(std::span<const Point> points) const {
+  if (points.size() != size())
+    throw InvalidInputError("kd-tree refit: " + std::to_string(points.size()) + " points for a tree of " +
+                            std::to_string(size()));
+  check_coordinates<D>(points);
+  KdTree tree;
+  tree.options_ = options_;
+  tree.depth_ = depth_;
+  tree.leaf_numbered_ = leaf_numbered_;
+  tree.order_ = order_;
+  tree.nodes_ = nodes_;
+  tree.boxes_.resize(nodes_.size());
+  tree.points_.resize(points.size());
+  const auto n = static_cast<std::int64_t>(points.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t t = 0; t < n; ++t)
+    tree.points_[static_cast<std::size_t>(t)] = points[order_[static_cast<std::size_t>(t)]];
+  // Leaves first (in parallel), then each inner node from its children:
+  // children follow their parent in pre-order, so a backward pass finds them done.
+  const auto node_count = static_cast<std::int64_t>(nodes_.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t s = 0; s < node_count; ++s) {
+    const auto id = static_cast<std::size_t>(s);
+    Node& node = tree.nodes_[id];
+    if (!node.is_leaf()) continue;
+    Box<D> box;
+    for (auto t = node.begin; t < node.end; ++t) box.extend(tree.points_[t]);
+    tree.boxes_[id] = box;
+    // Copies of one point must be stored by increasing index (see Node).
+    node.identical = box.min == box.max && std::is_sorted(order_.begin() + node.begin, order_.begin() + node.end);
+  }
+  for (std::size_t id = nodes_.size(); id-- > 0;) {
+    Node& node = tree.nodes_[id];
+    if (node.is_leaf()) continue;
+    const Box<D>& left = tree.boxes_[node.left];
+    const Box<D>& right = tree.boxes_[node.right];
+    Box<D> box;
+    box.min = left.min.cwiseMin(right.min);
+    box.max = left.max.cwiseMax(right.max);
+    tree.boxes_[id] = box;
+    node.left_max = left.max[node.axis];
+    node.right_min = right.min[node.axis];
+    const std::uint32_t mid = tree.nodes_[node.left].end;
+    node.identical = box.min == box.max && tree.nodes_[node.left].identical && tree.nodes_[node.right].identical &&
+                     order_[mid - 1] < order_[mid];
+  }
+  return tree;
 }
 
 template <int D>

@@ -170,7 +170,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   Timer timer;
   // Built only now that phase II's graph is complete: its memory and the
   // graph's need not add up.
-  r.origin_tree = KdTree<3>(std::span<const Vec3>(r.planes.origins));
+  r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
   const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, options.distance);
   r.delta = f.delta();
   r.delta_given = f.delta_given();

@@ -20,7 +20,7 @@ CurveReconstruction reconstruct_curve(std::span<const Vec2> points, const CurveR
   r.oriented = orient_normals<2>(r.planes, options.orientation);
 
   Timer timer;
-  r.origin_tree = KdTree<2>(std::span<const Vec2>(r.planes.origins));
+  r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
   const SignedDistance<2> f =
       make_signed_distance<2>(r.planes, std::span<const Vec2>(r.oriented.normals), r.origin_tree, options.distance);
   r.delta = f.delta();

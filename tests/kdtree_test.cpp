@@ -1,5 +1,7 @@
 #include "recon/kdtree.h"
 
+#include "recon/errors.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -48,14 +50,31 @@ std::vector<Neighbor> brute_force(const std::vector<Vec<D>>& pts, const Vec<D>& 
   return all;
 }
 
+// How the tree searched is made: built over the points, or built over
+// other points and refitted to them (KdTree::refit): points near the ones
+// they replace (as tangent-plane origins near their samples), or points
+// unrelated to them (children's ranges overlapping everywhere).
+enum class Fit { built, refit_near, refit_far };
+
 template <int D>
-void check_against_brute_force(Layout layout, std::uint32_t seed) {
+KdTree<D> make_tree(const std::vector<Vec<D>>& pts, int leaf, Fit fit, std::mt19937& rng) {
+  if (fit == Fit::built) return KdTree<D>(pts, {leaf});
+  std::normal_distribution<double> jitter(0.0, 0.003);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Vec<D>> shape(pts);
+  for (Vec<D>& p : shape)
+    for (int a = 0; a < D; ++a) p[a] = fit == Fit::refit_near ? p[a] + jitter(rng) : unit(rng);
+  return KdTree<D>(shape, {leaf}).refit(pts);
+}
+
+template <int D>
+void check_against_brute_force(Layout layout, std::uint32_t seed, Fit fit = Fit::built) {
   std::mt19937 rng(seed + 100);
   std::uniform_real_distribution<double> unit(-0.1, 1.1);
   for (std::size_t n : {1u, 2u, 7u, 100u, 2000u}) {
     const auto pts = make_points<D>(n, layout, seed);
     for (int leaf : {1, 3, 8}) {
-      const KdTree<D> tree(pts, {leaf});
+      const KdTree<D> tree = make_tree<D>(pts, leaf, fit, rng);
       ASSERT_EQ(tree.size(), n);
       for (int trial = 0; trial < 30; ++trial) {
         // Half the queries are data points (their own neighbour), half random.
@@ -105,6 +124,41 @@ TEST(KdTree, KnnNearestRadiusMatchBruteForce2D) {
   check_against_brute_force<2>(Layout::uniform, 4);
   check_against_brute_force<2>(Layout::clustered, 5);
   check_against_brute_force<2>(Layout::duplicates, 6);
+}
+
+TEST(KdTree, RefittedTreeMatchesBruteForce) {
+  for (const Fit fit : {Fit::refit_near, Fit::refit_far}) {
+    check_against_brute_force<3>(Layout::uniform, 31, fit);
+    check_against_brute_force<3>(Layout::clustered, 32, fit);
+    check_against_brute_force<3>(Layout::duplicates, 33, fit);
+    check_against_brute_force<2>(Layout::uniform, 34, fit);
+    check_against_brute_force<2>(Layout::duplicates, 35, fit);
+  }
+}
+
+TEST(KdTree, RefitKeepsTheShapeAndBoundsTheNewPoints) {
+  std::mt19937 rng(36);
+  const auto pts = make_points<3>(3000, Layout::clustered, 37);
+  const KdTree<3> built(pts, {8});
+  const KdTree<3> tree = make_tree<3>(pts, 8, Fit::refit_far, rng);
+  ASSERT_EQ(tree.nodes().size(), built.nodes().size());
+  for (std::size_t id = 0; id < tree.nodes().size(); ++id) {
+    const auto& node = tree.nodes()[id];
+    const Box<3>& box = tree.boxes()[id];
+    for (auto t = node.begin; t < node.end; ++t) {
+      const Vec3& p = pts[tree.order()[t]];
+      ASSERT_EQ(tree.points()[t], p);
+      ASSERT_TRUE((p.array() >= box.min.array()).all() && (p.array() <= box.max.array()).all());
+    }
+    if (!node.is_leaf()) {
+      EXPECT_EQ(node.left_max, tree.boxes()[node.left].max[node.axis]);
+      EXPECT_EQ(node.right_min, tree.boxes()[node.right].min[node.axis]);
+    }
+  }
+  EXPECT_THROW((void)built.refit(std::span<const Vec3>(pts).first(10)), InvalidInputError);
+  std::vector<Vec3> bad(pts);
+  bad[5].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW((void)built.refit(bad), InvalidInputError);
 }
 
 TEST(KdTree, EmptyTreeAnswersNothing) {
@@ -186,9 +240,15 @@ TEST(KdTree, MassesOfCopiesMatchBruteForce) {
   const std::vector<Vec3> masses = {Vec3(0, 0, 0), input[7], Vec3(0.5, 0.5, 0.5)};
   for (const Vec3& m : masses) input.insert(input.end(), 400, m);
   std::shuffle(input.begin(), input.end(), rng);
-  for (const bool renumber : {false, true}) {
+  for (const int variant : {0, 1, 2}) {
+    const bool renumber = variant >= 1;
     KdTree<3> tree(input, {8});
     if (renumber) (void)tree.renumber_by_leaf_order();
+    if (variant == 2) {  // refitted to the very same points: copies stay copies, in index order
+      std::vector<Vec3> same(tree.points().size());
+      for (std::size_t t = 0; t < same.size(); ++t) same[tree.order()[t]] = tree.points()[t];
+      tree = tree.refit(same);
+    }
     // Positions as the tree numbers them.
     const std::vector<Vec3> pts(tree.points().begin(), tree.points().end());
     std::vector<Vec3> at(pts.size());
@@ -218,7 +278,7 @@ TEST(KdTree, MassesOfCopiesMatchBruteForce) {
           }
         ASSERT_EQ(tree.nearest_with_other_label(q, own, labels, node_labels, std::numeric_limits<double>::infinity()),
                   want)
-            << "label " << own << (renumber ? ", leaf-numbered" : "");
+            << "label " << own << (renumber ? ", leaf-numbered" : "") << (variant == 2 ? ", refitted" : "");
       }
     }
   }

@@ -82,7 +82,8 @@ class KdTree {
 
   /// A node covers the points at tree positions [begin, end). An inner node
   /// splits them on axis `axis`: the left child's points have coordinates
-  /// <= left_max there, the right child's >= right_min. boxes()[id] bounds
+  /// <= left_max there, the right child's >= right_min (in a refitted tree
+  /// the two ranges may overlap). boxes()[id] bounds
   /// node id's points exactly (drawn by the visual feedback); it is kept
   /// apart so that a search reads 40 bytes per node, not 88.
   struct Node {
@@ -149,6 +150,15 @@ class KdTree {
   std::vector<std::uint32_t> renumber_by_leaf_order();
   /// True after renumber_by_leaf_order().
   [[nodiscard]] bool numbered_by_leaf_order() const { return leaf_numbered_; }
+
+  /// The same tree over other points: point i of `points` takes the place
+  /// of input point i (so the nodes hold the same indices), and the boxes
+  /// and splits are recomputed from the new points. Searches are exact for
+  /// any points; they are as fast as in a tree built afresh when each point
+  /// lies near the one it replaces, as a tangent plane's origin lies near
+  /// its sample. O(n), a small fraction of a build. Throws InvalidInputError
+  /// for a different count or unusable coordinates (see check_coordinates).
+  [[nodiscard]] KdTree refit(std::span<const Point> points) const;
 
   /// Nodes in pre-order; nodes()[0] is the root.
   [[nodiscard]] const std::vector<Node>& nodes() const { return nodes_; }
