@@ -247,7 +247,9 @@ void report_phases_3_4(const Reconstruction& r, Summary& summary) {
   std::ostringstream line;
   line << "phase III signed distance: delta = " << format_length(r.delta) << (r.delta_given ? " (given)" : " (estimated)")
        << ", " << c.evaluated_corners << " lattice corners evaluated, " << c.undefined_corners << " undefined ("
-       << format_seconds(r.seconds_distance_setup + c.seconds_field) << ")";
+       << format_seconds(r.seconds_distance_setup + c.seconds_field);
+  if (r.seconds_distance_beside > 0.0) line << ", and " << format_seconds(r.seconds_distance_beside) << " beside phase II";
+  line << ")";
   summary.say(line.str());
   line.str("");
   line << "phase IV  contouring: cell = " << format_length(c.cell) << ", " << c.visited_cubes << " cubes visited of "
@@ -260,6 +262,7 @@ void report_phases_3_4(const Reconstruction& r, Summary& summary) {
   s["corners_evaluated"] = c.evaluated_corners;
   s["corners_undefined"] = c.undefined_corners;
   s["seconds"] = r.seconds_distance_setup + c.seconds_field;
+  s["seconds_beside_orientation"] = r.seconds_distance_beside;
   Json& m = summary.stats()["contouring"];
   m["cell"] = c.cell;
   m["lattice_size"] = Json(Json::Array{Json(static_cast<std::size_t>(c.size[0])), Json(static_cast<std::size_t>(c.size[1])),

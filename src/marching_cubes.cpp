@@ -153,32 +153,73 @@ class CornerTable {
 
 }  // namespace
 
+namespace {
+void check_cell(double cell) {
+  if (!(cell > 0.0) || !std::isfinite(cell)) throw InvalidInputError("the lattice cell size must be a positive length");
+}
+
+Index3 cube_of(const Lattice& lattice, const Vec3& p) {
+  Index3 cube;
+  for (int a = 0; a < 3; ++a)
+    cube[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(std::floor((p[a] - lattice.origin[a]) / lattice.cell));
+  return cube;
+}
+}  // namespace
+
+Lattice make_lattice(std::span<const Vec3> seeds, double cell) {
+  check_cell(cell);
+  Box<3> box;
+  for (const Vec3& p : seeds) box.extend(p);
+  Lattice lattice;
+  lattice.cell = cell;
+  const double margin = lattice_margin * cell;
+  lattice.origin = box.min - Vec3::Constant(margin);
+  for (int a = 0; a < 3; ++a) {
+    const double cubes = std::ceil((box.max[a] - box.min[a] + 2.0 * margin) / cell);
+    if (cubes > max_cubes_per_axis)
+      throw ResourceLimitError("the lattice would need " + std::to_string(static_cast<long long>(cubes)) +
+                               " cubes along axis " + "xyz"[a] + " (at most " + std::to_string(max_cubes_per_axis) +
+                               "): use a larger --cell or a smaller --resolution");
+    lattice.size[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(cubes);
+  }
+  return lattice;
+}
+
+std::vector<Index3> seed_corners(const Lattice& lattice, std::span<const Vec3> seeds) {
+  // Keys order by (z, y, x). Seeds in spatial order repeat their cube
+  // often: runs are dropped before sorting.
+  std::vector<std::uint64_t> cubes;
+  for (const Vec3& p : seeds) {
+    const std::uint64_t key = pack(cube_of(lattice, p));
+    if (cubes.empty() || cubes.back() != key) cubes.push_back(key);
+  }
+  std::sort(cubes.begin(), cubes.end());
+  cubes.erase(std::unique(cubes.begin(), cubes.end()), cubes.end());
+  std::vector<std::uint64_t> corners;
+  corners.reserve(4 * cubes.size());
+  for (const std::uint64_t key : cubes) {
+    const Index3 cube = unpack(key);
+    for (int c = 0; c < 8; ++c) corners.push_back(pack(corner_of_cube(cube, c)));
+  }
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  std::vector<Index3> result(corners.size());
+  for (std::size_t i = 0; i < corners.size(); ++i) result[i] = unpack(corners[i]);
+  return result;
+}
+
 MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
-                                   const MarchingCubesOptions& options, bool keep_corners) {
-  if (!(options.cell > 0.0) || !std::isfinite(options.cell))
-    throw InvalidInputError("the lattice cell size must be a positive length");
+                                   const MarchingCubesOptions& options, bool keep_corners, const KnownCorners* known) {
+  check_cell(options.cell);
   Timer timer;
   MarchingCubesResult result;
   result.cell = options.cell;
   if (seeds.empty()) return result;
 
-  Box<3> box;
-  for (const Vec3& p : seeds) box.extend(p);
-  const double margin = lattice_margin * options.cell;
-  result.origin = box.min - Vec3::Constant(margin);
-  for (int a = 0; a < 3; ++a) {
-    const double cubes = std::ceil((box.max[a] - box.min[a] + 2.0 * margin) / options.cell);
-    if (cubes > max_cubes_per_axis)
-      throw ResourceLimitError("the lattice would need " + std::to_string(static_cast<long long>(cubes)) +
-                               " cubes along axis " + "xyz"[a] + " (at most " + std::to_string(max_cubes_per_axis) +
-                               "): use a larger --cell or a smaller --resolution");
-    result.size[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(cubes);
-  }
-
-  auto position = [&](const Index3& i) {
-    return Vec3(result.origin.x() + i[0] * options.cell, result.origin.y() + i[1] * options.cell,
-                result.origin.z() + i[2] * options.cell);
-  };
+  const Lattice lattice = make_lattice(seeds, options.cell);
+  result.origin = lattice.origin;
+  result.size = lattice.size;
+  auto position = [&](const Index3& i) { return lattice.position(i); };
   auto inside_lattice = [&](const Index3& cube) {
     for (std::size_t a = 0; a < 3; ++a)
       if (cube[a] < 0 || cube[a] >= result.size[a]) return false;
@@ -206,14 +247,23 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
     next.push_back(pack(cube));
   };
 
-  for (const Vec3& p : seeds) {
-    Index3 cube;
-    for (int a = 0; a < 3; ++a)
-      cube[static_cast<std::size_t>(a)] =
-          static_cast<std::int32_t>(std::floor((p[a] - result.origin[a]) / options.cell));
-    visit(cube);
-  }
+  for (const Vec3& p : seeds) visit(cube_of(lattice, p));
   result.seed_cubes = visited;
+
+  if (known != nullptr) {
+    if (known->value.size() != known->index.size())
+      throw InvalidInputError("known lattice corners: " + std::to_string(known->index.size()) + " corners and " +
+                              std::to_string(known->value.size()) + " values");
+    for (std::size_t i = 0; i < known->index.size(); ++i) {
+      const Index3& corner = known->index[i];
+      for (std::size_t a = 0; a < 3; ++a)
+        if (corner[a] < 0 || corner[a] > result.size[a])
+          throw InvalidInputError("known lattice corner " + std::to_string(i) + " lies outside the lattice");
+      const std::uint32_t slot = corners.find_or_insert(pack(corner));
+      corners.value[slot] = known->value[i];
+      corners.flags[slot] |= CornerTable::evaluated;
+    }
+  }
 
   std::vector<std::array<std::uint32_t, 8>> cube_slots;  // per cube of a batch: its corners' slots
   std::vector<std::uint8_t> pending, faces_of;

@@ -1,15 +1,21 @@
 #include "recon/reconstruct.h"
 
 #include "recon/errors.h"
+#include "recon/parallel.h"
 #include "recon/resource_usage.h"
 #include "recon/spatial_order.h"  // permuted
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <future>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <thread>
 
 
 namespace recon {
@@ -62,6 +68,120 @@ double surface_spacing(const TangentPlanes<3>& planes) {
   std::nth_element(radius.begin(), middle, radius.end());
   return std::sqrt(std::numbers::pi / planes.k) * static_cast<double>(*middle);
 }
+// Phase III beside phase II. Prim's algorithm runs on one thread; meanwhile
+// another evaluates f at the corners of the walk's first wave (every cube
+// holding a sample: most of the corners the walk will need), with the
+// unoriented PCA normals. Orientation only turns normals round, and f turns
+// with them exactly: (p - o).(-n) is -((p - o).n) in floating point, and
+// the foot point and the tests of definedness are unchanged. So the value
+// with the PCA normal, negated where the orientation flipped that plane, is
+// the value phase III gives, and the mesh is the same as without this.
+class FirstWave {
+ public:
+  // The origin tree, the lattice and the corners: a few tenths of the work.
+  void prepare(Reconstruction& r, double cell, const SignedDistanceOptions& options) {
+    r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
+    unoriented_ = make_signed_distance<3>(r.planes, r.planes.normals, r.origin_tree, options);
+    lattice_ = make_lattice(r.points(), cell);
+    known_.index = seed_corners(lattice_, r.points());
+    known_.value.resize(known_.index.size());
+    plane_.resize(known_.index.size());
+  }
+  // Evaluates corners until none is left unclaimed; from any number of
+  // threads at once, after prepare().
+  void drain() {
+    const std::size_t count = known_.index.size();
+    for (;;) {
+      const std::size_t begin = next_.fetch_add(chunk, std::memory_order_relaxed);
+      if (begin >= count) return;
+      for (std::size_t c = begin; c < std::min(begin + chunk, count); ++c) {
+        const auto e = unoriented_.evaluate(lattice_.position(known_.index[c]));
+        plane_[c] = e.plane;
+        known_.value[c] = e.value ? *e.value : std::numeric_limits<double>::quiet_NaN();
+      }
+    }
+  }
+  // Leaves the corners no thread has claimed yet unevaluated (on failure).
+  void abandon() { next_.store(std::numeric_limits<std::size_t>::max() / 2, std::memory_order_relaxed); }
+  // The values with the oriented normals; the wave is spent.
+  KnownCorners oriented(std::span<const std::uint8_t> flipped) {
+    const auto count = static_cast<std::int64_t>(known_.value.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < count; ++s) {
+      const auto c = static_cast<std::size_t>(s);
+      if (flipped[plane_[c]] && !std::isnan(known_.value[c])) known_.value[c] = -known_.value[c];
+    }
+    plane_ = {};
+    return std::move(known_);
+  }
+
+ private:
+  static constexpr std::size_t chunk = 256;
+  SignedDistance<3> unoriented_;
+  Lattice lattice_;
+  KnownCorners known_;
+  std::vector<std::uint32_t> plane_;  // the plane each value came from
+  std::atomic<std::size_t> next_{0};  // the first corner not yet claimed
+};
+
+// Phase II's orientation with the first wave beside it (see FirstWave):
+// one thread of its own while Prim runs, then every thread. With one
+// thread, the same work one after the other.
+KnownCorners orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, double cell,
+                                    const ReconstructionOptions& options, double& seconds_after) {
+  FirstWave wave;
+  const int threads = thread_count();
+  if (threads <= 1) {
+    r.oriented = orient_normals<3>(r.planes, std::move(graph), options.orientation);
+    Timer timer;
+    wave.prepare(r, cell, options.distance);
+    wave.drain();
+    seconds_after = timer.lap();
+    return wave.oriented(r.oriented->flipped);
+  }
+  std::promise<void> prepared;
+  std::future<void> ready = prepared.get_future();
+  std::exception_ptr failure;
+  Timer beside;
+  std::thread helper([&] {
+    set_thread_count(1);  // this thread's own parallel regions (the refit): Prim has the other core
+    try {
+      wave.prepare(r, cell, options.distance);
+    } catch (...) {
+      prepared.set_exception(std::current_exception());
+      return;
+    }
+    prepared.set_value();
+    try {
+      wave.drain();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    r.seconds_distance_beside = beside.elapsed();
+  });
+  try {
+    r.oriented = orient_normals<3>(r.planes, std::move(graph), options.orientation);
+  } catch (...) {
+    wave.abandon();
+    helper.join();
+    throw;
+  }
+  Timer timer;
+  try {
+    ready.get();
+  } catch (...) {
+    helper.join();
+    throw;
+  }
+#pragma omp parallel num_threads(std::max(1, threads - 1))
+  wave.drain();
+  helper.join();
+  if (failure) std::rethrow_exception(failure);
+  KnownCorners known = wave.oriented(r.oriented->flipped);
+  seconds_after = timer.lap();
+  return known;
+}
+
 }  // namespace
 
 std::size_t default_memory_limit() {
@@ -154,11 +274,14 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
       n /= norm;
     }
     r.planes.neighbors = {};
-  } else {
+  }
+  KnownCorners known;  // phase III's values at the first wave's corners, when computed beside phase II
+  double seconds_known = 0.0;
+  if (!options.use_input_normals) {
     starting("orientation");
     RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, options.orientation.graph);
     r.planes.neighbors = {};  // the graph's source, no longer needed
-    r.oriented = orient_normals<3>(r.planes, std::move(graph), options.orientation);
+    known = orient_with_first_wave(r, std::move(graph), cell, options, seconds_known);
     if (!options.keep_graph) {
       r.oriented->graph.graph = {};
       r.oriented->graph.emst = {};
@@ -168,13 +291,13 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
 
   starting("signed distance");
   Timer timer;
-  // Built only now that phase II's graph is complete: its memory and the
-  // graph's need not add up.
-  r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
+  // (Computed beside phase II, once the graph's construction has passed
+  // its peak of memory: the two need not add up.)
+  if (options.use_input_normals) r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
   const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, options.distance);
   r.delta = f.delta();
   r.delta_given = f.delta_given();
-  r.seconds_distance_setup = timer.lap();
+  r.seconds_distance_setup = timer.lap() + seconds_known;
 
   starting("contouring");
   MarchingCubesOptions mc;
@@ -184,7 +307,8 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   mc.max_cubes = static_cast<std::size_t>(
       std::max(0.0, (static_cast<double>(limit) - static_cast<double>(r.order.size()) * bytes_per_point_held) /
                         bytes_per_cube));
-  r.contour = marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
+  r.contour = marching_cubes(std::cref(f), r.points(), mc, options.keep_corners,
+                             known.index.empty() ? nullptr : &known);
   if (r.offset != Vec3::Zero())
     for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
   return r;

@@ -8,7 +8,7 @@
 namespace recon {
 
 template <int D>
-std::optional<double> SignedDistance<D>::operator()(const Vec<D>& p) const {
+typename SignedDistance<D>::Evaluation SignedDistance<D>::evaluate(const Vec<D>& p) const {
   const std::uint32_t i = origin_tree_->nearest(p).index;
   const Vec<D>& n = normals_[i];
   const double f = (p - planes_->origins[i]).dot(n);
@@ -21,11 +21,11 @@ std::optional<double> SignedDistance<D>::operator()(const Vec<D>& p) const {
     Neighbor nearest;
     return planes_->point_tree.knn(q, std::span<Neighbor>(&nearest, 1), r * r) == 1;
   };
-  if (sample_within(foot, reach)) return f;
+  if (sample_within(foot, reach)) return {i, f};
   // Near a sharp corner the projection onto one face's plane can overshoot
   // the data while p is plainly close to it (see the header).
-  if (sample_within(p, 0.5 * rho + reach + std::abs(f))) return f;
-  return std::nullopt;
+  if (sample_within(p, 0.5 * rho + reach + std::abs(f))) return {i, f};
+  return {i, std::nullopt};
 }
 
 template <int D>

@@ -7,10 +7,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <random>
 #include <set>
+#include <tuple>
 
 namespace recon {
 namespace {
@@ -217,6 +222,85 @@ TEST(MarchingCubes, VisitedCubesGrowWithAreaNotVolume) {
   // And a vanishing fraction of the lattice's volume.
   const double lattice = static_cast<double>(fine.size[0]) * fine.size[1] * fine.size[2];
   EXPECT_LT(static_cast<double>(fine.visited_cubes), 0.1 * lattice);
+}
+
+// The corners the first wave needs, found by brute force: every corner of
+// every cube that holds a seed, once each, in (z, y, x) order.
+TEST(MarchingCubes, SeedCornersAreTheCornersOfTheCubesHoldingASeed) {
+  const PointCloud seeds = make_torus()->sample(4000, 4);
+  const Lattice lattice = make_lattice(seeds.positions, 0.07);
+  std::set<std::array<std::int32_t, 3>> expected;  // ordered by (x, y, z)
+  for (const Vec3& p : seeds.positions) {
+    std::array<std::int32_t, 3> cube{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      cube[a] = static_cast<std::int32_t>(std::floor((p[static_cast<int>(a)] - lattice.origin[static_cast<int>(a)]) / 0.07));
+      ASSERT_GE(cube[a], 0);
+      ASSERT_LT(cube[a], lattice.size[a]);
+      // The seed lies in its cube.
+      EXPECT_LE(lattice.position(cube)[static_cast<int>(a)], p[static_cast<int>(a)]);
+    }
+    for (int c = 0; c < 8; ++c) expected.insert({cube[0] + (c & 1), cube[1] + ((c >> 1) & 1), cube[2] + ((c >> 2) & 1)});
+  }
+  const auto got = seed_corners(lattice, seeds.positions);
+  ASSERT_EQ(got.size(), expected.size());
+  EXPECT_TRUE(std::is_sorted(got.begin(), got.end(), [](const auto& a, const auto& b) {
+    return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]);
+  }));
+  const std::set<std::array<std::int32_t, 3>> got_set(got.begin(), got.end());
+  EXPECT_EQ(got_set, expected);
+  // The lattice is the walk's own.
+  MarchingCubesOptions options;
+  options.cell = 0.07;
+  const ScalarField f = [](const Vec3& p) { return std::optional<double>(p.norm() - 1.0); };
+  const MarchingCubesResult r = marching_cubes(f, seeds.positions, options);
+  EXPECT_EQ(r.origin, lattice.origin);
+  EXPECT_EQ(r.size, lattice.size);
+}
+
+// Corners known beforehand are taken, not evaluated again, and the mesh is
+// the one the walk makes on its own; with wrong values it would differ.
+TEST(MarchingCubes, KnownCornersAreTakenAndChangeNothing) {
+  std::atomic<std::size_t> calls{0};
+  const ScalarField f = [&](const Vec3& p) -> std::optional<double> {
+    ++calls;
+    if (p.z() > 0.6) return std::nullopt;  // an open surface: undefined corners are known too
+    return p.norm() - 1.0;
+  };
+  const PointCloud seeds = make_sphere()->sample(3000, 5);
+  MarchingCubesOptions options;
+  options.cell = 0.06;
+  const MarchingCubesResult plain = marching_cubes(f, seeds.positions, options);
+  const std::size_t plain_calls = calls.exchange(0);
+  EXPECT_EQ(plain_calls, plain.evaluated_corners);
+
+  KnownCorners known;
+  const Lattice lattice = make_lattice(seeds.positions, options.cell);
+  known.index = seed_corners(lattice, seeds.positions);
+  for (const auto& corner : known.index) {
+    const auto v = f(lattice.position(corner));
+    known.value.push_back(v ? *v : std::numeric_limits<double>::quiet_NaN());
+  }
+  calls = 0;
+  const MarchingCubesResult with = marching_cubes(f, seeds.positions, options, false, &known);
+  EXPECT_EQ(calls.load(), plain.evaluated_corners - known.index.size());  // the known ones, not again
+  EXPECT_GT(known.index.size(), plain.evaluated_corners / 2);
+  EXPECT_TRUE(with.mesh.vertices == plain.mesh.vertices);
+  EXPECT_TRUE(with.mesh.triangles == plain.mesh.triangles);
+  EXPECT_EQ(with.evaluated_corners, plain.evaluated_corners);
+  EXPECT_EQ(with.undefined_corners, plain.undefined_corners);
+  EXPECT_GT(with.undefined_corners, 0u);
+
+  KnownCorners shifted = known;  // the field moved by a tenth of a cell: another mesh
+  for (double& v : shifted.value) v += 0.1 * options.cell;
+  const MarchingCubesResult other = marching_cubes(f, seeds.positions, options, false, &shifted);
+  EXPECT_FALSE(other.mesh.vertices == plain.mesh.vertices);
+
+  KnownCorners outside = known;
+  outside.index[0] = {-1, 0, 0};
+  EXPECT_THROW((void)marching_cubes(f, seeds.positions, options, false, &outside), InvalidInputError);
+  outside = known;
+  outside.value.pop_back();
+  EXPECT_THROW((void)marching_cubes(f, seeds.positions, options, false, &outside), InvalidInputError);
 }
 
 TEST(MarchingCubes, RefusesBadCellsAndHugeLattices) {

@@ -260,6 +260,43 @@ TEST(Reconstruct, ThreadCountDoesNotChangeTheResult) {
   EXPECT_GT(runs[0].contour.mesh.triangles.size(), 10000u);
 }
 
+// Phase III's values at the first wave's corners are computed beside phase
+// II from the unoriented planes and negated where the orientation flipped a
+// plane (reconstruct.cpp, FirstWave). That must give exactly the mesh of
+// evaluating f with the oriented normals during the walk: on a closed
+// shape, one with sharp edges (the corner rule) and an open one (undefined
+// corners), at one thread and at two (the two code paths).
+TEST(Reconstruct, FirstWaveBesideOrientationGivesTheWalksOwnValues) {
+  const int threads = thread_count();
+  struct Case {
+    std::unique_ptr<Shape> shape;
+    std::string name;
+  };
+  std::vector<Case> cases;
+  cases.push_back({make_torus(), "torus"});
+  cases.push_back({make_box(), "box"});
+  cases.push_back({make_terrain(), "terrain"});
+  for (const Case& c : cases)
+    for (const int t : {1, 2}) {
+      set_thread_count(t);
+      const Reconstruction r = reconstruct(c.shape->sample(20000, 41));
+      ASSERT_TRUE(r.oriented.has_value());
+      const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree);
+      MarchingCubesOptions mc;
+      mc.cell = r.contour.cell;
+      MarchingCubesResult walk = marching_cubes(std::cref(f), r.points(), mc);
+      for (Vec3& v : walk.mesh.vertices) v += r.offset;
+      EXPECT_TRUE(walk.mesh.vertices == r.contour.mesh.vertices) << c.name << ", " << t << " threads";
+      EXPECT_TRUE(walk.mesh.triangles == r.contour.mesh.triangles) << c.name << ", " << t << " threads";
+      EXPECT_EQ(walk.undefined_corners, r.contour.undefined_corners);
+      // (PCA turns a height field's normals one way already: the terrain needs no flip.)
+      if (c.name != "terrain") {
+        EXPECT_GT(r.oriented->flip_count, r.planes.origins.size() / 5) << c.name;
+      }
+    }
+  set_thread_count(threads);
+}
+
 // --- real data ------------------------------------------------------------
 
 MeshTopology reconstruct_file(const std::string& relative, Reconstruction* out = nullptr) {

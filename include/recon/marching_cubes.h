@@ -22,6 +22,7 @@
 #include "recon/mesh.h"
 #include "recon/point_cloud.h"
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -64,6 +65,35 @@ struct MarchingCubesResult {
   double seconds_field = 0.0;             ///< of which evaluating f (phase III's share)
 };
 
+/// The lattice of a walk: where corner (0, 0, 0) sits, the cube side, and
+/// the cubes along each axis.
+struct Lattice {
+  Vec3 origin = Vec3::Zero();
+  double cell = 0.0;
+  std::array<std::int32_t, 3> size{};
+  [[nodiscard]] Vec3 position(const std::array<std::int32_t, 3>& corner) const {
+    return {origin.x() + corner[0] * cell, origin.y() + corner[1] * cell, origin.z() + corner[2] * cell};
+  }
+};
+
+/// The lattice marching_cubes() lays over `seeds` (not empty) at cube side
+/// `cell`. Throws as marching_cubes() does for the cell and the lattice size.
+[[nodiscard]] Lattice make_lattice(std::span<const Vec3> seeds, double cell);
+
+/// Every corner of every cube that holds a seed, each once, ordered by
+/// (z, y, x): the corners the walk's first wave needs, which a caller may
+/// evaluate beforehand (reconstruct() does, beside phase II).
+[[nodiscard]] std::vector<std::array<std::int32_t, 3>> seed_corners(const Lattice& lattice,
+                                                                    std::span<const Vec3> seeds);
+
+/// Values of f known before the walk, at lattice corners (NaN: undefined).
+/// The walk takes them instead of calling f there; they must be what f
+/// gives, or the mesh is that of another function.
+struct KnownCorners {
+  std::vector<std::array<std::int32_t, 3>> index;
+  std::vector<double> value;
+};
+
 /// The function contoured: its value at a point, or nullopt where undefined.
 /// It is called from several threads at once (one wave of corners at a time).
 using ScalarField = std::function<std::optional<double>(const Vec3&)>;
@@ -75,9 +105,12 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 
 /// Contours f = 0 starting from the cubes that contain `seeds` (normally the
 /// input points). Throws InvalidInputError for a cell that is not a positive
-/// length, ResourceLimitError when the lattice needs more than 2^21 cubes
-/// along an axis or the walk would exceed max_cubes.
+/// length or a known corner outside the lattice, ResourceLimitError when the
+/// lattice needs more than 2^21 cubes along an axis or the walk would exceed
+/// max_cubes. `known` corners (if any) are not evaluated again; the mesh is
+/// the same with or without them.
 [[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
-                                                 const MarchingCubesOptions& options, bool keep_corners = false);
+                                                 const MarchingCubesOptions& options, bool keep_corners = false,
+                                                 const KnownCorners* known = nullptr);
 
 }  // namespace recon

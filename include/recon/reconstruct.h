@@ -67,7 +67,13 @@ struct Reconstruction {
   double delta = 0.0;
   bool delta_given = false;
   MarchingCubesResult contour;                 ///< the mesh (input coordinates) and the lattice statistics
-  double seconds_distance_setup = 0.0;         ///< the tree over the origins and f's set-up
+  /// Phase III's time outside phase II: f's set-up, and the first wave's
+  /// corners still to evaluate once the orientation was done.
+  double seconds_distance_setup = 0.0;
+  /// Phase III's time on a thread of its own beside phase II's Prim: the
+  /// tree over the origins, and f at the corners of the lattice cubes that
+  /// hold a sample, from the unoriented planes (signs are fixed afterwards).
+  double seconds_distance_beside = 0.0;
 };
 
 /// Throws what the phases throw (InvalidInputError for unusable data or

@@ -37,7 +37,14 @@ template <int D>
 class SignedDistance {
  public:
   /// The value at p, or std::nullopt where f is undefined.
-  [[nodiscard]] std::optional<double> operator()(const Vec<D>& p) const;
+  [[nodiscard]] std::optional<double> operator()(const Vec<D>& p) const { return evaluate(p).value; }
+
+  /// The same, with the plane it came from (the origin nearest p).
+  struct Evaluation {
+    std::uint32_t plane = 0;
+    std::optional<double> value;
+  };
+  [[nodiscard]] Evaluation evaluate(const Vec<D>& p) const;
 
   [[nodiscard]] double delta() const { return delta_; }
   [[nodiscard]] bool delta_given() const { return delta_given_; }
