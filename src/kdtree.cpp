@@ -282,6 +282,21 @@ Neighbor KdTree<D>::nearest(const Point& q) const {
 }
 
 template <int D>
+bool KdTree<D>::any_within(const Point& q, double radius2) const {
+  struct Visitor {
+    double r2;
+    // Once a point is found the bound drops below every distance, and the
+    // search unwinds without looking at anything more.
+    [[nodiscard]] double bound() const { return r2; }
+    [[nodiscard]] static bool skip(std::uint32_t) { return false; }
+    void visit(std::uint32_t, double) { r2 = -1.0; }
+  } visitor{radius2};
+  if (!(radius2 >= 0.0)) return false;
+  search(q, visitor);
+  return visitor.r2 < 0.0;
+}
+
+template <int D>
 std::vector<Neighbor> KdTree<D>::radius(const Point& q, double radius2) const {
   struct Visitor {
     double r2;

@@ -185,26 +185,60 @@ Lattice make_lattice(std::span<const Vec3> seeds, double cell) {
   return lattice;
 }
 
+namespace {
+// A set of lattice keys (open addressing, linear probing): insert() says
+// whether the key is new.
+class KeySet {
+ public:
+  bool insert(std::uint64_t key) {
+    if (2 * (count_ + 1) > table_.size()) grow();
+    std::size_t h = hash(key);
+    while (table_[h] != empty) {
+      if (table_[h] == key) return false;
+      h = (h + 1) & (table_.size() - 1);
+    }
+    table_[h] = key;
+    ++count_;
+    return true;
+  }
+
+ private:
+  static constexpr std::uint64_t empty = UINT64_MAX;  // no lattice key: 63 bits at most
+  [[nodiscard]] std::size_t hash(std::uint64_t key) const {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
+  }
+  void grow() {
+    std::vector<std::uint64_t> old(table_.size() * 2, empty);
+    old.swap(table_);
+    ++bits_;
+    for (const std::uint64_t key : old)
+      if (key != empty) {
+        std::size_t h = hash(key);
+        while (table_[h] != empty) h = (h + 1) & (table_.size() - 1);
+        table_[h] = key;
+      }
+  }
+  std::vector<std::uint64_t> table_ = std::vector<std::uint64_t>(1024, empty);
+  std::size_t count_ = 0;
+  int bits_ = 10;
+};
+}  // namespace
+
 std::vector<Index3> seed_corners(const Lattice& lattice, std::span<const Vec3> seeds) {
-  // Keys order by (z, y, x). Seeds in spatial order repeat their cube
-  // often: runs are dropped before sorting.
-  std::vector<std::uint64_t> cubes;
+  KeySet cubes, corners;
+  std::vector<Index3> result;
+  std::uint64_t previous = UINT64_MAX;  // seeds in spatial order repeat their cube often
   for (const Vec3& p : seeds) {
-    const std::uint64_t key = pack(cube_of(lattice, p));
-    if (cubes.empty() || cubes.back() != key) cubes.push_back(key);
+    const Index3 cube = cube_of(lattice, p);
+    const std::uint64_t key = pack(cube);
+    if (key == previous) continue;
+    previous = key;
+    if (!cubes.insert(key)) continue;
+    for (int c = 0; c < 8; ++c) {
+      const Index3 corner = corner_of_cube(cube, c);
+      if (corners.insert(pack(corner))) result.push_back(corner);
+    }
   }
-  std::sort(cubes.begin(), cubes.end());
-  cubes.erase(std::unique(cubes.begin(), cubes.end()), cubes.end());
-  std::vector<std::uint64_t> corners;
-  corners.reserve(4 * cubes.size());
-  for (const std::uint64_t key : cubes) {
-    const Index3 cube = unpack(key);
-    for (int c = 0; c < 8; ++c) corners.push_back(pack(corner_of_cube(cube, c)));
-  }
-  std::sort(corners.begin(), corners.end());
-  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-  std::vector<Index3> result(corners.size());
-  for (std::size_t i = 0; i < corners.size(); ++i) result[i] = unpack(corners[i]);
   return result;
 }
 
@@ -247,7 +281,15 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
     next.push_back(pack(cube));
   };
 
-  for (const Vec3& p : seeds) visit(cube_of(lattice, p));
+  {
+    // Seeds in spatial order repeat their cube often: one lookup per run.
+    std::uint64_t previous = UINT64_MAX;
+    for (const Vec3& p : seeds) {
+      const Index3 cube = cube_of(lattice, p);
+      if (pack(cube) != previous) visit(cube);
+      previous = pack(cube);
+    }
+  }
   result.seed_cubes = visited;
 
   if (known != nullptr) {

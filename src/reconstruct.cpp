@@ -94,8 +94,10 @@ class FirstWave {
     for (;;) {
       const std::size_t begin = next_.fetch_add(chunk, std::memory_order_relaxed);
       if (begin >= count) return;
+      std::uint32_t hint = SignedDistance<3>::no_hint;  // the corners come in spatial order
       for (std::size_t c = begin; c < std::min(begin + chunk, count); ++c) {
-        const auto e = unoriented_.evaluate(lattice_.position(known_.index[c]));
+        const auto e = unoriented_.evaluate(lattice_.position(known_.index[c]), hint);
+        hint = e.plane;
         plane_[c] = e.plane;
         known_.value[c] = e.value ? *e.value : std::numeric_limits<double>::quiet_NaN();
       }

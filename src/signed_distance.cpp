@@ -3,24 +3,29 @@
 #include "recon/errors.h"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace recon {
 
 template <int D>
-typename SignedDistance<D>::Evaluation SignedDistance<D>::evaluate(const Vec<D>& p) const {
-  const std::uint32_t i = origin_tree_->nearest(p).index;
+typename SignedDistance<D>::Evaluation SignedDistance<D>::evaluate(const Vec<D>& p, std::uint32_t hint) const {
+  // The hint's own distance, a hair larger (any rounding apart from the
+  // tree's), is at least the nearest one: the search may start bounded.
+  const double bound2 = hint < planes_->origins.size() ? (planes_->origins[hint] - p).squaredNorm() * (1.0 + 1e-9)
+                                                       : std::numeric_limits<double>::infinity();
+  Neighbor plane;
+  origin_tree_->knn(p, std::span<Neighbor>(&plane, 1), bound2);
+  const std::uint32_t i = plane.index;
   const Vec<D>& n = normals_[i];
   const double f = (p - planes_->origins[i]).dot(n);
   const Vec<D> foot = p - f * n;
   const auto rho = static_cast<double>(planes_->local_rho[i]);
   const double reach = rho + delta_;
-  // "Is there a sample within r?" is a search bounded by r from the start:
-  // far cheaper than finding the nearest sample and comparing.
-  auto sample_within = [&](const Vec<D>& q, double r) {
-    Neighbor nearest;
-    return planes_->point_tree.knn(q, std::span<Neighbor>(&nearest, 1), r * r) == 1;
-  };
+  // "Is there a sample within r?" is a search bounded by r from the start,
+  // which stops at the first sample found: far cheaper than finding the
+  // nearest sample and comparing.
+  auto sample_within = [&](const Vec<D>& q, double r) { return planes_->point_tree.any_within(q, r * r); };
   if (sample_within(foot, reach)) return {i, f};
   // Near a sharp corner the projection onto one face's plane can overshoot
   // the data while p is plainly close to it (see the header).

@@ -104,6 +104,12 @@ void check_against_brute_force(Layout layout, std::uint32_t seed, Fit fit = Fit:
           ASSERT_EQ(out, want) << "n=" << n << " bound to neighbour " << within;
         }
         const double r2 = expected[std::min<std::size_t>(n - 1, 9)].distance2;
+        // Some point within the ball: at the nearest's own distance (inclusive)
+        // yes, a hair below it no.
+        ASSERT_TRUE(tree.any_within(q, expected[0].distance2));
+        ASSERT_TRUE(tree.any_within(q, r2));
+        ASSERT_EQ(tree.any_within(q, expected[0].distance2 * (1.0 - 1e-9) - 1e-300), false)
+            << "nearest at " << expected[0].distance2;
         const auto in_ball = tree.radius(q, r2);
         const auto expected_ball = std::count_if(expected.begin(), expected.end(),
                                                  [&](const Neighbor& nb) { return nb.distance2 <= r2; });

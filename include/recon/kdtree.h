@@ -120,6 +120,11 @@ class KdTree {
   /// The nearest point to q. Precondition: the tree is not empty.
   [[nodiscard]] Neighbor nearest(const Point& q) const;
 
+  /// Whether some point lies within distance sqrt(radius2) of q
+  /// (inclusive). Stops at the first one found: cheaper than asking for the
+  /// nearest and comparing.
+  [[nodiscard]] bool any_within(const Point& q, double radius2) const;
+
   /// Every point within distance sqrt(radius2) of q (inclusive), in
   /// (distance, index) order.
   [[nodiscard]] std::vector<Neighbor> radius(const Point& q, double radius2) const;

@@ -80,9 +80,12 @@ struct Lattice {
 /// `cell`. Throws as marching_cubes() does for the cell and the lattice size.
 [[nodiscard]] Lattice make_lattice(std::span<const Vec3> seeds, double cell);
 
-/// Every corner of every cube that holds a seed, each once, ordered by
-/// (z, y, x): the corners the walk's first wave needs, which a caller may
-/// evaluate beforehand (reconstruct() does, beside phase II).
+/// Every corner of every cube that holds a seed, each once, in the order
+/// the walk's first wave meets them (seed by seed, a cube's corners in
+/// marching-cubes order): the corners that wave needs, which a caller may
+/// evaluate beforehand (reconstruct() does, beside phase II). Given in this
+/// order, they take the table slots the walk would have given them, and
+/// neighbouring corners stay together in memory.
 [[nodiscard]] std::vector<std::array<std::int32_t, 3>> seed_corners(const Lattice& lattice,
                                                                     std::span<const Vec3> seeds);
 

@@ -24,6 +24,7 @@
 #include "recon/kdtree.h"
 #include "recon/tangent_planes.h"
 
+#include <cstdint>
 #include <optional>
 #include <span>
 
@@ -44,7 +45,11 @@ class SignedDistance {
     std::uint32_t plane = 0;
     std::optional<double> value;
   };
-  [[nodiscard]] Evaluation evaluate(const Vec<D>& p) const;
+  static constexpr std::uint32_t no_hint = UINT32_MAX;
+  /// `hint`: any plane, typically the previous point's when points come in
+  /// spatial order; its origin's distance bounds the nearest-origin search
+  /// from the start. The answer does not depend on it.
+  [[nodiscard]] Evaluation evaluate(const Vec<D>& p, std::uint32_t hint = no_hint) const;
 
   [[nodiscard]] double delta() const { return delta_; }
   [[nodiscard]] bool delta_given() const { return delta_given_; }
