@@ -1,6 +1,10 @@
 #include "recon/pca.h"
 
+#include <Eigen/Geometry>  // cross
+
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 namespace recon {
@@ -73,6 +77,44 @@ SymmetricEigen<D> symmetric_eigen(const Mat<D>& input) {
   return result;
 }
 
+namespace {
+
+// The plane of a 3x3 covariance in closed form: the eigenvalues from the
+// trigonometric solution of the characteristic cubic, the normal as the
+// longest cross product of two rows of A - lambda_0 I (each row is
+// orthogonal to the normal). About three times faster than the rotations.
+// lambda_0 carries an absolute error of about eps * lambda_2, and so the
+// normal one of about eps * lambda_2 / (lambda_1 - lambda_0): the closed form
+// is taken only where lambda_1 - lambda_0 > 1e-4 lambda_2 (the normal then
+// within 1e-12 of Jacobi's), which every neighbourhood of a surface
+// satisfies; lines, points and round blobs go to the rotations.
+bool closed_form_plane(const Mat<3>& a, Vec3& values, Vec3& normal) {
+  const double a00 = a(0, 0), a01 = a(0, 1), a02 = a(0, 2), a11 = a(1, 1), a12 = a(1, 2), a22 = a(2, 2);
+  const double q = (a00 + a11 + a22) / 3.0;
+  const double b00 = a00 - q, b11 = a11 - q, b22 = a22 - q;
+  const double p2 = (b00 * b00 + b11 * b11 + b22 * b22 + 2.0 * (a01 * a01 + a02 * a02 + a12 * a12)) / 6.0;
+  if (!(p2 > 0.0) || !std::isfinite(p2)) return false;
+  const double p = std::sqrt(p2);
+  // det(B) / (2 p^3), B = A - q I: the cosine of three times the angle.
+  const double det = b00 * (b11 * b22 - a12 * a12) - a01 * (a01 * b22 - a12 * a02) + a02 * (a01 * a12 - b11 * a02);
+  const double phi = std::acos(std::clamp(det / (2.0 * p2 * p), -1.0, 1.0)) / 3.0;
+  const double l2 = q + 2.0 * p * std::cos(phi);
+  const double l0 = q + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
+  const double l1 = 3.0 * q - l0 - l2;
+  if (!(l1 - l0 > 1e-4 * l2)) return false;
+  const Vec3 m0(a00 - l0, a01, a02), m1(a01, a11 - l0, a12), m2(a02, a12, a22 - l0);
+  Vec3 best = m0.cross(m1);
+  for (const Vec3& c : {m0.cross(m2), m1.cross(m2)})
+    if (c.squaredNorm() > best.squaredNorm()) best = c;
+  const double length2 = best.squaredNorm();
+  if (!(length2 > 0.0) || !std::isfinite(length2)) return false;
+  values = Vec3(l0, l1, l2);
+  normal = best / std::sqrt(length2);
+  return true;
+}
+
+}  // namespace
+
 template <int D>
 PlaneFit<D> fit_plane(std::span<const Vec<D>> points, std::span<const std::uint32_t> indices) {
   const std::size_t count = indices.empty() ? points.size() : indices.size();
@@ -87,6 +129,10 @@ PlaneFit<D> fit_plane(std::span<const Vec<D>> points, std::span<const std::uint3
       for (int c = r; c < D; ++c) cov(r, c) += d[r] * d[c];
   }
   cov /= static_cast<double>(count);
+  if constexpr (D == 3) {
+    Vec3 values, normal;
+    if (closed_form_plane(cov, values, normal)) return {centroid, normal, values.cwiseMax(0.0)};
+  }
   const SymmetricEigen<D> eig = symmetric_eigen<D>(cov);
   return {centroid, eig.vectors.col(0).normalized(), eig.values.cwiseMax(0.0)};
 }
