@@ -135,7 +135,7 @@ Run run(const recon::PointCloud& cloud, int threads, std::optional<double> cell 
 void print_header() {
   std::printf(
       "| points | threads | wall s | s per 1M points | I: tree / knn+pca / spacing | II: emst / graph / "
-      "prim+vote | III: origin tree + f | IV: walk | peak MiB I / II / III / IV | mesh V / F | closed, chi, components "
+      "prim+vote | III: f after II (+ beside II's Prim) | IV: walk | peak MiB I / II / III / IV | mesh V / F | closed, chi, components "
       "| "
       "normals right | mesh->true / true->mesh / Chamfer, %% of diagonal |\n");
   std::printf("|---:|---:|---:|---:|---|---|---:|---:|---|---|---|---:|---|\n");
@@ -156,14 +156,14 @@ void print_run(const recon::Shape& shape, const recon::PointCloud& cloud, const 
     return std::string("n/a");
   };
   std::printf(
-      "| %zu | %d | %s | %s | %s / %s / %s | %s / %s / %s | %s | %s | %s / %s / %s / %s | %zu / %zu | "
+      "| %zu | %d | %s | %s | %s / %s / %s | %s / %s / %s | %s (+ %s) | %s | %s / %s / %s / %s | %zu / %zu | "
       "%s, %ld, %zu | %s | %s / %s / %s |\n",
       cloud.size(), threads, fixed(run.wall, 3).c_str(),
       fixed(run.wall / (static_cast<double>(cloud.size()) / 1e6), 3).c_str(), fixed(p.seconds_tree, 3).c_str(),
       fixed(p.seconds_knn_pca, 3).c_str(), fixed(p.seconds_spacing, 3).c_str(), fixed(g.seconds_emst, 3).c_str(),
       fixed(g.seconds_graph, 3).c_str(), fixed(r.oriented->seconds_mst, 3).c_str(),
-      fixed(r.seconds_distance_setup + c.seconds_field, 3).c_str(), fixed(c.seconds - c.seconds_field, 3).c_str(),
-      peak("tangent planes").c_str(), peak("orientation").c_str(), peak("signed distance").c_str(),
+      fixed(r.seconds_distance_setup + c.seconds_field, 3).c_str(), fixed(r.seconds_distance_beside, 3).c_str(),
+      fixed(c.seconds - c.seconds_field, 3).c_str(), peak("tangent planes").c_str(), peak("orientation").c_str(), peak("signed distance").c_str(),
       peak("contouring").c_str(), c.mesh.vertices.size(), c.mesh.triangles.size(),
       t.boundary_edges == 0 && t.watertight() ? "closed" : "open", t.euler_characteristic, t.components,
       fixed(fraction_right(r, cloud.normals), 6).c_str(), fixed(100.0 * a.mesh_to_true / diagonal, 4).c_str(),

@@ -194,14 +194,15 @@ one = t["seconds_tree"] + t["seconds_knn_pca"] + t["seconds_spacing"]
 two = o["seconds_emst"] + o["seconds_graph"] + o["seconds_mst"]
 m = s["mesh"]
 print(f"| {shape} | {n} | {ended - started:.2f} | {(ended - started) / (n / 1e6):.2f} | {s['input']['seconds']:.2f} | "
-      f"{one:.2f} | {two:.2f} | {d['seconds']:.2f} | {c['seconds']:.2f} | {s['output']['seconds']:.2f} | "
+      f"{one:.2f} | {two:.2f} | {d['seconds']:.2f} (+{d.get('seconds_beside_orientation', 0.0):.2f}) | "
+      f"{c['seconds']:.2f} | {s['output']['seconds']:.2f} | "
       f"{s['memory']['peak_mib_total']:.0f} | {m['faces']} | {m['components']}, {m['boundary_loops']}, "
       f"{m['euler_characteristic']} |")
 PY
   rm -f "$scratch/$shape-$n.ply" "$scratch/mesh.ply"
 }
 {
-  echo "| shape | points | wall s | s per 1M points | read | I | II | III | IV | write | peak MiB | mesh F | components, boundary loops, chi |"
+  echo "| shape | points | wall s | s per 1M points | read | I | II | III (+ beside II) | IV | write | peak MiB | mesh F | components, boundary loops, chi |"
   echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
   for run in ${RECON_END_TO_END:-torus:1000000 terrain:100000 terrain:1000000 terrain:3000000 terrain:10000000}; do
     end_to_end "${run%%:*}" "${run##*:}"

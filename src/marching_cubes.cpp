@@ -48,6 +48,19 @@ constexpr unsigned face_corners(int a, int side) {
 }
 constexpr double vertex_margin = 1e-3;  // fraction of an edge kept between a vertex and a corner
 
+// Where a lattice key goes in a hash table of 2^bits cells (bits >= 6). The
+// corners of each 4 x 4 x 4 block stay together: the block is hashed, the
+// place inside it is not. A cube's corners and its neighbours' then share a
+// few cache lines of the table rather than one each, which is what the walk
+// (and the table's growth) spends its time on once the table outgrows the
+// caches: 6 s of 11 at 10M points with a hash that scatters every corner.
+std::size_t lattice_hash(std::uint64_t key, int bits) {
+  constexpr std::uint64_t low = 3u | (std::uint64_t{3} << key_bits) | (std::uint64_t{3} << (2 * key_bits));
+  const std::uint64_t inside = (key & 3u) | ((key >> key_bits) & 3u) << 2 | ((key >> (2 * key_bits)) & 3u) << 4;
+  const std::uint64_t block = ((key & ~low) * 0x9E3779B97F4A7C15ull) >> (64 - (bits - 6));
+  return static_cast<std::size_t>((block << 6) | inside);
+}
+
 }  // namespace
 
 double estimate_visited_cubes(std::size_t samples, double spacing, double cell) {
@@ -134,9 +147,7 @@ class CornerTable {
   BlockArray<std::uint8_t> flags;
 
  private:
-  [[nodiscard]] std::size_t hash(std::uint64_t key) const {
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
-  }
+  [[nodiscard]] std::size_t hash(std::uint64_t key) const { return lattice_hash(key, bits_); }
   void grow() {
     table_.assign(table_.size() * 2, absent);
     ++bits_;
@@ -204,9 +215,7 @@ class KeySet {
 
  private:
   static constexpr std::uint64_t empty = UINT64_MAX;  // no lattice key: 63 bits at most
-  [[nodiscard]] std::size_t hash(std::uint64_t key) const {
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
-  }
+  [[nodiscard]] std::size_t hash(std::uint64_t key) const { return lattice_hash(key, bits_); }
   void grow() {
     std::vector<std::uint64_t> old(table_.size() * 2, empty);
     old.swap(table_);
