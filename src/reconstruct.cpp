@@ -68,6 +68,7 @@ double surface_spacing(const TangentPlanes<3>& planes) {
   std::nth_element(radius.begin(), middle, radius.end());
   return std::sqrt(std::numbers::pi / planes.k) * static_cast<double>(*middle);
 }
+
 // Phase III beside phase II. Prim's algorithm runs on one thread; meanwhile
 // another evaluates f at the corners of the walk's first wave (every cube
 // holding a sample: most of the corners the walk will need), with the

@@ -76,6 +76,11 @@ struct Reconstruction {
   double seconds_distance_beside = 0.0;
 };
 
+/// The phases run in order, except that with more than one thread phase
+/// III's values at the corners of the cubes holding a sample are computed
+/// on a thread of their own while phase II's Prim (serial) runs, from the
+/// unoriented planes; the result is the same bit for bit (reconstruct.cpp,
+/// FirstWave).
 /// Throws what the phases throw (InvalidInputError for unusable data or
 /// parameters, ResourceLimitError for a lattice too large), and
 /// InvalidInputError when use_input_normals is set but the cloud has none.
