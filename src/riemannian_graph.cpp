@@ -71,14 +71,12 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
     const double length2 = d.squaredNorm();
     if (!(length2 > reach * reach)) return false;
     // |unit(d) . n| > 0.25 at i or j, squared: no root and no division
-    // (most of a neighbourhood lies beyond the reach; this is its hot loop).
+    // (many list entries lie beyond the reach, and this runs for each).
     const double at_i = d.dot(normal[i]), at_j = d.dot(normal[j]);
     return std::max(at_i * at_i, at_j * at_j) > 0.0625 * length2;
   };
   auto row = [=](std::uint32_t i) { return std::span<const std::uint32_t>(list + i * stride, k); };
   auto lists = [=](std::uint32_t i, std::uint32_t j) {  // x_j in the first k of N(x_i)
-    // Without an early exit: the compiler compares several entries at
-    // once, and there is no mispredicted branch at a varying position.
     const std::uint32_t* r = list + i * stride;
     for (std::size_t e = 0; e < k; ++e)
       if (r[e] == j) return true;

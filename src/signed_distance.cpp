@@ -15,7 +15,8 @@ typename SignedDistance<D>::Evaluation SignedDistance<D>::evaluate(const Vec<D>&
   const double bound2 = hint < planes_->origins.size() ? (planes_->origins[hint] - p).squaredNorm() * (1.0 + 1e-9)
                                                        : std::numeric_limits<double>::infinity();
   Neighbor plane;
-  origin_tree_->knn(p, std::span<Neighbor>(&plane, 1), bound2);
+  if (origin_tree_->knn(p, std::span<Neighbor>(&plane, 1), bound2) == 0)  // not expected; never a wrong plane
+    origin_tree_->knn(p, std::span<Neighbor>(&plane, 1));
   const std::uint32_t i = plane.index;
   const Vec<D>& n = normals_[i];
   const double f = (p - planes_->origins[i]).dot(n);
