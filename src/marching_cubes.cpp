@@ -12,6 +12,8 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace recon {
 namespace {
@@ -97,20 +99,11 @@ class BlockArray {
   std::size_t size_ = 0;
 };
 
-// The corners met by the walk, in the order first met ("slots"), found by
-// lattice key through an open-addressing hash table (linear probing). A slot
-// holds the corner's value of f, the mesh vertex on each of the three
-// lattice edges leaving the corner in the + direction, whether f has been
-// evaluated there, and whether the cube whose lowest corner it is has been
-// visited. One table does the work of a
-// corner map, an edge map and a visited set.
-class CornerTable {
+// Lattice keys numbered in the order first inserted ("slots"), found
+// through an open-addressing hash table (linear probing) over lattice_hash.
+class LatticeIndex {
  public:
-  static constexpr std::uint32_t no_vertex = UINT32_MAX;
-
   static constexpr std::uint32_t absent = UINT32_MAX;  // no such slot; also marks an empty table cell
-
-  CornerTable() : table_(1024, absent) {}
 
   [[nodiscard]] std::size_t size() const { return keys_.size(); }
   /// The slot of `key`, or `absent`. Safe from many threads while nothing is
@@ -122,30 +115,17 @@ class CornerTable {
     }
   }
   [[nodiscard]] std::uint64_t key(std::uint32_t slot) const { return keys_[slot]; }
-
-  /// The slot of `key`, created (not evaluated, no vertices) if new.
-  std::uint32_t find_or_insert(std::uint64_t key) {
+  /// The slot of `key`, and whether it was added (as slot size() - 1).
+  std::pair<std::uint32_t, bool> insert(std::uint64_t key) {
     if (2 * (keys_.size() + 1) > table_.size()) grow();
     std::size_t h = hash(key);
-    while (true) {
-      const std::uint32_t slot = table_[h];
-      if (slot == absent) break;
-      if (keys_[slot] == key) return slot;
-      h = (h + 1) & (table_.size() - 1);
-    }
+    for (; table_[h] != absent; h = (h + 1) & (table_.size() - 1))
+      if (keys_[table_[h]] == key) return {table_[h], false};
     const auto slot = static_cast<std::uint32_t>(keys_.size());
     table_[h] = slot;
     keys_.push_back(key);
-    value.push_back(undefined);
-    vertex.push_back({no_vertex, no_vertex, no_vertex});
-    flags.push_back(0);
-    return slot;
+    return {slot, true};
   }
-
-  BlockArray<double> value;
-  BlockArray<std::array<std::uint32_t, 3>> vertex;
-  static constexpr std::uint8_t visited_cube = 1, evaluated = 2;
-  BlockArray<std::uint8_t> flags;
 
  private:
   [[nodiscard]] std::size_t hash(std::uint64_t key) const { return lattice_hash(key, bits_); }
@@ -158,9 +138,43 @@ class CornerTable {
       table_[h] = slot;
     }
   }
-  std::vector<std::uint32_t> table_;
+  std::vector<std::uint32_t> table_ = std::vector<std::uint32_t>(1024, absent);
   BlockArray<std::uint64_t> keys_;
   int bits_ = 10;
+};
+
+// The corners met by the walk, by slot. A slot holds the corner's value of
+// f, the mesh vertex on each of the three lattice edges leaving the corner
+// in the + direction, whether f has been evaluated there, and whether the
+// cube whose lowest corner it is has been visited. One table does the work
+// of a corner map, an edge map and a visited set.
+class CornerTable {
+ public:
+  static constexpr std::uint32_t no_vertex = UINT32_MAX;
+  static constexpr std::uint32_t absent = LatticeIndex::absent;
+
+  [[nodiscard]] std::size_t size() const { return index_.size(); }
+  [[nodiscard]] std::uint32_t find(std::uint64_t key) const { return index_.find(key); }
+  [[nodiscard]] std::uint64_t key(std::uint32_t slot) const { return index_.key(slot); }
+
+  /// The slot of `key`, created (not evaluated, no vertices) if new.
+  std::uint32_t find_or_insert(std::uint64_t key) {
+    const auto [slot, added] = index_.insert(key);
+    if (added) {
+      value.push_back(undefined);
+      vertex.push_back({no_vertex, no_vertex, no_vertex});
+      flags.push_back(0);
+    }
+    return slot;
+  }
+
+  BlockArray<double> value;
+  BlockArray<std::array<std::uint32_t, 3>> vertex;
+  static constexpr std::uint8_t visited_cube = 1, evaluated = 2;
+  BlockArray<std::uint8_t> flags;
+
+ private:
+  LatticeIndex index_;
 };
 
 }  // namespace
@@ -175,6 +189,20 @@ Index3 cube_of(const Lattice& lattice, const Vec3& p) {
   for (int a = 0; a < 3; ++a)
     cube[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(std::floor((p[a] - lattice.origin[a]) / lattice.cell));
   return cube;
+}
+
+// Calls visit(cube) with the cube of each seed, in seed order, once per run
+// of seeds in one cube (seeds in spatial order repeat their cube often);
+// a cube met again later is passed again.
+template <class Visit>
+void for_each_seed_cube(const Lattice& lattice, std::span<const Vec3> seeds, Visit&& visit) {
+  std::uint64_t previous = UINT64_MAX;
+  for (const Vec3& p : seeds) {
+    const Index3 cube = cube_of(lattice, p);
+    if (pack(cube) == previous) continue;
+    previous = pack(cube);
+    visit(cube);
+  }
 }
 }  // namespace
 
@@ -197,58 +225,14 @@ Lattice make_lattice(std::span<const Vec3> seeds, double cell) {
   return lattice;
 }
 
-namespace {
-// A set of lattice keys (open addressing, linear probing): insert() says
-// whether the key is new.
-class KeySet {
- public:
-  bool insert(std::uint64_t key) {
-    if (2 * (count_ + 1) > table_.size()) grow();
-    std::size_t h = hash(key);
-    while (table_[h] != empty) {
-      if (table_[h] == key) return false;
-      h = (h + 1) & (table_.size() - 1);
-    }
-    table_[h] = key;
-    ++count_;
-    return true;
-  }
-
- private:
-  static constexpr std::uint64_t empty = UINT64_MAX;  // no lattice key: 63 bits at most
-  [[nodiscard]] std::size_t hash(std::uint64_t key) const { return lattice_hash(key, bits_); }
-  void grow() {
-    std::vector<std::uint64_t> old(table_.size() * 2, empty);
-    old.swap(table_);
-    ++bits_;
-    for (const std::uint64_t key : old)
-      if (key != empty) {
-        std::size_t h = hash(key);
-        while (table_[h] != empty) h = (h + 1) & (table_.size() - 1);
-        table_[h] = key;
-      }
-  }
-  std::vector<std::uint64_t> table_ = std::vector<std::uint64_t>(1024, empty);
-  std::size_t count_ = 0;
-  int bits_ = 10;
-};
-}  // namespace
-
 std::vector<Index3> seed_corners(const Lattice& lattice, std::span<const Vec3> seeds) {
-  KeySet cubes, corners;
-  std::vector<Index3> result;
-  std::uint64_t previous = UINT64_MAX;  // seeds in spatial order repeat their cube often
-  for (const Vec3& p : seeds) {
-    const Index3 cube = cube_of(lattice, p);
-    const std::uint64_t key = pack(cube);
-    if (key == previous) continue;
-    previous = key;
-    if (!cubes.insert(key)) continue;
-    for (int c = 0; c < 8; ++c) {
-      const Index3 corner = corner_of_cube(cube, c);
-      if (corners.insert(pack(corner))) result.push_back(corner);
-    }
-  }
+  LatticeIndex cubes, corners;  // the corners' slots are the order first met
+  for_each_seed_cube(lattice, seeds, [&](const Index3& cube) {
+    if (cubes.insert(pack(cube)).second)
+      for (int c = 0; c < 8; ++c) corners.insert(pack(corner_of_cube(cube, c)));
+  });
+  std::vector<Index3> result(corners.size());
+  for (std::uint32_t slot = 0; slot < corners.size(); ++slot) result[slot] = unpack(corners.key(slot));
   return result;
 }
 
@@ -291,15 +275,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
     next.push_back(pack(cube));
   };
 
-  {
-    // Seeds in spatial order repeat their cube often: one lookup per run.
-    std::uint64_t previous = UINT64_MAX;
-    for (const Vec3& p : seeds) {
-      const Index3 cube = cube_of(lattice, p);
-      if (pack(cube) != previous) visit(cube);
-      previous = pack(cube);
-    }
-  }
+  for_each_seed_cube(lattice, seeds, visit);
   result.seed_cubes = visited;
 
   if (known != nullptr) {

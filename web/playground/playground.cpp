@@ -50,8 +50,8 @@ enum Stat : std::size_t {
 std::array<std::vector<double>, layer_count> layers;
 std::string error_message;
 
+// Fills the layers, which recon_run has emptied.
 void fill_layers(const recon::CurveReconstruction& r, double seconds) {
-  for (auto& layer : layers) layer.clear();
   for (const Vec2& n : r.oriented.normals) layers[normals].insert(layers[normals].end(), {n.x(), n.y()});
 
   // A kd-tree node splits its box at the middle of the gap between its
@@ -64,11 +64,12 @@ void fill_layers(const recon::CurveReconstruction& r, double seconds) {
     depth[node.left] = depth[node.right] = depth[id] + 1;
     const recon::Box<2>& box = tree.boxes()[id];
     const double at = 0.5 * (node.left_max + node.right_min);
-    const std::array<double, 5> segment = node.axis == 0
-                                              ? std::array<double, 5>{at, box.min.y(), at, box.max.y(), 0.0}
-                                              : std::array<double, 5>{box.min.x(), at, box.max.x(), at, 0.0};
-    layers[kd_splits].insert(layers[kd_splits].end(), segment.begin(), segment.end() - 1);
-    layers[kd_splits].push_back(depth[id]);
+    const double d = depth[id];
+    if (node.axis == 0) {
+      layers[kd_splits].insert(layers[kd_splits].end(), {at, box.min.y(), at, box.max.y(), d});
+    } else {
+      layers[kd_splits].insert(layers[kd_splits].end(), {box.min.x(), at, box.max.x(), at, d});
+    }
   }
 
   const recon::Graph& graph = r.oriented.graph.graph;
