@@ -46,7 +46,8 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
   std::vector<Edge> edges;
   if (n < 2) return edges;
   edges.reserve(n - 1);
-  const bool hinted = hints.lists != nullptr && hints.lists->size() == n && hints.certain_radius2.size() == n;
+  const bool hinted = hints.lists != nullptr && hints.lists->size() == n && hints.certain_radius2.size() == n &&
+                      hints.lists->k <= UINT16_MAX;
   UnionFind sets(n);
   std::vector<std::int32_t> label(n);
   std::vector<Candidate> per_point(n);
@@ -60,27 +61,35 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
   std::vector<std::uint32_t> roots(n);
   for (std::uint32_t i = 0; i < n; ++i) roots[i] = i;
   std::vector<std::uint32_t> active;
-  if (hinted) active = roots;
+  // Per active point, where its list may first leave its component: the
+  // entries before it are in the component for good.
+  std::vector<std::uint16_t> cursor;
+  if (hinted) {
+    active = roots;
+    cursor.assign(n, 0);
+  }
   std::vector<std::uint32_t> queried;  // points whose candidate came from a tree query this round
 
   for (std::uint32_t i = 0; i < n; ++i) label[i] = static_cast<std::int32_t>(i);
   std::vector<std::uint32_t> merged_into(n);  // per root of the round before: its root now
 
   while (roots.size() > 1) {
-    const std::vector<std::int32_t> node_label = tree.node_labels(label);
-
     // 1. What the lists give for free: the first entry of another component
     //    is the point's nearest outside point. A point whose whole list is
     //    in its own component stays so (components only merge): it leaves
-    //    the active points for good.
+    //    the active points for good. Likewise the entries before a point's
+    //    cursor: each round reads on from where the last one stopped.
     const auto active_count = static_cast<std::int64_t>(active.size());
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = 0; s < active_count; ++s) {
       const std::uint32_t i = active[static_cast<std::size_t>(s)];
       per_point[i] = Candidate{};
-      for (const std::uint32_t j : hints.lists->row(i)) {
+      const auto row = hints.lists->row(i);
+      for (std::size_t e = cursor[i]; e < row.size(); ++e) {
+        const std::uint32_t j = row[e];
         if (label[j] == label[i]) continue;
         per_point[i] = Candidate::make((points[j] - points[i]).squaredNorm(), i, j);
+        cursor[i] = static_cast<std::uint16_t>(e);
         break;
       }
     }
@@ -99,20 +108,30 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
     //    work depends on the order, not the answer: the reduction below
     //    keeps the least candidate under the strict order).
     queried.clear();
-#pragma omp parallel
+    auto may_ask = [&](std::uint32_t i) {
+      if (!hinted) return true;
+      const double limit = AtomicRef<double>(bound[static_cast<std::size_t>(label[i])]).load(std::memory_order_relaxed);
+      // An exact copy of an earlier point (its list starts with that point)
+      // shares its component from the first round on and would ask the very
+      // same question: only the first of the copies asks it. Thousands of
+      // copies of one point, each query a few hundred nodes, took seconds.
+      return !per_point[i].valid() && hints.certain_radius2[i] <= limit && hints.lists->row(i)[0] == i;
+    };
+    // (Most rounds of a dense cloud ask nothing: the labels of the tree's
+    // nodes are worked out only for a round that asks.)
+    bool asks = false;
+#pragma omp parallel for schedule(static) reduction(|| : asks)
+    for (std::int64_t s = 0; s < count; ++s) asks = asks || may_ask(static_cast<std::uint32_t>(s));
+    const std::vector<std::int32_t> node_label = asks ? tree.node_labels(label) : std::vector<std::int32_t>{};
+#pragma omp parallel if (asks)
     {
       std::vector<std::uint32_t> mine;
 #pragma omp for schedule(dynamic, 1024) nowait
-      for (std::int64_t s = 0; s < count; ++s) {
+      for (std::int64_t s = 0; s < (asks ? count : 0); ++s) {
         const auto i = static_cast<std::uint32_t>(s);
+        if (!may_ask(i)) continue;
         double& best = bound[static_cast<std::size_t>(label[i])];
         const double limit = AtomicRef<double>(best).load(std::memory_order_relaxed);
-        if (hinted && (per_point[i].valid() || hints.certain_radius2[i] > limit)) continue;
-        // An exact copy of an earlier point (its list starts with that point)
-        // shares its component from the first round on and would ask the very
-        // same question: only the first of the copies asks it. Thousands of
-        // copies of one point, each query a few hundred nodes, took seconds.
-        if (hinted && hints.lists->row(i)[0] != i) continue;
         const Neighbor nb = tree.nearest_with_other_label(points[i], label[i], label, node_label, limit);
         if (nb.index == KdTree<D>::no_child) continue;
         per_point[i] = Candidate::make(nb.distance2, i, nb.index);

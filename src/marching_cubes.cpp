@@ -225,26 +225,68 @@ Lattice make_lattice(std::span<const Vec3> seeds, double cell) {
   return lattice;
 }
 
-std::vector<Index3> seed_corners(const Lattice& lattice, std::span<const Vec3> seeds) {
-  LatticeIndex cubes, corners;  // the corners' slots are the order first met
-  for_each_seed_cube(lattice, seeds, [&](const Index3& cube) {
-    if (cubes.insert(pack(cube)).second)
-      for (int c = 0; c < 8; ++c) corners.insert(pack(corner_of_cube(cube, c)));
+struct SeedWave::Walk {
+  Lattice lattice;
+  CornerTable corners;               // the first wave's corners, then every corner the walk meets
+  std::vector<std::uint64_t> cubes;  // the first wave: the cubes holding a seed, each once
+};
+
+struct SeedWaveAccess {
+  static SeedWave::Walk& walk(SeedWave& wave) { return *wave.walk_; }
+};
+
+SeedWave::SeedWave(std::span<const Vec3> seeds, double cell) : walk_(std::make_unique<Walk>()) {
+  if (seeds.empty()) throw InvalidInputError("the lattice walk needs at least one seed");
+  walk_->lattice = make_lattice(seeds, cell);
+  CornerTable& corners = walk_->corners;
+  // A cube's key is that of its lowest corner (corner 0): the cube and its
+  // corners share the table, and the corners come in the order first met.
+  for_each_seed_cube(walk_->lattice, seeds, [&](const Index3& cube) {
+    const std::uint32_t slot = corners.find_or_insert(pack(cube));
+    if (corners.flags[slot] & CornerTable::visited_cube) return;
+    corners.flags[slot] |= CornerTable::visited_cube;
+    walk_->cubes.push_back(pack(cube));
+    for (int c = 1; c < 8; ++c) corners.find_or_insert(pack(corner_of_cube(cube, c)));
   });
-  std::vector<Index3> result(corners.size());
-  for (std::uint32_t slot = 0; slot < corners.size(); ++slot) result[slot] = unpack(corners.key(slot));
+}
+SeedWave::SeedWave(SeedWave&&) noexcept = default;
+SeedWave& SeedWave::operator=(SeedWave&&) noexcept = default;
+SeedWave::~SeedWave() = default;
+
+const Lattice& SeedWave::lattice() const { return walk_->lattice; }
+std::size_t SeedWave::cube_count() const { return walk_->cubes.size(); }
+std::size_t SeedWave::corner_count() const { return walk_->corners.size(); }
+Index3 SeedWave::corner(std::size_t i) const { return unpack(walk_->corners.key(static_cast<std::uint32_t>(i))); }
+
+MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
+                                   const MarchingCubesOptions& options, bool keep_corners) {
+  check_cell(options.cell);
+  if (seeds.empty()) {
+    MarchingCubesResult result;
+    result.cell = options.cell;
+    return result;
+  }
+  Timer timer;
+  SeedWave wave(seeds, options.cell);
+  const double seconds_wave = timer.lap();
+  MarchingCubesResult result = marching_cubes(f, std::move(wave), {}, options, keep_corners);
+  result.seconds += seconds_wave;
   return result;
 }
 
-MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
-                                   const MarchingCubesOptions& options, bool keep_corners, const KnownCorners* known) {
+MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave, std::span<const double> values,
+                                   const MarchingCubesOptions& options, bool keep_corners) {
   check_cell(options.cell);
   Timer timer;
+  SeedWave::Walk& start = SeedWaveAccess::walk(wave);
+  const Lattice& lattice = start.lattice;
+  if (lattice.cell != options.cell)
+    throw InvalidInputError("the first wave was laid out at another cell than the walk's");
+  if (!values.empty() && values.size() != wave.corner_count())
+    throw InvalidInputError("the first wave has " + std::to_string(wave.corner_count()) + " corners, but " +
+                            std::to_string(values.size()) + " values were given");
   MarchingCubesResult result;
   result.cell = options.cell;
-  if (seeds.empty()) return result;
-
-  const Lattice lattice = make_lattice(seeds, options.cell);
   result.origin = lattice.origin;
   result.size = lattice.size;
   auto position = [&](const Index3& i) { return lattice.position(i); };
@@ -260,37 +302,30 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
   // costliest part), then the batch's cubes are processed in order,
   // producing triangles and the next wave. The order of cubes, and so the
   // mesh, is the same for any number of threads.
-  CornerTable corners;
-  std::size_t visited = 0;
-  std::vector<std::uint64_t> wave, next;
+  CornerTable& corners = start.corners;
+  std::size_t visited = start.cubes.size();
+  std::vector<std::uint64_t> wave_cubes, next = std::move(start.cubes);
+  auto check_visited = [&] {
+    if (visited > options.max_cubes)
+      throw ResourceLimitError("the lattice walk passed " + std::to_string(options.max_cubes) +
+                               " cubes, the most the memory limit allows: use a larger --cell or a smaller "
+                               "--resolution, or raise --max-memory");
+  };
+  check_visited();
   auto visit = [&](const Index3& cube) {
     if (!inside_lattice(cube)) return;
     const std::uint32_t slot = corners.find_or_insert(pack(cube));
     if (corners.flags[slot] & CornerTable::visited_cube) return;
     corners.flags[slot] |= CornerTable::visited_cube;
-    if (++visited > options.max_cubes)
-      throw ResourceLimitError("the lattice walk passed " + std::to_string(options.max_cubes) +
-                               " cubes, the most the memory limit allows: use a larger --cell or a smaller "
-                               "--resolution, or raise --max-memory");
+    ++visited;
+    check_visited();
     next.push_back(pack(cube));
   };
-
-  for_each_seed_cube(lattice, seeds, visit);
   result.seed_cubes = visited;
-
-  if (known != nullptr) {
-    if (known->value.size() != known->index.size())
-      throw InvalidInputError("known lattice corners: " + std::to_string(known->index.size()) + " corners and " +
-                              std::to_string(known->value.size()) + " values");
-    for (std::size_t i = 0; i < known->index.size(); ++i) {
-      const Index3& corner = known->index[i];
-      for (std::size_t a = 0; a < 3; ++a)
-        if (corner[a] < 0 || corner[a] > result.size[a])
-          throw InvalidInputError("known lattice corner " + std::to_string(i) + " lies outside the lattice");
-      const std::uint32_t slot = corners.find_or_insert(pack(corner));
-      corners.value[slot] = known->value[i];
-      corners.flags[slot] |= CornerTable::evaluated;
-    }
+  // The first wave's corners hold slots 0 .. values.size() - 1.
+  for (std::uint32_t slot = 0; slot < values.size(); ++slot) {
+    corners.value[slot] = values[slot];
+    corners.flags[slot] |= CornerTable::evaluated;
   }
 
   std::vector<std::array<std::uint32_t, 8>> cube_slots;  // per cube of a batch: its corners' slots
@@ -303,10 +338,10 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
   // small. Cubes are still processed in wave order: the mesh is the same.
   constexpr std::size_t batch = 65536;
   while (!next.empty()) {
-    wave.swap(next);
+    wave_cubes.swap(next);
     next.clear();
-    for (std::size_t first = 0; first < wave.size(); first += batch) {
-      const std::size_t count = std::min(batch, wave.size() - first);
+    for (std::size_t first = 0; first < wave_cubes.size(); first += batch) {
+      const std::size_t count = std::min(batch, wave_cubes.size() - first);
       cube_slots.resize(count);
       fresh.clear();
       // The corners already met are looked up in parallel (the table does not
@@ -317,7 +352,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
 #pragma omp parallel for schedule(static)
       for (std::int64_t s = 0; s < static_cast<std::int64_t>(count); ++s) {
         const auto w = static_cast<std::size_t>(s);
-        const Index3 cube = unpack(wave[first + w]);
+        const Index3 cube = unpack(wave_cubes[first + w]);
         std::uint8_t mask = 0;
         for (int c = 0; c < 8; ++c) {
           const std::uint32_t slot = corners.find(pack(corner_of_cube(cube, c)));
@@ -329,7 +364,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
       }
       for (std::size_t w = 0; w < count; ++w) {
         if (pending[w] == 0) continue;
-        const Index3 cube = unpack(wave[first + w]);
+        const Index3 cube = unpack(wave_cubes[first + w]);
         for (int c = 0; c < 8; ++c) {
           if (!((static_cast<unsigned>(pending[w]) >> c) & 1u)) continue;
           std::uint32_t& slot = cube_slots[w][static_cast<std::size_t>(c)];
@@ -395,7 +430,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
           ++result.undefined_cubes;
           continue;
         }
-        const Index3 cube = unpack(wave[first + w]);
+        const Index3 cube = unpack(wave_cubes[first + w]);
         const auto& slots = cube_slots[w];
         const unsigned config = config_of[w];
         const mc::CubeCase& cube_case = mc::cube_case(config);

@@ -13,6 +13,8 @@
 #include <future>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <span>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -79,50 +81,54 @@ double surface_spacing(const TangentPlanes<3>& planes) {
 // the value phase III gives, and the mesh is the same as without this.
 class FirstWave {
  public:
-  // The origin tree, the lattice and the corners: a few tenths of the work.
+  // The origin tree, the lattice and the first wave's cubes and corners: a
+  // few tenths of the work.
   void prepare(Reconstruction& r, double cell, const SignedDistanceOptions& options) {
     r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
     unoriented_ = make_signed_distance<3>(r.planes, r.planes.normals, r.origin_tree, options);
-    lattice_ = make_lattice(r.points(), cell);
-    known_.index = seed_corners(lattice_, r.points());
-    known_.value.resize(known_.index.size());
-    plane_.resize(known_.index.size());
+    wave_.emplace(r.points(), cell);
+    value_.resize(wave_->corner_count());
+    plane_.resize(wave_->corner_count());
   }
   // Evaluates corners until none is left unclaimed; from any number of
   // threads at once, after prepare().
   void drain() {
-    const std::size_t count = known_.index.size();
+    const std::size_t count = value_.size();
+    const Lattice& lattice = wave_->lattice();
     for (;;) {
       const std::size_t begin = next_.fetch_add(chunk, std::memory_order_relaxed);
       if (begin >= count) return;
       std::uint32_t hint = SignedDistance<3>::no_hint;  // the corners come in spatial order
       for (std::size_t c = begin; c < std::min(begin + chunk, count); ++c) {
-        const auto e = unoriented_.evaluate(lattice_.position(known_.index[c]), hint);
+        const auto e = unoriented_.evaluate(lattice.position(wave_->corner(c)), hint);
         hint = e.plane;
         plane_[c] = e.plane;
-        known_.value[c] = e.value ? *e.value : std::numeric_limits<double>::quiet_NaN();
+        value_[c] = e.value ? *e.value : std::numeric_limits<double>::quiet_NaN();
       }
     }
   }
   // Leaves the corners no thread has claimed yet unevaluated (on failure).
   void abandon() { next_.store(std::numeric_limits<std::size_t>::max() / 2, std::memory_order_relaxed); }
-  // The values with the oriented normals; the wave is spent.
-  KnownCorners oriented(std::span<const std::uint8_t> flipped) {
-    const auto count = static_cast<std::int64_t>(known_.value.size());
+  // Turns the values to the oriented normals' (negated where the plane
+  // they came from was flipped); then wave() and values() are the walk's.
+  void orient(std::span<const std::uint8_t> flipped) {
+    const auto count = static_cast<std::int64_t>(value_.size());
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto c = static_cast<std::size_t>(s);
-      if (flipped[plane_[c]] && !std::isnan(known_.value[c])) known_.value[c] = -known_.value[c];
+      if (flipped[plane_[c]] && !std::isnan(value_[c])) value_[c] = -value_[c];
     }
     plane_ = {};
-    return std::move(known_);
   }
+  [[nodiscard]] bool ready() const { return wave_.has_value(); }
+  [[nodiscard]] SeedWave take_wave() { return std::move(*wave_); }
+  [[nodiscard]] std::span<const double> values() const { return value_; }
 
  private:
   static constexpr std::size_t chunk = 256;
   SignedDistance<3> unoriented_;
-  Lattice lattice_;
-  KnownCorners known_;
+  std::optional<SeedWave> wave_;
+  std::vector<double> value_;         // f at the wave's corners, NaN where undefined
   std::vector<std::uint32_t> plane_;  // the plane each value came from
   std::atomic<std::size_t> next_{0};  // the first corner not yet claimed
 };
@@ -130,17 +136,17 @@ class FirstWave {
 // Phase II's orientation with the first wave beside it (see FirstWave):
 // one thread of its own while Prim runs, then every thread. With one
 // thread, the same work one after the other.
-KnownCorners orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, double cell,
-                                    const ReconstructionOptions& options, double& seconds_after) {
-  FirstWave wave;
+void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, double cell,
+                            const ReconstructionOptions& options, FirstWave& wave, double& seconds_after) {
   const int threads = thread_count();
   if (threads <= 1) {
     r.oriented = orient_normals<3>(r.planes, std::move(graph), options.orientation);
     Timer timer;
     wave.prepare(r, cell, options.distance);
     wave.drain();
+    wave.orient(r.oriented->flipped);
     seconds_after = timer.lap();
-    return wave.oriented(r.oriented->flipped);
+    return;
   }
   std::promise<void> prepared;
   std::future<void> ready = prepared.get_future();
@@ -180,9 +186,8 @@ KnownCorners orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& grap
   wave.drain();
   helper.join();
   if (failure) std::rethrow_exception(failure);
-  KnownCorners known = wave.oriented(r.oriented->flipped);
+  wave.orient(r.oriented->flipped);
   seconds_after = timer.lap();
-  return known;
 }
 
 }  // namespace
@@ -278,13 +283,13 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
     }
     r.planes.neighbors = {};
   }
-  KnownCorners known;  // phase III's values at the first wave's corners, when computed beside phase II
+  FirstWave wave;  // phase III's values at the first wave's corners, computed beside phase II
   double seconds_known = 0.0;
   if (!options.use_input_normals) {
     starting("orientation");
     RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, options.orientation.graph);
     r.planes.neighbors = {};  // the graph's source, no longer needed
-    known = orient_with_first_wave(r, std::move(graph), cell, options, seconds_known);
+    orient_with_first_wave(r, std::move(graph), cell, options, wave, seconds_known);
     if (!options.keep_graph) {
       r.oriented->graph.graph = {};
       r.oriented->graph.emst = {};
@@ -310,8 +315,8 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   mc.max_cubes = static_cast<std::size_t>(
       std::max(0.0, (static_cast<double>(limit) - static_cast<double>(r.order.size()) * bytes_per_point_held) /
                         bytes_per_cube));
-  r.contour = marching_cubes(std::cref(f), r.points(), mc, options.keep_corners,
-                             known.index.empty() ? nullptr : &known);
+  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), wave.values(), mc, options.keep_corners)
+                           : marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
   if (r.offset != Vec3::Zero())
     for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
   return r;

@@ -151,8 +151,12 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   // The pieces of the data (the graph's connected components), without
   // walking the graph: the kept EMST edges join nearly everything, and only
   // the few kept k-NN edges between two of their pieces can join more (found
-  // in parallel). Numbered as connected_components() numbers them.
-  {
+  // in parallel). Numbered as connected_components() numbers them. When no
+  // EMST edge crosses a gap, the tree alone spans the graph: one piece.
+  if (gaps.empty() && n > 0) {
+    result.components.label.assign(n, 0);
+    result.components.sizes.assign(1, static_cast<std::uint32_t>(n));
+  } else {
     UnionFind sets(n);
     for (const Edge& e : result.emst)
       if (!is_gap(e.u, e.v)) sets.unite(e.u, e.v);

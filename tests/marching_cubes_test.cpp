@@ -223,12 +223,14 @@ TEST(MarchingCubes, VisitedCubesGrowWithAreaNotVolume) {
   EXPECT_LT(static_cast<double>(fine.visited_cubes), 0.1 * lattice);
 }
 
-// The corners the first wave needs, found by brute force: every corner of
-// every cube that holds a seed, once each, in the order the walk meets them
-// (seed by seed, each cube's corners in marching-cubes order).
-TEST(MarchingCubes, SeedCornersAreTheCornersOfTheCubesHoldingASeed) {
+// The first wave, found by brute force: the cubes that hold a seed, each
+// once, in seed order, and every corner of those cubes, once each, in the
+// order the walk meets them (each cube's corners in marching-cubes order).
+TEST(MarchingCubes, SeedWaveHoldsTheCubesOfTheSeedsAndTheirCorners) {
   const PointCloud seeds = make_torus()->sample(4000, 4);
-  const Lattice lattice = make_lattice(seeds.positions, 0.07);
+  const SeedWave wave(seeds.positions, 0.07);
+  const Lattice& lattice = wave.lattice();
+  EXPECT_EQ(lattice.cell, 0.07);
   std::set<std::array<std::int32_t, 3>> cubes, seen;
   std::vector<std::array<std::int32_t, 3>> expected;
   for (const Vec3& p : seeds.positions) {
@@ -246,20 +248,26 @@ TEST(MarchingCubes, SeedCornersAreTheCornersOfTheCubesHoldingASeed) {
       if (seen.insert(corner).second) expected.push_back(corner);
     }
   }
-  EXPECT_EQ(seed_corners(lattice, seeds.positions), expected);
+  EXPECT_EQ(wave.cube_count(), cubes.size());
+  ASSERT_EQ(wave.corner_count(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) ASSERT_EQ(wave.corner(i), expected[i]) << i;
   EXPECT_GT(expected.size(), 1000u);
-  // The lattice is the walk's own.
+  // The lattice is the walk's own, and so is the first wave.
   MarchingCubesOptions options;
   options.cell = 0.07;
   const ScalarField f = [](const Vec3& p) { return std::optional<double>(p.norm() - 1.0); };
   const MarchingCubesResult r = marching_cubes(f, seeds.positions, options);
   EXPECT_EQ(r.origin, lattice.origin);
   EXPECT_EQ(r.size, lattice.size);
+  EXPECT_EQ(r.seed_cubes, cubes.size());
+  EXPECT_THROW((void)SeedWave(std::span<const Vec3>(), 0.07), InvalidInputError);
+  EXPECT_THROW((void)SeedWave(seeds.positions, 0.0), InvalidInputError);
 }
 
-// Corners known beforehand are taken, not evaluated again, and the mesh is
-// the one the walk makes on its own; with wrong values it would differ.
-TEST(MarchingCubes, KnownCornersAreTakenAndChangeNothing) {
+// Values known beforehand at the first wave's corners are taken, not
+// evaluated again, and the mesh is the one the walk makes on its own; with
+// wrong values it would differ.
+TEST(MarchingCubes, SeedWaveValuesAreTakenAndChangeNothing) {
   std::atomic<std::size_t> calls{0};
   const ScalarField f = [&](const Vec3& p) -> std::optional<double> {
     ++calls;
@@ -273,42 +281,52 @@ TEST(MarchingCubes, KnownCornersAreTakenAndChangeNothing) {
   const std::size_t plain_calls = calls.exchange(0);
   EXPECT_EQ(plain_calls, plain.evaluated_corners);
 
-  KnownCorners known;
-  const Lattice lattice = make_lattice(seeds.positions, options.cell);
-  known.index = seed_corners(lattice, seeds.positions);
-  for (const auto& corner : known.index) {
-    const auto v = f(lattice.position(corner));
-    known.value.push_back(v ? *v : std::numeric_limits<double>::quiet_NaN());
-  }
+  auto values_at = [&](const SeedWave& wave, double shift) {
+    std::vector<double> values;
+    for (std::size_t i = 0; i < wave.corner_count(); ++i) {
+      const auto v = f(wave.lattice().position(wave.corner(i)));
+      values.push_back(v ? *v + shift : std::numeric_limits<double>::quiet_NaN());
+    }
+    return values;
+  };
+  SeedWave wave(seeds.positions, options.cell);
+  const std::size_t known = wave.corner_count();
+  const std::vector<double> values = values_at(wave, 0.0);
   calls = 0;
-  const MarchingCubesResult with = marching_cubes(f, seeds.positions, options, true, &known);
-  EXPECT_EQ(calls.load(), plain.evaluated_corners - known.index.size());  // the known ones, not again
-  EXPECT_GT(known.index.size(), plain.evaluated_corners / 2);
+  const MarchingCubesResult with = marching_cubes(f, std::move(wave), values, options, true);
+  EXPECT_EQ(calls.load(), plain.evaluated_corners - known);  // the known ones, not again
+  EXPECT_GT(known, plain.evaluated_corners / 2);
   EXPECT_TRUE(with.mesh.vertices == plain.mesh.vertices);
   EXPECT_TRUE(with.mesh.triangles == plain.mesh.triangles);
+  EXPECT_EQ(with.seed_cubes, plain.seed_cubes);
+  EXPECT_EQ(with.visited_cubes, plain.visited_cubes);
   EXPECT_EQ(with.evaluated_corners, plain.evaluated_corners);
   EXPECT_EQ(with.undefined_corners, plain.undefined_corners);
   EXPECT_GT(with.undefined_corners, 0u);
-  // Given in the walk's order, the known corners take the slots it would
-  // have given them: the kept corners come out in the same order.
+  // The corners keep their slots: they come out in the same order.
   ASSERT_EQ(with.corners.size(), plain.corners.size());
   for (std::size_t i = 0; i < plain.corners.size(); ++i) {
     ASSERT_EQ(with.corners[i].index, plain.corners[i].index) << i;
     ASSERT_EQ(with.corners[i].defined, plain.corners[i].defined) << i;
     ASSERT_EQ(with.corners[i].value, plain.corners[i].value) << i;
   }
+  // Without values, the walk from a wave asks f everywhere and agrees.
+  calls = 0;
+  const MarchingCubesResult asked = marching_cubes(f, SeedWave(seeds.positions, options.cell), {}, options);
+  EXPECT_EQ(calls.load(), plain.evaluated_corners);
+  EXPECT_TRUE(asked.mesh.triangles == plain.mesh.triangles);
 
-  KnownCorners shifted = known;  // the field moved by a tenth of a cell: another mesh
-  for (double& v : shifted.value) v += 0.1 * options.cell;
-  const MarchingCubesResult other = marching_cubes(f, seeds.positions, options, false, &shifted);
+  SeedWave shifted(seeds.positions, options.cell);  // the field moved by a tenth of a cell: another mesh
+  const std::vector<double> moved = values_at(shifted, 0.1 * options.cell);
+  const MarchingCubesResult other = marching_cubes(f, std::move(shifted), moved, options);
   EXPECT_FALSE(other.mesh.vertices == plain.mesh.vertices);
 
-  KnownCorners outside = known;
-  outside.index[0] = {-1, 0, 0};
-  EXPECT_THROW((void)marching_cubes(f, seeds.positions, options, false, &outside), InvalidInputError);
-  outside = known;
-  outside.value.pop_back();
-  EXPECT_THROW((void)marching_cubes(f, seeds.positions, options, false, &outside), InvalidInputError);
+  std::vector<double> short_values = values;
+  short_values.pop_back();
+  EXPECT_THROW((void)marching_cubes(f, SeedWave(seeds.positions, options.cell), short_values, options),
+               InvalidInputError);
+  EXPECT_THROW((void)marching_cubes(f, SeedWave(seeds.positions, 2.0 * options.cell), {}, options),
+               InvalidInputError);
 }
 
 TEST(MarchingCubes, RefusesBadCellsAndHugeLattices) {

@@ -25,6 +25,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -80,21 +81,33 @@ struct Lattice {
 /// `cell`. Throws as marching_cubes() does for the cell and the lattice size.
 [[nodiscard]] Lattice make_lattice(std::span<const Vec3> seeds, double cell);
 
-/// Every corner of every cube that holds a seed, each once, in the order
-/// the walk's first wave meets them (seed by seed, a cube's corners in
-/// marching-cubes order): the corners that wave needs, which a caller may
-/// evaluate beforehand (reconstruct() does, beside phase II). Given in this
-/// order, they take the table slots the walk would have given them, and
-/// neighbouring corners stay together in memory.
-[[nodiscard]] std::vector<std::array<std::int32_t, 3>> seed_corners(const Lattice& lattice,
-                                                                    std::span<const Vec3> seeds);
+/// The walk's first wave, which depends on the seeds and the cell only: the
+/// lattice, the cubes that hold a seed (in the order the walk takes them,
+/// seed by seed) and the corners of those cubes, each once, in the order the
+/// walk meets them (a cube's corners in marching-cubes order). It can be
+/// built, and f evaluated at its corners, before f's signs are settled:
+/// reconstruct() does both beside phase II, and the walk then starts from
+/// it with the values instead of from the seeds.
+class SeedWave {
+ public:
+  /// Throws as marching_cubes() does for the cell and the lattice size, and
+  /// InvalidInputError when there are no seeds.
+  SeedWave(std::span<const Vec3> seeds, double cell);
+  SeedWave(SeedWave&&) noexcept;
+  SeedWave& operator=(SeedWave&&) noexcept;
+  ~SeedWave();
 
-/// Values of f known before the walk, at lattice corners (NaN: undefined).
-/// The walk takes them instead of calling f there; they must be what f
-/// gives, or the mesh is that of another function.
-struct KnownCorners {
-  std::vector<std::array<std::int32_t, 3>> index;
-  std::vector<double> value;
+  [[nodiscard]] const Lattice& lattice() const;
+  [[nodiscard]] std::size_t cube_count() const;
+  [[nodiscard]] std::size_t corner_count() const;
+  /// Corner i of the wave (0 <= i < corner_count()), in the order above.
+  [[nodiscard]] std::array<std::int32_t, 3> corner(std::size_t i) const;
+
+  struct Walk;  // the walk's state: the lattice, its corner table and the first wave's cubes
+
+ private:
+  std::unique_ptr<Walk> walk_;
+  friend struct SeedWaveAccess;
 };
 
 /// The function contoured: its value at a point, or nullopt where undefined.
@@ -108,12 +121,18 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 
 /// Contours f = 0 starting from the cubes that contain `seeds` (normally the
 /// input points). Throws InvalidInputError for a cell that is not a positive
-/// length or a known corner outside the lattice, ResourceLimitError when the
-/// lattice needs more than 2^21 cubes along an axis or the walk would exceed
-/// max_cubes. `known` corners (if any) are not evaluated again; the mesh is
-/// the same with or without them.
+/// length, ResourceLimitError when the lattice needs more than 2^21 cubes
+/// along an axis or the walk would exceed max_cubes.
 [[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
-                                                 const MarchingCubesOptions& options, bool keep_corners = false,
-                                                 const KnownCorners* known = nullptr);
+                                                 const MarchingCubesOptions& options, bool keep_corners = false);
+
+/// The same walk from a first wave built beforehand (at options.cell), with
+/// `values[i]` the value of f at wave.corner(i) (NaN where undefined), or no
+/// values, and f is asked there too. The walk takes the values instead of
+/// calling f at those corners; they must be what f gives, or the mesh is
+/// that of another function. Throws InvalidInputError when the values do
+/// not match the wave's corners or the wave was built at another cell.
+[[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave, std::span<const double> values,
+                                                 const MarchingCubesOptions& options, bool keep_corners = false);
 
 }  // namespace recon
