@@ -141,9 +141,16 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
     throw InvalidInputError(D == 3 ? "all points lie on one line (or coincide): no surface to reconstruct"
                                    : "all points coincide: no curve to reconstruct");
 
+  // The noise: the median RMS distance of the neighbourhoods to their planes.
+  auto noise_median = [&] {
+    std::vector<double> residual(n);
+    for (std::size_t i = 0; i < n; ++i) residual[i] = std::sqrt(static_cast<double>(result.eigenvalues[i][0]));
+    return median(std::move(residual));
+  };
   result.local_rho.resize(n);
   result.local_gap.resize(n);
   if (options.rho) {
+    result.noise = noise_median();
     result.rho_given = true;
     result.rho = result.gap = *options.rho;
     std::fill(result.local_rho.begin(), result.local_rho.end(), static_cast<float>(*options.rho));
@@ -198,8 +205,16 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
         if (v > 0.0f) measured.push_back(static_cast<double>(v));
       return measured.empty() ? 0.0 : median(std::move(measured));
     };
-    result.rho = median_of_measured(result.local_rho);
-    result.gap = median_of_measured(result.local_gap);
+    // (The three medians of the cloud, side by side.)
+#pragma omp parallel sections
+    {
+#pragma omp section
+      result.rho = median_of_measured(result.local_rho);
+#pragma omp section
+      result.gap = median_of_measured(result.local_gap);
+#pragma omp section
+      result.noise = noise_median();
+    }
     // A neighbourhood made only of copies of one point has no spacing to
     // measure and no plane: its gap is taken as the typical one (phase II
     // compares edges with it), and its rho_i stays 0, so that its plane, whose
@@ -244,11 +259,6 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
       }
     }
     result.isolated = isolated;
-  }
-  {
-    std::vector<double> residual(n);
-    for (std::size_t i = 0; i < n; ++i) residual[i] = std::sqrt(static_cast<double>(result.eigenvalues[i][0]));
-    result.noise = median(std::move(residual));
   }
   result.seconds_spacing = timer.lap();
   result.k_requested = k;
