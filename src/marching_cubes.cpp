@@ -162,10 +162,16 @@ class CornerTable {
     const auto [slot, added] = index_.insert(key);
     if (added) {
       value.push_back(undefined);
-      vertex.push_back({no_vertex, no_vertex, no_vertex});
       flags.push_back(0);
+      if (with_vertices_) vertex.push_back({no_vertex, no_vertex, no_vertex});
     }
     return slot;
+  }
+  /// Until this is called, slots have no vertex entries: a first wave
+  /// laid out ahead of the walk (SeedWave) does without their 12 bytes.
+  void add_vertices() {
+    while (vertex.size() < size()) vertex.push_back({no_vertex, no_vertex, no_vertex});
+    with_vertices_ = true;
   }
 
   BlockArray<double> value;
@@ -175,6 +181,7 @@ class CornerTable {
 
  private:
   LatticeIndex index_;
+  bool with_vertices_ = false;
 };
 
 }  // namespace
@@ -257,6 +264,14 @@ const Lattice& SeedWave::lattice() const { return walk_->lattice; }
 std::size_t SeedWave::cube_count() const { return walk_->cubes.size(); }
 std::size_t SeedWave::corner_count() const { return walk_->corners.size(); }
 Index3 SeedWave::corner(std::size_t i) const { return unpack(walk_->corners.key(static_cast<std::uint32_t>(i))); }
+void SeedWave::set_value(std::size_t i, double value) {
+  CornerTable& corners = walk_->corners;
+  corners.value[i] = value;
+  corners.flags[i] |= CornerTable::evaluated;
+}
+double SeedWave::value(std::size_t i) const {
+  return walk_->corners.flags[i] & CornerTable::evaluated ? walk_->corners.value[i] : undefined;
+}
 
 MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
                                    const MarchingCubesOptions& options, bool keep_corners) {
@@ -269,22 +284,19 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
   Timer timer;
   SeedWave wave(seeds, options.cell);
   const double seconds_wave = timer.lap();
-  MarchingCubesResult result = marching_cubes(f, std::move(wave), {}, options, keep_corners);
+  MarchingCubesResult result = marching_cubes(f, std::move(wave), options, keep_corners);
   result.seconds += seconds_wave;
   return result;
 }
 
-MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave, std::span<const double> values,
-                                   const MarchingCubesOptions& options, bool keep_corners) {
+MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave, const MarchingCubesOptions& options,
+                                   bool keep_corners) {
   check_cell(options.cell);
   Timer timer;
   SeedWave::Walk& start = SeedWaveAccess::walk(wave);
   const Lattice& lattice = start.lattice;
   if (lattice.cell != options.cell)
     throw InvalidInputError("the first wave was laid out at another cell than the walk's");
-  if (!values.empty() && values.size() != wave.corner_count())
-    throw InvalidInputError("the first wave has " + std::to_string(wave.corner_count()) + " corners, but " +
-                            std::to_string(values.size()) + " values were given");
   MarchingCubesResult result;
   result.cell = options.cell;
   result.origin = lattice.origin;
@@ -322,11 +334,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave, std::spa
     next.push_back(pack(cube));
   };
   result.seed_cubes = visited;
-  // The first wave's corners hold slots 0 .. values.size() - 1.
-  for (std::uint32_t slot = 0; slot < values.size(); ++slot) {
-    corners.value[slot] = values[slot];
-    corners.flags[slot] |= CornerTable::evaluated;
-  }
+  corners.add_vertices();
 
   std::vector<std::array<std::uint32_t, 8>> cube_slots;  // per cube of a batch: its corners' slots
   std::vector<std::uint8_t> pending, faces_of;

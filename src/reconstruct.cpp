@@ -87,13 +87,12 @@ class FirstWave {
     r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
     unoriented_ = make_signed_distance<3>(r.planes, r.planes.normals, r.origin_tree, options);
     wave_.emplace(r.points(), cell);
-    value_.resize(wave_->corner_count());
     plane_.resize(wave_->corner_count());
   }
   // Evaluates corners until none is left unclaimed; from any number of
   // threads at once, after prepare().
   void drain() {
-    const std::size_t count = value_.size();
+    const std::size_t count = plane_.size();
     const Lattice& lattice = wave_->lattice();
     for (;;) {
       const std::size_t begin = next_.fetch_add(chunk, std::memory_order_relaxed);
@@ -103,32 +102,31 @@ class FirstWave {
         const auto e = unoriented_.evaluate(lattice.position(wave_->corner(c)), hint);
         hint = e.plane;
         plane_[c] = e.plane;
-        value_[c] = e.value ? *e.value : std::numeric_limits<double>::quiet_NaN();
+        wave_->set_value(c, e.value ? *e.value : std::numeric_limits<double>::quiet_NaN());
       }
     }
   }
   // Leaves the corners no thread has claimed yet unevaluated (on failure).
   void abandon() { next_.store(std::numeric_limits<std::size_t>::max() / 2, std::memory_order_relaxed); }
   // Turns the values to the oriented normals' (negated where the plane
-  // they came from was flipped); then wave() and values() are the walk's.
+  // they came from was flipped); then the wave is the walk's.
   void orient(std::span<const std::uint8_t> flipped) {
-    const auto count = static_cast<std::int64_t>(value_.size());
+    const auto count = static_cast<std::int64_t>(plane_.size());
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto c = static_cast<std::size_t>(s);
-      if (flipped[plane_[c]] && !std::isnan(value_[c])) value_[c] = -value_[c];
+      const double v = wave_->value(c);
+      if (flipped[plane_[c]] && !std::isnan(v)) wave_->set_value(c, -v);
     }
     plane_ = {};
   }
   [[nodiscard]] bool ready() const { return wave_.has_value(); }
   [[nodiscard]] SeedWave take_wave() { return std::move(*wave_); }
-  [[nodiscard]] std::span<const double> values() const { return value_; }
 
  private:
   static constexpr std::size_t chunk = 256;
   SignedDistance<3> unoriented_;
-  std::optional<SeedWave> wave_;
-  std::vector<double> value_;         // f at the wave's corners, NaN where undefined
+  std::optional<SeedWave> wave_;      // holds f's values at its corners as they are evaluated
   std::vector<std::uint32_t> plane_;  // the plane each value came from
   std::atomic<std::size_t> next_{0};  // the first corner not yet claimed
 };
@@ -315,7 +313,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   mc.max_cubes = static_cast<std::size_t>(
       std::max(0.0, (static_cast<double>(limit) - static_cast<double>(r.order.size()) * bytes_per_point_held) /
                         bytes_per_cube));
-  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), wave.values(), mc, options.keep_corners)
+  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc, options.keep_corners)
                            : marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
   if (r.offset != Vec3::Zero())
     for (Vec3& v : r.contour.mesh.vertices) v += r.offset;

@@ -281,19 +281,18 @@ TEST(MarchingCubes, SeedWaveValuesAreTakenAndChangeNothing) {
   const std::size_t plain_calls = calls.exchange(0);
   EXPECT_EQ(plain_calls, plain.evaluated_corners);
 
-  auto values_at = [&](const SeedWave& wave, double shift) {
-    std::vector<double> values;
-    for (std::size_t i = 0; i < wave.corner_count(); ++i) {
+  auto give_values = [&](SeedWave& wave, double shift, std::size_t every) {
+    for (std::size_t i = 0; i < wave.corner_count(); i += every) {
       const auto v = f(wave.lattice().position(wave.corner(i)));
-      values.push_back(v ? *v + shift : std::numeric_limits<double>::quiet_NaN());
+      wave.set_value(i, v ? *v + shift : std::numeric_limits<double>::quiet_NaN());
     }
-    return values;
   };
   SeedWave wave(seeds.positions, options.cell);
   const std::size_t known = wave.corner_count();
-  const std::vector<double> values = values_at(wave, 0.0);
+  EXPECT_TRUE(std::isnan(wave.value(0)));  // none given yet
+  give_values(wave, 0.0, 1);
   calls = 0;
-  const MarchingCubesResult with = marching_cubes(f, std::move(wave), values, options, true);
+  const MarchingCubesResult with = marching_cubes(f, std::move(wave), options, true);
   EXPECT_EQ(calls.load(), plain.evaluated_corners - known);  // the known ones, not again
   EXPECT_GT(known, plain.evaluated_corners / 2);
   EXPECT_TRUE(with.mesh.vertices == plain.mesh.vertices);
@@ -310,23 +309,25 @@ TEST(MarchingCubes, SeedWaveValuesAreTakenAndChangeNothing) {
     ASSERT_EQ(with.corners[i].defined, plain.corners[i].defined) << i;
     ASSERT_EQ(with.corners[i].value, plain.corners[i].value) << i;
   }
+  // Values given at every third corner only: f is asked at the others.
+  SeedWave some(seeds.positions, options.cell);
+  give_values(some, 0.0, 3);
+  calls = 0;
+  const MarchingCubesResult partly = marching_cubes(f, std::move(some), options);
+  EXPECT_EQ(calls.load(), plain.evaluated_corners - (known + 2) / 3);
+  EXPECT_TRUE(partly.mesh.triangles == plain.mesh.triangles);
   // Without values, the walk from a wave asks f everywhere and agrees.
   calls = 0;
-  const MarchingCubesResult asked = marching_cubes(f, SeedWave(seeds.positions, options.cell), {}, options);
+  const MarchingCubesResult asked = marching_cubes(f, SeedWave(seeds.positions, options.cell), options);
   EXPECT_EQ(calls.load(), plain.evaluated_corners);
   EXPECT_TRUE(asked.mesh.triangles == plain.mesh.triangles);
 
   SeedWave shifted(seeds.positions, options.cell);  // the field moved by a tenth of a cell: another mesh
-  const std::vector<double> moved = values_at(shifted, 0.1 * options.cell);
-  const MarchingCubesResult other = marching_cubes(f, std::move(shifted), moved, options);
+  give_values(shifted, 0.1 * options.cell, 1);
+  const MarchingCubesResult other = marching_cubes(f, std::move(shifted), options);
   EXPECT_FALSE(other.mesh.vertices == plain.mesh.vertices);
 
-  std::vector<double> short_values = values;
-  short_values.pop_back();
-  EXPECT_THROW((void)marching_cubes(f, SeedWave(seeds.positions, options.cell), short_values, options),
-               InvalidInputError);
-  EXPECT_THROW((void)marching_cubes(f, SeedWave(seeds.positions, 2.0 * options.cell), {}, options),
-               InvalidInputError);
+  EXPECT_THROW((void)marching_cubes(f, SeedWave(seeds.positions, 2.0 * options.cell), options), InvalidInputError);
 }
 
 TEST(MarchingCubes, RefusesBadCellsAndHugeLattices) {

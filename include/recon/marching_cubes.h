@@ -102,6 +102,12 @@ class SeedWave {
   [[nodiscard]] std::size_t corner_count() const;
   /// Corner i of the wave (0 <= i < corner_count()), in the order above.
   [[nodiscard]] std::array<std::int32_t, 3> corner(std::size_t i) const;
+  /// Gives f's value at corner i (NaN: undefined). The walk takes it instead
+  /// of calling f there: it must be what f gives, or the mesh is that of
+  /// another function. Safe from several threads at once for distinct i.
+  void set_value(std::size_t i, double value);
+  /// The value given at corner i; NaN when none was (or f is undefined there).
+  [[nodiscard]] double value(std::size_t i) const;
 
   struct Walk;  // the walk's state: the lattice, its corner table and the first wave's cubes
 
@@ -126,13 +132,10 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 [[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
                                                  const MarchingCubesOptions& options, bool keep_corners = false);
 
-/// The same walk from a first wave built beforehand (at options.cell), with
-/// `values[i]` the value of f at wave.corner(i) (NaN where undefined), or no
-/// values, and f is asked there too. The walk takes the values instead of
-/// calling f at those corners; they must be what f gives, or the mesh is
-/// that of another function. Throws InvalidInputError when the values do
-/// not match the wave's corners or the wave was built at another cell.
-[[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave, std::span<const double> values,
+/// The same walk from a first wave built beforehand (at options.cell): f is
+/// not called at the corners whose value was given (SeedWave::set_value).
+/// Throws InvalidInputError when the wave was built at another cell.
+[[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave,
                                                  const MarchingCubesOptions& options, bool keep_corners = false);
 
 }  // namespace recon
