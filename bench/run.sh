@@ -3,7 +3,7 @@
 # (machine, commit, summary tables, raw output) to bench/results/latest.txt;
 # prints the markdown summary tables too.
 #
-#   bench/run.sh                      # about 10 minutes on 2 cores, plus the build
+#   bench/run.sh                      # about 4 minutes on 2 cores, plus the build
 #   RECON_BENCH_SWEEP=1 bench/run.sh  # also the kd-tree leaf-size sweep (3 more minutes)
 #   RECON_END_TO_END="torus:1000000" bench/run.sh   # end-to-end runs: shape:points ...
 #   RECON_BENCH_REPS=3 bench/run.sh   # more repetitions (default and least 2; the
