@@ -239,8 +239,19 @@ struct SeedWave::Walk {
 };
 
 struct SeedWaveAccess {
-  static SeedWave::Walk& walk(SeedWave& wave) { return *wave.walk_; }
+  static SeedWave::Walk& walk(SeedWave& wave) {
+    if (!wave.walk_) throw InvalidInputError("this first wave was moved away (a wave is walked once)");
+    return *wave.walk_;
+  }
 };
+
+namespace {
+void check_corner(const SeedWave& wave, std::size_t i) {
+  if (i >= wave.corner_count())
+    throw InvalidInputError("corner " + std::to_string(i) + " of a first wave of " +
+                            std::to_string(wave.corner_count()) + " corners");
+}
+}  // namespace
 
 SeedWave::SeedWave(std::span<const Vec3> seeds, double cell) : walk_(std::make_unique<Walk>()) {
   if (seeds.empty()) throw InvalidInputError("the lattice walk needs at least one seed");
@@ -261,15 +272,20 @@ SeedWave& SeedWave::operator=(SeedWave&&) noexcept = default;
 SeedWave::~SeedWave() = default;
 
 const Lattice& SeedWave::lattice() const { return walk_->lattice; }
-std::size_t SeedWave::cube_count() const { return walk_->cubes.size(); }
-std::size_t SeedWave::corner_count() const { return walk_->corners.size(); }
-Index3 SeedWave::corner(std::size_t i) const { return unpack(walk_->corners.key(static_cast<std::uint32_t>(i))); }
+std::size_t SeedWave::cube_count() const { return walk_ ? walk_->cubes.size() : 0; }
+std::size_t SeedWave::corner_count() const { return walk_ ? walk_->corners.size() : 0; }
+Index3 SeedWave::corner(std::size_t i) const {
+  check_corner(*this, i);
+  return unpack(walk_->corners.key(static_cast<std::uint32_t>(i)));
+}
 void SeedWave::set_value(std::size_t i, double value) {
+  check_corner(*this, i);
   CornerTable& corners = walk_->corners;
   corners.value[i] = value;
   corners.flags[i] |= CornerTable::evaluated;
 }
 double SeedWave::value(std::size_t i) const {
+  check_corner(*this, i);
   return walk_->corners.flags[i] & CornerTable::evaluated ? walk_->corners.value[i] : undefined;
 }
 

@@ -328,6 +328,12 @@ TEST(MarchingCubes, SeedWaveValuesAreTakenAndChangeNothing) {
   EXPECT_FALSE(other.mesh.vertices == plain.mesh.vertices);
 
   EXPECT_THROW((void)marching_cubes(f, SeedWave(seeds.positions, 2.0 * options.cell), options), InvalidInputError);
+  SeedWave once(seeds.positions, options.cell);
+  EXPECT_THROW(once.set_value(once.corner_count(), 0.0), InvalidInputError);
+  EXPECT_THROW((void)once.corner(once.corner_count()), InvalidInputError);
+  (void)marching_cubes(f, std::move(once), options);
+  EXPECT_EQ(once.corner_count(), 0u);  // NOLINT(bugprone-use-after-move): moved-from is empty, by contract
+  EXPECT_THROW((void)marching_cubes(f, std::move(once), options), InvalidInputError);
 }
 
 TEST(MarchingCubes, RefusesBadCellsAndHugeLattices) {

@@ -97,10 +97,13 @@ class SeedWave {
   SeedWave& operator=(SeedWave&&) noexcept;
   ~SeedWave();
 
+  /// (A wave moved from, as into marching_cubes(), is empty: no cubes, no
+  /// corners, and lattice() must not be called.)
   [[nodiscard]] const Lattice& lattice() const;
   [[nodiscard]] std::size_t cube_count() const;
   [[nodiscard]] std::size_t corner_count() const;
-  /// Corner i of the wave (0 <= i < corner_count()), in the order above.
+  /// Corner i of the wave, in the order above. Corner indices past
+  /// corner_count() throw InvalidInputError here and below.
   [[nodiscard]] std::array<std::int32_t, 3> corner(std::size_t i) const;
   /// Gives f's value at corner i (NaN: undefined). The walk takes it instead
   /// of calling f there: it must be what f gives, or the mesh is that of
@@ -134,7 +137,8 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 
 /// The same walk from a first wave built beforehand (at options.cell): f is
 /// not called at the corners whose value was given (SeedWave::set_value).
-/// Throws InvalidInputError when the wave was built at another cell.
+/// Throws InvalidInputError when the wave was built at another cell or was
+/// moved away already.
 [[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave,
                                                  const MarchingCubesOptions& options, bool keep_corners = false);
 
