@@ -26,7 +26,7 @@ Reader reader_named(std::string_view name) {
       {"xyz_points", run<read_xyz_points>}, {"pts_points", run<read_pts_points>},
       {"obj_points", run<read_obj_points>}, {"obj_mesh", run<read_obj_mesh>},
       {"off_points", run<read_off_points>}, {"off_mesh", run<read_off_mesh>},
-      {"pcd_points", run<read_pcd_points>},
+      {"pcd_points", run<read_pcd_points>}, {"xy_points", run<read_xy_points>},
   };
   for (const auto& [known, reader] : readers) {
     if (known == name) return reader;
