@@ -5,7 +5,9 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace recon {
@@ -48,11 +50,12 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
   edges.reserve(n - 1);
   const bool hinted = hints.lists != nullptr && hints.lists->size() == n && hints.certain_radius2.size() == n &&
                       hints.lists->k <= UINT16_MAX;
-  UnionFind sets(n);
   std::vector<std::int32_t> label(n);
   std::vector<Candidate> per_point(n);
-  std::vector<Candidate> per_component(n);  // indexed by a component's root
-  std::vector<double> bound(n);             // per component: the best squared length known so far
+  // Per component (indexed by its root): the point whose candidate is the
+  // best found so far, and that candidate's squared length.
+  std::vector<std::uint32_t> best_point(n);
+  std::vector<double> bound(n);
   const auto count = static_cast<std::int64_t>(n);
   // The current components by root, ascending, and the points whose list
   // still reaches outside their component (only they are scanned in step
@@ -71,7 +74,35 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
   std::vector<std::uint32_t> queried;  // points whose candidate came from a tree query this round
 
   for (std::uint32_t i = 0; i < n; ++i) label[i] = static_cast<std::int32_t>(i);
-  std::vector<std::uint32_t> merged_into(n);  // per root of the round before: its root now
+  // Per root of the round: the component its best edge leads to, then the
+  // root of the component it is part of after the round.
+  std::vector<std::uint32_t> hook(n), merged_into(n);
+  std::vector<std::uint32_t> place(n);  // per root of the round, as roots lists them
+
+  // The component's best candidate so far, from points' candidates in any
+  // order and from many threads at once: best_point only ever moves to a
+  // point with a smaller candidate, and the least candidate of a component
+  // is unique (the order is strict and two points of one component cannot
+  // find the same edge), so the outcome does not depend on the order.
+  auto reduce = [&](std::span<const std::uint32_t> which) {
+    const auto m = static_cast<std::int64_t>(which.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < m; ++s) {
+      const std::uint32_t i = which[static_cast<std::size_t>(s)];
+      if (!per_point[i].valid()) continue;
+      AtomicRef<std::uint32_t> best(best_point[static_cast<std::size_t>(label[i])]);
+      std::uint32_t current = best.load(std::memory_order_relaxed);
+      while ((current == none || per_point[i] < per_point[current]) &&
+             !best.compare_exchange_weak(current, i, std::memory_order_relaxed)) {
+      }
+    }
+  };
+  // Parallel loops over the current roots.
+  auto for_roots = [&](auto&& body) {
+    const auto m = static_cast<std::int64_t>(roots.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < m; ++s) body(roots[static_cast<std::size_t>(s)]);
+  };
 
   while (roots.size() > 1) {
     // 1. What the lists give for free: the first entry of another component
@@ -93,15 +124,11 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
         break;
       }
     }
-    for (const std::uint32_t r : roots) per_component[r] = Candidate{};
-    auto reduce = [&](std::span<const std::uint32_t> which) {
-      for (const std::uint32_t i : which) {
-        Candidate& best = per_component[static_cast<std::size_t>(label[i])];
-        if (per_point[i] < best) best = per_point[i];
-      }
-    };
+    for_roots([&](std::uint32_t r) { best_point[r] = none; });
     reduce(active);
-    for (const std::uint32_t r : roots) bound[r] = per_component[r].d2;
+    for_roots([&](std::uint32_t r) {
+      bound[r] = best_point[r] == none ? std::numeric_limits<double>::infinity() : per_point[best_point[r]].d2;
+    });
 
     // 2. Tree queries where a point could still beat its component's best:
     //    bounded by that best, which the queries lower as they go (only the
@@ -142,13 +169,66 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
       queried.insert(queried.end(), mine.begin(), mine.end());
     }
     reduce(queried);
-    for (const std::uint32_t i : queried) per_point[i] = Candidate{};  // not an active point's: cleared here
 
-    for (const std::uint32_t r : roots) {
-      const Candidate& best = per_component[r];
-      if (best.valid() && sets.unite(best.lo, best.hi)) edges.push_back({best.lo, best.hi, std::sqrt(best.d2)});
+    // 3. Every component hooks onto the component its best edge leads to.
+    //    The edges are all in the tree, and form a forest over the
+    //    components but for one thing: two components that chose each
+    //    other chose the same edge (the least between them), and the
+    //    smaller root keeps it and stays a root. Then each root follows the
+    //    hooks to the root of its tree, by pointer jumping: every pass
+    //    halves the distance left, and each pass is parallel.
+    for_roots([&](std::uint32_t r) {
+      const std::uint32_t p = best_point[r];
+      if (p == none) {  // no outside point (not expected while two components remain)
+        hook[r] = r;
+        return;
+      }
+      const Candidate& c = per_point[p];
+      const auto lo = static_cast<std::uint32_t>(label[c.lo]), hi = static_cast<std::uint32_t>(label[c.hi]);
+      hook[r] = lo == r ? hi : lo;
+    });
+    // The round's edges, in root order: a root keeps its edge unless it has
+    // none or is the larger root of a pair. A prefix sum over the roots
+    // gives each kept edge its place, so they are written in parallel.
+    const auto root_count = static_cast<std::int64_t>(roots.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < root_count; ++s) {
+      const std::uint32_t r = roots[static_cast<std::size_t>(s)];
+      const std::uint32_t h = hook[r];
+      place[static_cast<std::size_t>(s)] = h == r || (hook[h] == r && h < r) ? 0 : 1;
+      merged_into[r] = hook[h] == r && r < h ? r : h;
     }
-    for (const std::uint32_t r : roots) merged_into[r] = sets.find(r);
+    std::inclusive_scan(place.begin(), place.begin() + root_count, place.begin());  // kept up to and including s
+    const std::size_t first = edges.size();
+    edges.resize(first + place[static_cast<std::size_t>(root_count - 1)]);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < root_count; ++s) {
+      const auto t = static_cast<std::size_t>(s);
+      const std::uint32_t before = t == 0 ? 0 : place[t - 1];
+      if (place[t] == before) continue;
+      const Candidate& c = per_point[best_point[roots[t]]];
+      edges[first + before] = {c.lo, c.hi, std::sqrt(c.d2)};
+    }
+    int passes = 0;
+    // (After t passes each root points 2^t hooks up its tree or to its
+    // root, so 33 passes reach every root; a 34th would mean a cycle,
+    // which the strict order of the edges rules out.)
+    for (bool moved = true; moved;) {
+      if (++passes > 33) throw std::logic_error("Borůvka: the components' hooks form a cycle");
+      moved = false;
+      // hook <- merged_into, then merged_into <- its own target's target:
+      // two arrays, so that no pass reads what it writes.
+      for_roots([&](std::uint32_t r) { hook[r] = merged_into[r]; });
+      const auto m = static_cast<std::int64_t>(roots.size());
+#pragma omp parallel for schedule(static) reduction(|| : moved)
+      for (std::int64_t s = 0; s < m; ++s) {
+        const std::uint32_t r = roots[static_cast<std::size_t>(s)];
+        const std::uint32_t next = hook[hook[r]];
+        moved = moved || next != hook[r];
+        merged_into[r] = next;
+      }
+    }
+    for (const std::uint32_t i : queried) per_point[i] = Candidate{};  // not an active point's: cleared here
     std::erase_if(roots, [&](std::uint32_t r) { return merged_into[r] != r; });
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = 0; s < count; ++s) {

@@ -48,11 +48,11 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   const auto k = static_cast<std::size_t>(options.k > 0 ? options.k : lists_k);
   RiemannianGraph<D> result;
   Timer timer;
+  // A tree numbered by leaf order holds the samples by index already.
+  std::vector<Vec<D>> copy;
+  if (!planes.point_tree.numbered_by_leaf_order()) copy = samples_of(planes);
+  const std::span<const Vec<D>> samples = copy.empty() ? planes.point_tree.points() : std::span<const Vec<D>>(copy);
   {
-    // A tree numbered by leaf order holds the samples by index already.
-    std::vector<Vec<D>> copy;
-    if (!planes.point_tree.numbered_by_leaf_order()) copy = samples_of(planes);
-    const std::span<const Vec<D>> samples = copy.empty() ? planes.point_tree.points() : std::span<const Vec<D>>(copy);
     const std::vector<double> radius2 = certain_radii2(planes.radius);
     result.emst = euclidean_minimum_spanning_tree<D>(planes.point_tree, samples, EmstHints{&planes.neighbors, radius2});
   }
@@ -82,6 +82,22 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       if (r[e] == j) return true;
     return false;
   };
+  // The same question answered by distance where it can be: N(x_i) holds
+  // every sample nearer than its farthest member, and none farther, so only
+  // a sample at (about) that distance needs the list read (radius is float:
+  // the band around it covers its rounding).
+  const Vec<D>* const sample = samples.data();
+  const float* const radius = planes.radius.data();
+  const bool whole_lists = k == static_cast<std::size_t>(lists_k);
+  auto listed = [=](std::uint32_t i, std::uint32_t j) {  // x_j in the first k of N(x_i)
+    if (whole_lists) {
+      const double d2 = (sample[j] - sample[i]).squaredNorm();
+      const auto r = static_cast<double>(radius[i]);
+      if (d2 < r * r * (1.0 - 1e-6)) return true;
+      if (d2 > r * r * (1.0 + 1e-6)) return false;
+    }
+    return lists(i, j);
+  };
 
   // The graph is laid out directly in CSR form (no edge list to sort). Row
   // i holds, in this order: i's own kept neighbours (nearest first), the
@@ -105,23 +121,33 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
       if (j == i || is_gap(i, j)) continue;
       ++own[i];
       std::uint64_t bits = 1;
-      if (!lists(j, i)) {
+      if (!listed(j, i)) {
         bits |= 2;
         AtomicRef<std::uint32_t>(degree[j]).fetch_add(1, std::memory_order_relaxed);
       }
       marks[i * words + e / 32] |= bits << (2 * (e % 32));
     }
   }
+  // Each EMST edge is a gap, or in the lists already, or an edge of its own
+  // (told apart in parallel, collected in the tree's order).
+  enum : std::uint8_t { in_lists, extra_edge, gap_edge };
+  std::vector<std::uint8_t> kind(result.emst.size());
+  const auto emst_count = static_cast<std::int64_t>(result.emst.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t s = 0; s < emst_count; ++s) {
+    const Edge& e = result.emst[static_cast<std::size_t>(s)];
+    kind[static_cast<std::size_t>(s)] = is_gap(e.u, e.v)                               ? gap_edge
+                                        : !listed(e.u, e.v) && !listed(e.v, e.u) ? extra_edge
+                                                                                 : in_lists;
+  }
   std::vector<Edge> extra;  // EMST edges that neither end lists
   std::vector<Edge> gaps;
-  for (const Edge& e : result.emst) {
-    if (is_gap(e.u, e.v)) {
-      ++result.gap_emst_edges;
-      gaps.push_back(e);
-    } else if (!lists(e.u, e.v) && !lists(e.v, e.u)) {
-      extra.push_back(e);
-    }
+  for (std::size_t s = 0; s < kind.size(); ++s) {
+    if (kind[s] == gap_edge) gaps.push_back(result.emst[s]);
+    if (kind[s] == extra_edge) extra.push_back(result.emst[s]);
   }
+  result.gap_emst_edges = gaps.size();
+  kind = {};
   for (const Edge& e : extra) {
     ++degree[e.u];
     ++degree[e.v];

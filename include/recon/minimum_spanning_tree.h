@@ -8,11 +8,20 @@
 // leaves the heap only after its parent did, so `order` lists the vertices
 // parents-first: walking it is a traversal of the tree from the root with
 // no recursion. Cost O(E log V).
+//
+// As in the textbook, each vertex also has its key in an array of its own:
+// +infinity until an edge reaches it, -infinity once it is in the tree. One
+// comparison against that array decides an edge (is it a cheaper way into
+// the tree for a vertex outside it?), where asking "in the tree?" and then
+// "cheaper than its key in the heap?" took two hard-to-predict branches per
+// edge: on phase II's graph of a million points (21 edge ends a vertex, one
+// in four of them lowering a key) Prim took 9 % less time.
 
 #include "recon/binary_heap.h"
 #include "recon/graph.h"
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -31,7 +40,8 @@ struct SpanningForest {
 /// unreached then start trees of their own, smallest index first.
 /// Ties between equal weights go to the smaller vertex index, so the forest
 /// is deterministic. `weight(v, e)` gives the weight of the edge at CSR
-/// position e of row v (graph.targets[e] is its other end).
+/// position e of row v (graph.targets[e] is its other end); an edge of
+/// infinite or NaN weight is never taken.
 template <class Weight>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph, std::span<const std::uint32_t> roots,
                                                           Weight&& weight) {
@@ -39,22 +49,40 @@ template <class Weight>
   SpanningForest forest;
   forest.parent.assign(n, SpanningForest::no_parent);
   forest.order.reserve(n);
-  std::vector<std::uint8_t> in_tree(n, 0);
+  constexpr double unreached = std::numeric_limits<double>::infinity();
+  constexpr double in_tree = -std::numeric_limits<double>::infinity();
+  std::vector<double> key(n, unreached);
   IndexedBinaryHeap<double> heap(n);
 
+  // (Raw pointers: the inner loop runs once per edge end, 21 million times
+  // at a million points, and the compiler cannot keep vectors' data in
+  // registers across the heap's calls.)
+  const std::uint64_t* const offsets = graph.offsets.data();
+  const std::uint32_t* const targets = graph.targets.data();
+  double* const key_of = key.data();
+  std::uint32_t* const parent = forest.parent.data();
+
   auto grow = [&](std::uint32_t root) {
-    if (in_tree[root]) return;
+    if (key_of[root] == in_tree) return;
     forest.roots.push_back(root);
     heap.push(root, 0.0);
     while (!heap.empty()) {
       const double w = heap.top_key();
       const std::uint32_t v = heap.pop();
-      in_tree[v] = 1;
+      key_of[v] = in_tree;
       forest.order.push_back(v);
-      if (forest.parent[v] != SpanningForest::no_parent) forest.total_weight += w;
-      for (std::uint64_t e = graph.offsets[v]; e < graph.offsets[v + 1]; ++e) {
-        const std::uint32_t u = graph.targets[e];
-        if (!in_tree[u] && heap.push_or_decrease(u, weight(v, e))) forest.parent[u] = v;
+      if (parent[v] != SpanningForest::no_parent) forest.total_weight += w;
+      for (std::uint64_t e = offsets[v]; e < offsets[v + 1]; ++e) {
+        const std::uint32_t u = targets[e];
+        const double c = weight(v, e);
+        if (!(c < key_of[u])) continue;  // u is in the tree, or has a key no larger
+        if (key_of[u] == unreached) {
+          heap.push(u, c);
+        } else {
+          heap.decrease_key(u, c);
+        }
+        key_of[u] = c;
+        parent[u] = v;
       }
     }
   };
