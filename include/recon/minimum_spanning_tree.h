@@ -41,7 +41,7 @@ struct SpanningForest {
 /// Ties between equal weights go to the smaller vertex index, so the forest
 /// is deterministic. `weight(v, e)` gives the weight of the edge at CSR
 /// position e of row v (graph.targets[e] is its other end); an edge of
-/// infinite or NaN weight is never taken.
+/// infinite weight is never taken. Precondition: no weight is NaN.
 template <class Weight>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph, std::span<const std::uint32_t> roots,
                                                           Weight&& weight) {
