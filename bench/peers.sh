@@ -4,7 +4,7 @@
 # Wall time, peak memory and orientation accuracy against the true normals of
 # a generated torus; writes bench/results/peers.md.
 #
-#   bench/peers.sh                        # 100k and 1M points: about 25 minutes on 2 cores
+#   bench/peers.sh                        # 100k and 1M points: 10-25 minutes on 2 cores (Open3D and PCL at 1M take most of it)
 #   PEERS_POINTS=20000 PEERS_OUTPUT=/tmp/peers.md bench/peers.sh   # a quick check
 #
 #   PEERS_POINTS      point counts, space-separated (default "100000 1000000")
