@@ -7,6 +7,7 @@
 #include "recon/errors.h"
 #include "recon/fp_traps.h"
 #include "recon/io/atomic_file.h"
+#include "recon/io/point_io.h"  // file_being_read
 #include "recon/parallel.h"
 
 #include <csignal>
@@ -35,11 +36,37 @@ extern "C" void on_interrupt(int signal_number) {
   std::raise(signal_number);
 }
 
+// SIGBUS while an input file is mapped: another program shortened the file
+// while recon was reading it (or the storage failed under it). The read
+// cannot go on; like any other error: one line naming the file, unfinished
+// outputs removed, exit status 1. A SIGBUS with no input being read is not
+// this, and ends the program as it would have.
+extern "C" void on_bus_error(int signal_number) {
+  const char* file = recon::io::file_being_read();
+  if (file[0] == '\0') {
+    std::signal(signal_number, SIG_DFL);
+    std::raise(signal_number);
+    return;
+  }
+  recon::io::remove_pending_temporaries();
+  auto say = [](const char* text) {
+    std::size_t length = 0;
+    while (text[length] != '\0') ++length;
+    [[maybe_unused]] const ssize_t ignored = ::write(STDERR_FILENO, text, length);
+  };
+  say("recon: error: ");
+  say(file);
+  say(": the file was shortened, or could not be read, while recon was reading it\n");
+  ::_exit(1);
+}
+
 void stop_cleanly_on_interrupt() {
   struct sigaction action = {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
   for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal_number, &action, nullptr);
+  action.sa_handler = on_bus_error;
+  sigaction(SIGBUS, &action, nullptr);
 }
 }  // namespace
 

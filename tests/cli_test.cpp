@@ -353,6 +353,32 @@ TEST_F(CliErrors, BadFilesOfEveryKindAreOneLineAndExitOne) {
   EXPECT_FALSE(fs::exists(at("out.ply")));
 }
 
+// recon maps its input; when another program shortens the file meanwhile,
+// reading the pages cut off raises SIGBUS. That must end like any other
+// bad input: one line naming the file, exit status 1, no output left.
+TEST_F(CliErrors, AnInputShortenedWhileReadIsNamed) {
+  {
+    std::ofstream big(at("big.xyz"));
+    std::string block;
+    for (int i = 0; i < 1000; ++i) block += std::to_string(i) + " " + std::to_string(i % 37) + " 0.5\n";
+    for (int i = 0; i < 10000; ++i) big << block;  // about 100 MB: a read of a tenth of a second or more
+  }
+  // Start recon, wait until its mapping of the file appears, cut the file
+  // to one page.
+  const fs::path err = at("stderr.txt");
+  const std::string command = "cd " + shell_quoted(work_folder().string()) + " && { " + shell_quoted(RECON_CLI_PATH) +
+                              " info big.xyz </dev/null >/dev/null 2>stderr.txt & pid=$!; " +
+                              "while [ -e /proc/$pid ] && ! grep -q big.xyz /proc/$pid/maps 2>/dev/null; do :; done; " +
+                              "truncate -s 4096 big.xyz; wait $pid; exit $?; }";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(status != -1 && WIFEXITED(status)) << status;
+  const std::string message = read_bytes(err);
+  fs::remove(err);
+  EXPECT_EQ(WEXITSTATUS(status), 1) << message;
+  EXPECT_EQ(message, "recon: error: big.xyz: the file was shortened, or could not be read, while recon was reading it\n");
+  EXPECT_EQ(entries(), (std::vector<std::string>{"big.xyz"}));
+}
+
 TEST_F(CliErrors, TruncatedBinaryPlyNamesTheByte) {
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 200, "whole.ply"));
   const std::string whole = read_bytes(at("whole.ply"));

@@ -1,7 +1,11 @@
 #include "io_detail.h"
 
 #include "recon/errors.h"
+#include "recon/io/point_io.h"  // file_being_read
+#include "recon/resource_usage.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -16,8 +20,28 @@
 
 namespace recon::io::detail {
 
+namespace {
+
+// The mapped file being read, for a SIGBUS handler (file_being_read()): a
+// plain array, written before the mapping is handed out and cleared when
+// it is unmapped, by the thread that reads it.
+char being_read[4096] = "";
+
+void note_being_read(const std::string& name) noexcept {
+  const std::size_t length = std::min(name.size(), sizeof being_read - 1);
+  std::memcpy(being_read, name.data(), length);
+  being_read[length] = '\0';
+  std::atomic_signal_fence(std::memory_order_release);
+}
+
+}  // namespace
+
 FileContent::~FileContent() {
-  if (map_ != nullptr) ::munmap(const_cast<void*>(map_), size_);
+  if (map_ != nullptr) {
+    being_read[0] = '\0';
+    std::atomic_signal_fence(std::memory_order_release);
+    ::munmap(const_cast<void*>(map_), size_);
+  }
 }
 
 namespace {
@@ -37,8 +61,13 @@ class Descriptor {
   int fd_;
 };
 
-/// Reads until the end (pipes, character devices, files that cannot be mapped).
-std::string read_to_end(int fd, const std::string& name) {
+/// Reads until the end (pipes, character devices, files that cannot be
+/// mapped), refusing more than `limit` bytes.
+std::string read_to_end(int fd, const std::string& name, std::size_t limit) {
+  if (limit == 0) {
+    const std::size_t physical = physical_memory_bytes();
+    limit = physical > 0 ? physical / 2 : std::size_t{4'000'000'000};
+  }
   std::string content;
   std::size_t used = 0;
   constexpr std::size_t chunk = std::size_t{1} << 20;
@@ -51,6 +80,10 @@ std::string read_to_end(int fd, const std::string& name) {
     }
     if (got == 0) break;
     used += static_cast<std::size_t>(got);
+    if (used > limit)
+      throw IoError(name + ": more than " + std::to_string(limit) +
+                    " bytes from a stream, which recon holds whole in memory (a pipe or device, not a file it can "
+                    "map): save it to a file first");
   }
   content.resize(used);
   return content;
@@ -58,7 +91,7 @@ std::string read_to_end(int fd, const std::string& name) {
 
 }  // namespace
 
-FileContent read_file(const std::filesystem::path& path) {
+FileContent read_file(const std::filesystem::path& path, std::size_t stream_limit) {
   const std::string name = path.string();
   const Descriptor fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
   if (fd.get() < 0) {
@@ -71,15 +104,29 @@ FileContent read_file(const std::filesystem::path& path) {
   if (S_ISDIR(status.st_mode)) throw IoError(name + ": cannot open: it is a folder, not a file");
   // Pipes and devices cannot be mapped; files of /proc and the like say they
   // are empty and are not: read those, an empty file reads as empty anyway.
-  if (!S_ISREG(status.st_mode) || status.st_size == 0) return FileContent(read_to_end(fd.get(), name));
+  if (!S_ISREG(status.st_mode) || status.st_size == 0) return FileContent(read_to_end(fd.get(), name, stream_limit));
 
   const auto size = static_cast<std::size_t>(status.st_size);
   void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd.get(), 0);
-  if (map == MAP_FAILED) return FileContent(read_to_end(fd.get(), name));  // e.g. a file system without mmap
+  if (map == MAP_FAILED) return FileContent(read_to_end(fd.get(), name, stream_limit));  // e.g. a file system without mmap
   // The readers walk the file from the front: let the kernel read ahead.
   static_cast<void>(::madvise(map, size, MADV_SEQUENTIAL));
+  note_being_read(name);
   return FileContent(map, size);  // the mapping outlives the descriptor
 }
+
+}  // namespace recon::io::detail
+
+namespace recon::io {
+
+const char* file_being_read() noexcept {
+  std::atomic_signal_fence(std::memory_order_acquire);
+  return detail::being_read;
+}
+
+}  // namespace recon::io
+
+namespace recon::io::detail {
 
 namespace {
 // "FILE" + separator + location + ": " + what, thrown as a ParseError.

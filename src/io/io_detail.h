@@ -31,7 +31,9 @@ namespace recon::io::detail {
 /// pages before it is refused, and a large valid file is not held twice. A
 /// pipe or another file that cannot be mapped is read into memory instead.
 /// The view is valid while the object lives; the file must not be shortened
-/// meanwhile (reading a page cut off the end of a mapped file is fatal).
+/// meanwhile: reading a page cut off the end of a mapped file raises
+/// SIGBUS, which the program turns into an error naming the file (see
+/// file_being_read() in point_io.h).
 class FileContent {
  public:
   FileContent() = default;
@@ -63,8 +65,11 @@ class FileContent {
 
 /// The content of the file at `path` (see FileContent). Throws IoError
 /// "FILE: cannot open: reason" when the file is missing, is a folder or
-/// cannot be read.
-[[nodiscard]] FileContent read_file(const std::filesystem::path& path);
+/// cannot be read, and "FILE: more than N bytes ..." when a stream (a pipe,
+/// a device: what is read whole, not mapped) goes on beyond `stream_limit`
+/// bytes (0: half the physical memory, or 4 GB where that is unknown).
+/// While a mapped file's content lives, file_being_read() names it.
+[[nodiscard]] FileContent read_file(const std::filesystem::path& path, std::size_t stream_limit = 0);
 
 /// The longest line the text readers accept, in bytes. Real point files have
 /// lines of a few dozen bytes; a longer line means binary data or garbage,

@@ -81,7 +81,7 @@ PointFormat point_format_from_path(const std::filesystem::path& path) {
 PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options) {
   const PointFormat format = resolve(path, options.format);
   const std::string file = path.string();
-  const detail::FileContent file_content = detail::read_file(path);
+  const detail::FileContent file_content = detail::read_file(path, options.max_stream_bytes);
   const std::string_view content = file_content.view();
   if (content.empty()) detail::fail_in_file(file, "the file is empty");
   switch (format) {

@@ -324,6 +324,39 @@ TEST(BadFiles, PipeIsReadWithoutAMap) {
   EXPECT_EQ(cloud.positions[1], Vec3(4, 5, 6));
 }
 
+TEST(BadFiles, AStreamBeyondItsLimitIsRefused) {
+  // /dev/zero never ends: a stream is held whole in memory, so it must stop
+  // at the limit (by default half the machine's memory) with a message.
+  const std::string message = message_of<IoError>([&] {
+    static_cast<void>(read_points("/dev/zero", {.format = PointFormat::xyz, .max_stream_bytes = 3 << 20}));
+  });
+  EXPECT_TRUE(message.starts_with("/dev/zero: more than 3145728 bytes from a stream")) << message;
+  EXPECT_CONTAINS(message, "save it to a file first");
+  // Within the limit, a pipe reads as before.
+  TempFolder folder;
+  const std::filesystem::path fifo = folder / "points.xyz";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer([&] { write_file(fifo, "1 2 3\n4 5 6\n"); });
+  const PointCloud cloud = read_points(fifo, {.max_stream_bytes = 12});
+  writer.join();
+  EXPECT_EQ(cloud.size(), 2U);
+}
+
+// file_being_read() names a mapped input only while a reader works on it
+// (the program's SIGBUS handler relies on it; CliErrors.AnInputShortened
+// WhileReadIsNamed sees the name in the middle of a read): before and after
+// a read, and after a read that failed, it is empty.
+TEST(BadFiles, NoFileIsBeingReadBeforeOrAfterAReader) {
+  TempFolder folder;
+  write_file(folder / "points.xyz", "1 2 3\n4 5 6\n");
+  write_file(folder / "bad.xyz", "1 2 3\nx\n");
+  EXPECT_STREQ(file_being_read(), "");
+  static_cast<void>(read_points(folder / "points.xyz"));
+  EXPECT_STREQ(file_being_read(), "");
+  static_cast<void>(message_of<ParseError>([&] { static_cast<void>(read_points(folder / "bad.xyz")); }));
+  EXPECT_STREQ(file_being_read(), "");
+}
+
 // --------------------------------------------------------------------------
 // Several gigabytes of garbage
 

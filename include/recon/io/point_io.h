@@ -35,7 +35,8 @@
 //          with a hint to convert the file.
 //
 // The file is mapped into memory read-only (mmap), not copied; a pipe or
-// another file that cannot be mapped is read whole. Readers look no further
+// another file that cannot be mapped is read whole, up to a limit
+// (ReadPointsOptions::max_stream_bytes). Readers look no further
 // than they need, so a bad file is refused after its first pages, however
 // large, and a header count never sizes an allocation beyond what the file
 // could hold. Numbers are parsed with std::from_chars; in PLY and PCD text
@@ -58,12 +59,14 @@
 // PCD's all-NaN points are not counted: they are skipped (see above).
 // "FILE: the file is empty" and "FILE: no points ..." when there is nothing
 // to read. IoError "FILE: cannot open: reason" when the file is missing, a
-// folder or unreadable, "FILE: cannot read: reason" when reading fails;
+// folder or unreadable, "FILE: cannot read: reason" when reading fails,
+// "FILE: more than N bytes from a stream ..." beyond max_stream_bytes;
 // InvalidInputError for an unknown format name or extension (the message
 // lists the known ones and the --format option).
 
 #include "recon/point_cloud.h"
 
+#include <cstddef>
 #include <filesystem>
 #include <string_view>
 
@@ -78,9 +81,19 @@ enum class PointFormat { automatic, ply, xyz, pts, obj, off, pcd };
 
 struct ReadPointsOptions {
   PointFormat format = PointFormat::automatic;  ///< automatic: from the extension
+  /// A stream (pipe, device) is held whole in memory: IoError "FILE: more
+  /// than N bytes from a stream ..." beyond this; 0: half the physical memory.
+  std::size_t max_stream_bytes = 0;
 };
 
 [[nodiscard]] PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options = {});
+
+/// The mapped input file a reader of this library is reading at this
+/// moment, or "" when none. Reading a page that another program cut off the
+/// end of a mapped file (by shortening the file meanwhile) raises SIGBUS
+/// instead of returning an error; a program's SIGBUS handler can name the
+/// file with this. Async-signal-safe.
+[[nodiscard]] const char* file_being_read() noexcept;
 
 struct WritePointsOptions {
   PointFormat format = PointFormat::automatic;  ///< ply or xyz; automatic: from the extension
