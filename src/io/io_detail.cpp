@@ -311,10 +311,15 @@ void PointChecker::check(const Vec3& v, std::size_t location, const std::string_
   }
 }
 
-void PointChecker::report(std::string_view file) const {
+void PointChecker::report(std::string_view file, bool vertices) const {
   if (positions_.count == 0 && normals_.count == 0) return;
   const auto describe = [&](const Found& found, std::string_view what) {
-    std::string text = std::to_string(found.count) + (found.count == 1 ? " point has " : " points have ");
+    std::string text = std::to_string(found.count);
+    if (vertices) {
+      text += found.count == 1 ? " vertex has " : " vertices have ";
+    } else {
+      text += found.count == 1 ? " point has " : " points have ";
+    }
     text += what;
     text += binary_ ? "; the first at byte " : "; the first at line ";
     text += std::to_string(found.location) + " (" + found.first + ")";

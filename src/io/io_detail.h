@@ -314,8 +314,8 @@ class PointChecker {
   void take_normals(const PointChecker& other) { normals_ = other.normals_; }
   /// Throws ParseError "FILE: 3 points have a coordinate that is not finite
   /// or beyond +-1e+15; the first at line 17 (z = inf)" (and the same for
-  /// normals) when anything was found.
-  void report(std::string_view file) const;
+  /// normals) when anything was found; "vertices" for a mesh reader.
+  void report(std::string_view file, bool vertices = false) const;
 
  private:
   struct Found {

@@ -131,7 +131,7 @@ PointCloud read_obj_points(std::string_view file, std::string_view content) {
 Mesh read_obj_mesh(std::string_view file, std::string_view content) {
   ObjContent obj = parse_obj(file, content, true);
   if (obj.triangles.empty()) fail_in_file(file, "no triangles: the file has no 'f' line");
-  obj.position_checker.report(file);
+  obj.position_checker.report(file, true);
   Mesh mesh;
   mesh.vertices = std::move(obj.positions);
   mesh.triangles = std::move(obj.triangles);

@@ -94,8 +94,9 @@ struct OffReader {
   }
 
   /// The vertices (and their normals for NOFF); non-finite or huge values
-  /// are counted and refused after the last vertex.
-  std::vector<Vec3> read_vertices(std::vector<Vec3>& normal_list) {
+  /// are counted and refused after the last vertex (called points or
+  /// vertices in the message, as the caller reads a cloud or a mesh).
+  std::vector<Vec3> read_vertices(std::vector<Vec3>& normal_list, bool for_mesh) {
     std::vector<Vec3> positions;
     // A vertex line takes at least five bytes ("0 0 0"): never reserve more than the file can hold.
     const std::uint64_t room = (content.size() - lines.position()) / 5 + 1;
@@ -124,7 +125,7 @@ struct OffReader {
       if (normals)
         checker.normal(normal_list.emplace_back(values[3], values[4], values[5]), lines.line_number(), normal_names);
     }
-    checker.report(file);
+    checker.report(file, for_mesh);
     return positions;
   }
 
@@ -182,7 +183,7 @@ PointCloud read_off_points(std::string_view file, std::string_view content) {
   OffReader reader = start(file, content);
   if (reader.vertex_count == 0) fail_in_file(file, "no points: the header declares 0 vertices");
   PointCloud cloud;
-  cloud.positions = reader.read_vertices(cloud.normals);
+  cloud.positions = reader.read_vertices(cloud.normals, false);
   return cloud;
 }
 
@@ -191,7 +192,7 @@ Mesh read_off_mesh(std::string_view file, std::string_view content) {
   if (reader.face_count == 0) fail_in_file(file, "no triangles: the header declares 0 faces");
   Mesh mesh;
   std::vector<Vec3> ignored_normals;
-  mesh.vertices = reader.read_vertices(ignored_normals);
+  mesh.vertices = reader.read_vertices(ignored_normals, true);
   mesh.triangles = reader.read_faces();
   return mesh;
 }

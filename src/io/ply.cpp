@@ -346,7 +346,7 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
     fail_at_line(file, tokens.line_number(),
                  "unexpected " + excerpt(token) +
                      " after the last element: the file holds more values than its header declares");
-  checker.report(file);
+  checker.report(file, wanted.face_element != Wanted::none);
 }
 
 void read_binary_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
@@ -448,7 +448,7 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
     }
   }
   // Bytes after the last element are ignored (some writers end with a newline).
-  checker.report(file);
+  checker.report(file, wanted.face_element != Wanted::none);
 }
 
 PlyContent read_ply(std::string_view file, std::string_view content, bool faces) {

@@ -3,6 +3,7 @@
 // reader, and their errors.
 
 #include "recon/io/mesh_io.h"
+#include "recon/io/point_io.h"
 
 #include "recon/mesh.h"
 
@@ -21,6 +22,7 @@ namespace {
 
 using testing::Bytes;
 using testing::message_of;
+using testing::read_bytes;
 using testing::TempFolder;
 using testing::write_file;
 
@@ -222,6 +224,39 @@ TEST(MeshIo, Errors) {
     EXPECT_CONTAINS(message, c.where);
     EXPECT_CONTAINS(message, c.what);
   }
+}
+
+// A mesh reader counts bad coordinates as vertices; the point reader of the
+// same file counts them as points.
+TEST(MeshIo, NonFiniteCoordinatesAreCountedAsVertices) {
+  TempFolder folder;
+  const std::pair<const char*, std::string> files[] = {
+      {"v.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+       "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 nan 0\n0 1 inf\n3 0 1 2\n"},
+      {"v.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 inf\nf 1 2 3\n"},
+      {"v.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 inf\n3 0 1 2\n"},
+  };
+  for (const auto& [name, content] : files) {
+    write_file(folder / name, content);
+    EXPECT_CONTAINS(read_error(folder / name), ": 2 vertices have a coordinate that is not finite or beyond +-1e+15");
+    const std::string as_points =
+        message_of<ParseError>([&] { static_cast<void>(read_points(folder / name)); });
+    EXPECT_CONTAINS(as_points, ": 2 points have a coordinate that is not finite or beyond +-1e+15");
+  }
+  write_file(folder / "one.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_CONTAINS(read_error(folder / "one.obj"), ": 1 vertex has a coordinate");
+  // Binary PLY too.
+  Mesh mesh;
+  mesh.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  mesh.triangles = {{0, 1, 2}};
+  write_mesh(folder / "b.ply", mesh);
+  std::string bytes = read_bytes(folder / "b.ply");
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(bytes.data() + body + 3 * sizeof(double), &nan, sizeof nan);  // vertex 1's x
+  write_file(folder / "b.ply", bytes);
+  EXPECT_CONTAINS(read_error(folder / "b.ply"), ": 1 vertex has a coordinate that is not finite");
 }
 
 TEST(MeshIo, BinaryPlyIndexOutOfRangeSaysWhere) {
