@@ -212,9 +212,9 @@ test('a report of recon normals has layers 1 to 5, and the others are unavailabl
 
 // The issue asks for a 1M-point input to give a report that loads in a few
 // seconds; the page is drawn by software (SwiftShader) here. The machine is
-// shared: another tenant of the host has made the same opening take 7 to 30
-// s in one CI run against 0.6 to 3 s in others, and it slowed every test of
-// that run alike. So each opening is measured twice: its wall time, and the
+// shared: something outside the test (most likely another tenant of the
+// host) made the same opening take 7 to 30 s in one CI run against 0.6 to
+// 3 s in others, and slowed every test of that run alike. So each opening is measured twice: its wall time, and the
 // processor time the browser's processes took for it, which is the work
 // the page needs whatever else the machine does (processor_time.mjs). The
 // page passes when one of up to three openings is shown within 5 s by
