@@ -5,7 +5,8 @@
 #include "recon/errors.h"
 #include "recon/io/curve_io.h"
 #include "recon/parallel.h"
-#include "recon/reconstruct.h"  // default_memory_limit, check_memory_planes_and_graph
+#include "recon/reconstruct.h"  // check_memory_planes_and_graph
+#include "recon/resource_usage.h"  // default_memory_limit
 #include "recon/reconstruct_curve.h"
 #include "recon/timer.h"
 

@@ -195,8 +195,9 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
     for (std::int64_t s = 0; s < root_count; ++s) {
       const std::uint32_t r = roots[static_cast<std::size_t>(s)];
       const std::uint32_t h = hook[r];
-      place[static_cast<std::size_t>(s)] = h == r || (hook[h] == r && h < r) ? 0 : 1;
-      merged_into[r] = hook[h] == r && r < h ? r : h;
+      const bool pair = h != r && hook[h] == r;  // r and h chose each other
+      place[static_cast<std::size_t>(s)] = h == r || (pair && h < r) ? 0 : 1;
+      merged_into[r] = pair && r < h ? r : h;
     }
     std::inclusive_scan(place.begin(), place.begin() + root_count, place.begin());  // kept up to and including s
     const std::size_t first = edges.size();
@@ -219,9 +220,8 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
       // hook <- merged_into, then merged_into <- its own target's target:
       // two arrays, so that no pass reads what it writes.
       for_roots([&](std::uint32_t r) { hook[r] = merged_into[r]; });
-      const auto m = static_cast<std::int64_t>(roots.size());
 #pragma omp parallel for schedule(static) reduction(|| : moved)
-      for (std::int64_t s = 0; s < m; ++s) {
+      for (std::int64_t s = 0; s < root_count; ++s) {
         const std::uint32_t r = roots[static_cast<std::size_t>(s)];
         const std::uint32_t next = hook[hook[r]];
         moved = moved || next != hook[r];

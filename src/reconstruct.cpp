@@ -190,11 +190,6 @@ void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, doubl
 
 }  // namespace
 
-std::size_t default_memory_limit() {
-  const std::size_t physical = physical_memory_bytes();
-  return physical > 0 ? physical / 2 : std::size_t{4'000'000'000};
-}
-
 double estimated_bytes_planes_and_graph(std::size_t points, int k) {
   const auto n = static_cast<double>(points);
   const double per_point = std::max(bytes_per_point_planes + bytes_per_neighbour_planes * k,

@@ -55,4 +55,9 @@ std::size_t physical_memory_bytes() {
   return pages > 0 && page > 0 ? static_cast<std::size_t>(pages) * static_cast<std::size_t>(page) : 0;
 }
 
+std::size_t default_memory_limit() {
+  const std::size_t physical = physical_memory_bytes();
+  return physical > 0 ? physical / 2 : std::size_t{4'000'000'000};
+}
+
 }  // namespace recon

@@ -4,6 +4,7 @@
 
 #include "recon/marching_cubes.h"
 #include "recon/orientation.h"
+#include "recon/resource_usage.h"  // default_memory_limit
 #include "recon/signed_distance.h"
 #include "recon/tangent_planes.h"
 
@@ -101,8 +102,7 @@ struct Reconstruction {
 /// from peaks measured on this implementation, and refuses with
 /// ResourceLimitError when the estimate exceeds ReconstructionOptions::
 /// max_memory: the message gives the estimate, the limit and what to change.
-/// Half the physical memory (4 GB when it cannot be read).
-[[nodiscard]] std::size_t default_memory_limit();
+/// The default limit is default_memory_limit() (resource_usage.h).
 /// Bytes phases I and II hold at their peak for `points` points at k.
 [[nodiscard]] double estimated_bytes_planes_and_graph(std::size_t points, int k);
 /// Bytes held during the lattice walk: what phases I-II leave plus the cubes.

@@ -23,6 +23,11 @@ namespace recon {
 bool reset_peak_resident();
 /// Physical memory of the machine, in bytes (0 if unknown).
 [[nodiscard]] std::size_t physical_memory_bytes();
+/// What recon lets one run hold unless told otherwise: half the physical
+/// memory (4 GB when it cannot be read). reconstruct() refuses work
+/// estimated beyond it (ReconstructionOptions::max_memory), the readers a
+/// stream longer than it (ReadPointsOptions::max_stream_bytes).
+[[nodiscard]] std::size_t default_memory_limit();
 
 /// The peak of each step of a run: start(step) ends the step before (taking
 /// its peak) and resets the peak for the new one; finish() ends the last.

@@ -2,7 +2,7 @@
 
 #include "recon/errors.h"
 #include "recon/io/point_io.h"  // file_being_read
-#include "recon/resource_usage.h"
+#include "recon/resource_usage.h"  // default_memory_limit
 
 #include <algorithm>
 #include <atomic>
@@ -64,10 +64,7 @@ class Descriptor {
 /// Reads until the end (pipes, character devices, files that cannot be
 /// mapped), refusing more than `limit` bytes.
 std::string read_to_end(int fd, const std::string& name, std::size_t limit) {
-  if (limit == 0) {
-    const std::size_t physical = physical_memory_bytes();
-    limit = physical > 0 ? physical / 2 : std::size_t{4'000'000'000};
-  }
+  if (limit == 0) limit = default_memory_limit();
   std::string content;
   std::size_t used = 0;
   constexpr std::size_t chunk = std::size_t{1} << 20;
@@ -115,18 +112,6 @@ FileContent read_file(const std::filesystem::path& path, std::size_t stream_limi
   return FileContent(map, size);  // the mapping outlives the descriptor
 }
 
-}  // namespace recon::io::detail
-
-namespace recon::io {
-
-const char* file_being_read() noexcept {
-  std::atomic_signal_fence(std::memory_order_acquire);
-  return detail::being_read;
-}
-
-}  // namespace recon::io
-
-namespace recon::io::detail {
 
 namespace {
 // "FILE" + separator + location + ": " + what, thrown as a ParseError.
@@ -406,3 +391,8 @@ Vec3 parse_vec3(std::string_view file, std::size_t line, const std::string_view*
 }
 
 }  // namespace recon::io::detail
+
+const char* recon::io::file_being_read() noexcept {
+  std::atomic_signal_fence(std::memory_order_acquire);
+  return detail::being_read;
+}

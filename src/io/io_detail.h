@@ -67,7 +67,7 @@ class FileContent {
 /// "FILE: cannot open: reason" when the file is missing, is a folder or
 /// cannot be read, and "FILE: more than N bytes ..." when a stream (a pipe,
 /// a device: what is read whole, not mapped) goes on beyond `stream_limit`
-/// bytes (0: half the physical memory, or 4 GB where that is unknown).
+/// bytes (0: default_memory_limit(), half the physical memory).
 /// While a mapped file's content lives, file_being_read() names it.
 [[nodiscard]] FileContent read_file(const std::filesystem::path& path, std::size_t stream_limit = 0);
 

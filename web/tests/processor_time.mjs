@@ -46,10 +46,9 @@ export function descendantsProcessorSeconds() {
 }
 
 /// The whole machine's processor time so far, in seconds summed over its
-/// cores: busy (any process), idle, and stolen by the hypervisor.
+/// cores: busy (any process) and stolen by the hypervisor.
 export function machineSeconds() {
   const f = readFileSync('/proc/stat', 'utf8').split('\n')[0].trim().split(/\s+/).slice(1).map(Number);
-  const [user, nice, system, idle, iowait, irq, softirq, steal = 0] = f;
-  return { busy: (user + nice + system + irq + softirq) / ticksPerSecond, idle: (idle + iowait) / ticksPerSecond,
-    steal: steal / ticksPerSecond };
+  const [user, nice, system, , , irq, softirq, steal = 0] = f;  // (idle and iowait skipped)
+  return { busy: (user + nice + system + irq + softirq) / ticksPerSecond, steal: steal / ticksPerSecond };
 }
