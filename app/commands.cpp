@@ -273,6 +273,42 @@ void report_phases_3_4(const Reconstruction& r, Summary& summary) {
   m["seconds"] = c.seconds - c.seconds_field;
 }
 
+void report_quadrics(const LocalQuadrics& q, Summary& summary) {
+  std::ostringstream line;
+  line << "          second-order fits: " << plural(q.borrowed, "sample") << " near creases took a neighbour's, "
+       << plural(q.split, "neighbourhood") << " split between two sheets, " << plural(q.flat, "flat fit") << " ("
+       << format_seconds(q.seconds) << ")";
+  summary.say(line.str());
+  Json& s = summary.stats()["tangent_planes"]["quadrics"];
+  s["borrowed"] = q.borrowed;
+  s["split_sheets"] = q.split;
+  s["flat"] = q.flat;
+  s["seconds"] = q.seconds;
+}
+
+void report_refinement(const Refinement& r, Summary& summary) {
+  double moved = 0.0;
+  for (const float d : r.displacement) moved += static_cast<double>(d);
+  moved /= static_cast<double>(std::max<std::size_t>(1, r.displacement.size()));
+  std::ostringstream line;
+  line << "phase V   refinement: vertices moved " << format_length(moved) << " on average, "
+       << plural(r.crease_vertices, "crease vertex") << " added, " << r.brought_back
+       << " brought back onto a crease, " << plural(r.corner_vertices, "corner") << ", "
+       << plural(r.trimmed, "triangle") << " past open boundaries cut off, " << plural(r.fragments, "fragment") << " dropped (" << plural(r.fragment_triangles, "triangle")
+       << ") (" << format_seconds(r.seconds) << ")";
+  summary.say(line.str());
+  Json& s = summary.stats()["refinement"];
+  s["mean_displacement"] = moved;
+  s["crease_vertices"] = r.crease_vertices;
+  s["brought_back"] = r.brought_back;
+  s["corner_vertices"] = r.corner_vertices;
+  s["unmoved_vertices"] = r.unmoved;
+  s["trimmed_triangles"] = r.trimmed;
+  s["fragments"] = r.fragments;
+  s["fragment_triangles"] = r.fragment_triangles;
+  s["seconds"] = r.seconds;
+}
+
 void report_mesh(const Mesh& mesh, Summary& summary) {
   const MeshTopology t = analyze_topology(mesh);
   std::ostringstream line;
@@ -302,12 +338,19 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     std::filesystem::path output, stats, report;
     std::optional<double> delta, cell;
     std::optional<int> resolution;
-    bool ascii = false, use_normals = false;
+    bool ascii = false, use_normals = false, keep_fragments = false;
+    std::string method = "refined";
   };
   auto o = std::make_shared<Options>();
   add_input(app, o->in);
   app.add_option("-o,--output", o->output, "Mesh to write (.ply .obj .off .stl); for 2D points, curves (.svg .obj .txt)")
       ->required();
+  app.add_option("--method", o->method,
+                 "refined (default: second-order fits, a finer lattice, the mesh moved onto the fitted surface, "
+                 "creases sharpened, fragments dropped) or hoppe92 (the 1992 paper's four phases exactly)")
+      ->check(CLI::IsMember({"refined", "hoppe92"}));
+  app.add_flag("--keep-fragments", o->keep_fragments,
+               "Keep small mesh components next to larger ones drawn from the same data (refined)");
   add_phase_options(app, o->phases);
   app.add_option("--delta", o->delta, "Noise level, a length (default: estimated from the tangent-plane fits)")
       ->check(CLI::NonNegativeNumber);
@@ -344,6 +387,8 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     const std::size_t points = cloud.size();
 
     ReconstructionOptions options;
+    options.method = method_from_name(o->method);
+    options.refinement.keep_fragments = o->keep_fragments;
     options.planes = phase_1_options(o->phases);
     options.distance.delta = o->delta;
     options.cell = o->cell;
@@ -364,16 +409,19 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     memory.start("summary");  // the mesh's topology, for the report below
 
     report_phase_1(r.planes, points, summary);
+    summary.stats()["method"] = method_name(r.method);
+    if (r.quadrics) report_quadrics(*r.quadrics, summary);
     if (r.oriented) {
       report_phase_2(*r.oriented, summary);
     } else {
       summary.say("phase II  skipped: the input's normals are used");
     }
     report_phases_3_4(r, summary);
-    report_mesh(r.contour.mesh, summary);
+    if (r.refinement) report_refinement(*r.refinement, summary);
+    report_mesh(r.mesh(), summary);
     memory.start("write");
     Timer timer;
-    io::write_mesh(o->output, r.contour.mesh, write_options);
+    io::write_mesh(o->output, r.mesh(), write_options);
     report_memory(memory, summary);
     summary.say("wrote     " + o->output.string() + " (" + format_seconds(timer.elapsed()) + "); total " +
                 format_seconds(total.elapsed()));

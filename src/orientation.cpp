@@ -1,11 +1,83 @@
 #include "recon/orientation.h"
 
+#include "recon/errors.h"
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <span>
+#include <cmath>
+#include <limits>
 #include <utility>
 
 namespace recon {
+namespace {
+
+// sign_by_extremes (see the header). The offer of one direction, per
+// component: the sample within two neighbourhood radii of the extreme whose
+// normal is best aligned with the direction, and whether it points along it.
+struct Offer {
+  double alignment = -1.0;
+  bool outward = true;
+};
+
+template <int D>
+std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const OrientedNormals<D>& result, int axis,
+                                double sign) {
+  const std::vector<std::uint32_t>& label = result.graph.components.label;
+  std::vector<double> top(result.graph.components.sizes.size(), -std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < label.size(); ++i) top[label[i]] = std::max(top[label[i]], sign * planes.origins[i][axis]);
+  std::vector<Offer> offer(top.size());
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    if (sign * planes.origins[i][axis] < top[label[i]] - 2.0 * static_cast<double>(planes.radius[i])) continue;
+    const double along = sign * result.normals[i][axis];
+    if (std::abs(along) > offer[label[i]].alignment) offer[label[i]] = {std::abs(along), along > 0.0};
+  }
+  return offer;
+}
+
+// Whether the edge (i, j) joins two facing sheets (see the header): the
+// planes nearly parallel, the edge steep to both, and the planes apart by
+// more than their fits' misfit (noise tilts short edges between neighbours
+// on one sheet, by no more than that).
+template <int D>
+bool joins_facing_sheets(const TangentPlanes<D>& planes, std::span<const float> misfit, std::uint32_t i,
+                         std::uint32_t j) {
+  constexpr double parallel = 0.9063077870366499;  // cos 25 degrees
+  const Vec<D>&n_i = planes.normals[i], &n_j = planes.normals[j];
+  if (std::abs(n_i.dot(n_j)) < parallel) return false;
+  const Vec<D> d = planes.origins[j] - planes.origins[i];
+  const double half = 0.25 * d.squaredNorm();  // sin^2 30 degrees
+  const double at_i = d.dot(n_i), at_j = d.dot(n_j);
+  const double apart = 3.0 * (static_cast<double>(misfit[i]) + static_cast<double>(misfit[j]));
+  return at_i * at_i > half && at_j * at_j > half && std::min(std::abs(at_i), std::abs(at_j)) > apart;
+}
+
+template <int D>
+std::size_t turn_components_outward(const TangentPlanes<D>& planes, OrientedNormals<D>& result) {
+  constexpr double well_aligned = 0.9063077870366499;  // cos 25 degrees
+  std::vector<Offer> best = offers_along<D>(planes, result, D - 1, 1.0);  // up: Hoppe's direction
+  std::vector<bool> decided(best.size());
+  for (std::size_t c = 0; c < best.size(); ++c) decided[c] = best[c].alignment >= well_aligned;
+  for (int axis = D - 1; axis >= 0; --axis)
+    for (const double sign : {1.0, -1.0}) {
+      if (axis == D - 1 && sign > 0.0) continue;
+      const std::vector<Offer> offer = offers_along<D>(planes, result, axis, sign);
+      for (std::size_t c = 0; c < best.size(); ++c)
+        if (!decided[c] && offer[c].alignment > best[c].alignment) best[c] = offer[c];
+    }
+  std::size_t turned = 0;
+  for (const Offer& o : best) turned += o.outward ? 0u : 1u;
+  if (turned == 0) return 0;
+  const std::vector<std::uint32_t>& label = result.graph.components.label;
+  for (std::size_t i = 0; i < label.size(); ++i)
+    if (!best[label[i]].outward) {
+      result.normals[i] = -result.normals[i];
+      result.flipped[i] ^= 1;
+    }
+  return turned;
+}
+
+}  // namespace
 
 template <int D>
 OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const OrientationOptions& options) {
@@ -28,16 +100,27 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
     if (r == UINT32_MAX || planes.origins[i][D - 1] > planes.origins[r][D - 1]) r = i;
   }
   const Graph& g = result.graph.graph;
+  std::span<const Vec<D>> guide(planes.normals);
+  if constexpr (D == 3) {
+    if (!options.guide.empty()) guide = options.guide;
+  }
+  if (guide.size() != n) throw InvalidInputError("orientation: the guide normals are not one per plane");
   result.tree = prim_minimum_spanning_forest(g, roots, [&](std::uint32_t v, std::uint64_t e) {
-    return orientation_cost<D>(planes.normals[v], planes.normals[g.targets[e]]);
+    return orientation_cost<D>(guide[v], guide[g.targets[e]]);
   });
 
-  result.normals = planes.normals;
+  result.normals.assign(guide.begin(), guide.end());
   result.flipped.assign(n, 0);
+  // Across an edge between facing sheets the normals must disagree.
+  auto reversed = [&](std::uint32_t a, std::uint32_t b) {
+    return !options.sheet_misfit.empty() && joins_facing_sheets<D>(planes, options.sheet_misfit, a, b);
+  };
   for (std::uint32_t v : result.tree.order) {
     const std::uint32_t p = result.tree.parent[v];
+    const bool across = p != SpanningForest::no_parent && reversed(v, p);
+    result.sheet_edges += across ? 1u : 0u;
     const bool flip = p == SpanningForest::no_parent ? result.normals[v][D - 1] < 0.0
-                                                     : result.normals[v].dot(result.normals[p]) < 0.0;
+                                                     : (result.normals[v].dot(result.normals[p]) < 0.0) != across;
     if (flip) {
       result.normals[v] = -result.normals[v];
       result.flipped[v] = 1;
@@ -56,7 +139,8 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
     for (std::int64_t s = 0; s < count; ++s) {
       const auto v = static_cast<std::uint32_t>(s);
       double agreement = 0.0;
-      for (const std::uint32_t u : g.neighbors(v)) agreement += result.normals[v].dot(result.normals[u]);
+      for (const std::uint32_t u : g.neighbors(v))
+        agreement += (reversed(v, u) ? -1.0 : 1.0) * result.normals[v].dot(result.normals[u]);
       turn[v] = agreement < 0.0 ? 1 : 0;
       turned += turn[v];
     }
@@ -68,6 +152,9 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
       }
     result.vote_flips += turned;
   }
+  if (options.sign_by_extremes) result.components_turned = turn_components_outward<D>(planes, result);
+  if (guide.data() != planes.normals.data())  // the signs found with the guide, on the planes' own normals
+    for (std::size_t i = 0; i < n; ++i) result.normals[i] = result.flipped[i] ? Vec<D>(-planes.normals[i]) : planes.normals[i];
   result.flip_count = static_cast<std::size_t>(std::count(result.flipped.begin(), result.flipped.end(), 1));
   result.seconds_mst = timer.lap();
   return result;

@@ -37,9 +37,18 @@ double chosen_cell(std::optional<double> cell, std::optional<int> resolution, co
 }
 
 double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes, const ReconstructionOptions& options) {
+  const double fallback = options.method == Method::hoppe92 ? planes.rho : planes.rho / std::numbers::sqrt2;
   return chosen_cell(
-      options.cell, options.resolution, [&] { return bounding_box<3>(points).extent().maxCoeff(); }, planes.rho);
+      options.cell, options.resolution, [&] { return bounding_box<3>(points).extent().maxCoeff(); }, fallback);
 }
+
+Method method_from_name(std::string_view name) {
+  if (name == "refined") return Method::refined;
+  if (name == "hoppe92") return Method::hoppe92;
+  throw InvalidInputError("unknown method '" + std::string(name) + "': use refined (the default) or hoppe92");
+}
+
+const char* method_name(Method method) { return method == Method::hoppe92 ? "hoppe92" : "refined"; }
 
 namespace {
 // Measured peaks (docs/benchmarks.md), rounded up: a million points at k = 20
@@ -102,7 +111,9 @@ class FirstWave {
         const auto e = unoriented_.evaluate(lattice.position(wave_->corner(c)), hint);
         hint = e.plane;
         plane_[c] = e.plane;
-        wave_->set_value(c, e.value ? *e.value : std::numeric_limits<double>::quiet_NaN());
+        // (A value that depends on the normals' signs beyond a flip is left
+        // to the walk, which evaluates it with the oriented normals.)
+        if (!e.by_orientation) wave_->set_value(c, e.value ? *e.value : std::numeric_limits<double>::quiet_NaN());
       }
     }
   }
@@ -135,12 +146,13 @@ class FirstWave {
 // one thread of its own while Prim runs, then every thread. With one
 // thread, the same work one after the other.
 void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, double cell,
-                            const ReconstructionOptions& options, FirstWave& wave, double& seconds_after) {
+                            const OrientationOptions& options, const SignedDistanceOptions& distance,
+                            FirstWave& wave, double& seconds_after) {
   const int threads = thread_count();
   if (threads <= 1) {
-    r.oriented = orient_normals<3>(r.planes, std::move(graph), options.orientation);
+    r.oriented = orient_normals<3>(r.planes, std::move(graph), options);
     Timer timer;
-    wave.prepare(r, cell, options.distance);
+    wave.prepare(r, cell, distance);
     wave.drain();
     wave.orient(r.oriented->flipped);
     seconds_after = timer.lap();
@@ -153,7 +165,7 @@ void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, doubl
   std::thread helper([&] {
     set_thread_count(1);  // this thread's own parallel regions (the refit): Prim has the other core
     try {
-      wave.prepare(r, cell, options.distance);
+      wave.prepare(r, cell, distance);
     } catch (...) {
       prepared.set_exception(std::current_exception());
       return;
@@ -167,7 +179,7 @@ void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, doubl
     r.seconds_distance_beside = beside.elapsed();
   });
   try {
-    r.oriented = orient_normals<3>(r.planes, std::move(graph), options.orientation);
+    r.oriented = orient_normals<3>(r.planes, std::move(graph), options);
   } catch (...) {
     wave.abandon();
     helper.join();
@@ -186,6 +198,32 @@ void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, doubl
   if (failure) std::rethrow_exception(failure);
   wave.orient(r.oriented->flipped);
   seconds_after = timer.lap();
+}
+
+// Phase I's second order (refined): the quadrics, whose origins and normals
+// replace the planes'. Phase I raises k where the residuals look like
+// noise; the two sheets of a thin part look the same (a residual that does
+// not grow with the neighbourhood). When most neighbourhoods turn out to
+// span two sheets, the raise is undone and the fits are made at the k asked for.
+void fit_second_order(Reconstruction& r, const ReconstructionOptions& options) {
+  r.quadrics = fit_local_quadrics(r.planes, options.quadrics);
+  if (r.planes.k > r.planes.k_requested && 4 * r.quadrics->split > r.planes.origins.size()) {
+    TangentPlaneOptions asked = options.planes;
+    asked.k = r.planes.k_requested;
+    asked.adapt_k = false;
+    const double seconds = r.planes.seconds_tree + r.planes.seconds_knn_pca + r.planes.seconds_spacing;
+    r.planes = estimate_tangent_planes<3>(std::move(r.planes.point_tree), asked);
+    r.planes.seconds_knn_pca += seconds;
+    const double first = r.quadrics->seconds;
+    r.quadrics = fit_local_quadrics(r.planes, options.quadrics);
+    r.quadrics->seconds += first;
+  }
+  r.planes.origins = std::move(r.quadrics->origins);
+  std::swap(r.planes.normals, r.quadrics->normals);  // phase I's stay there, to guide phase II (orientation.h)
+  r.quadrics->origins = {};
+  // The noise (phase III's delta is twice it) is now what the quadrics miss:
+  // the curvature a plane cannot follow, or a second sheet, is no noise.
+  r.planes.noise = r.quadrics->noise;
 }
 
 }  // namespace
@@ -215,6 +253,24 @@ void check_memory(double bytes, std::size_t limit, std::string_view what, std::s
   message += remedy;
   message += ", or raise --max-memory";
   throw ResourceLimitError(message);
+}
+
+namespace {
+// Phase III's options for a run: the refined method weighs 8 planes where
+// creases are near (signed_distance.h).
+SignedDistanceOptions phase_3_options(Method method, const SignedDistanceOptions& given,
+                                      const std::optional<LocalQuadrics>& quadrics) {
+  SignedDistanceOptions options = given;
+  if (!options.candidates) options.candidates = method == Method::refined ? 8 : 1;
+  if (quadrics && options.near_crease.empty()) options.near_crease = quadrics->near_crease;
+  return options;
+}
+}  // namespace
+
+SignedDistance<3> signed_distance_of(const Reconstruction& r) {
+  SignedDistanceOptions given;
+  given.delta = r.delta;
+  return make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, phase_3_options(r.method, given, r.quadrics));
 }
 
 Vec3 working_offset(std::span<const Vec3> points) {
@@ -253,6 +309,8 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   const double seconds_tree = tree_timer.lap();
   r.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
   r.planes.seconds_tree += seconds_tree;
+  r.method = options.method;
+  if (options.method == Method::refined) fit_second_order(r, options);
 
   // Refuse a lattice that would not fit before building anything large.
   const double cell = lattice_cell(r.points(), r.planes, options);
@@ -276,13 +334,23 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
     }
     r.planes.neighbors = {};
   }
+  // The refined method decides each component's side at its best extreme
+  // (orientation.h), and phase III's f picks its plane among 8 (signed_distance.h).
+  OrientationOptions orientation = options.orientation;
+  if (options.method == Method::refined) orientation.sign_by_extremes = true;
+  if (r.quadrics) {
+    orientation.sheet_misfit = r.quadrics->residual;
+    orientation.guide = r.quadrics->normals;
+  }
+  const SignedDistanceOptions distance = phase_3_options(options.method, options.distance, r.quadrics);
   FirstWave wave;  // phase III's values at the first wave's corners, computed beside phase II
   double seconds_known = 0.0;
   if (!options.use_input_normals) {
     starting("orientation");
-    RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, options.orientation.graph);
+    RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
     r.planes.neighbors = {};  // the graph's source, no longer needed
-    orient_with_first_wave(r, std::move(graph), cell, options, wave, seconds_known);
+    orient_with_first_wave(r, std::move(graph), cell, orientation, distance, wave, seconds_known);
+    if (r.quadrics) r.quadrics->normals = {};  // (the guide)
     if (!options.keep_graph) {
       r.oriented->graph.graph = {};
       r.oriented->graph.emst = {};
@@ -295,7 +363,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   // (Computed beside phase II, once the graph's construction has passed
   // its peak of memory: the two need not add up.)
   if (options.use_input_normals) r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
-  const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, options.distance);
+  const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, distance);
   r.delta = f.delta();
   r.delta_given = f.delta_given();
   r.seconds_distance_setup = timer.lap() + seconds_known;
@@ -310,8 +378,25 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
                         bytes_per_cube));
   r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc, options.keep_corners)
                            : marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
-  if (r.offset != Vec3::Zero())
+  if (options.method == Method::refined) {
+    starting("refinement");
+    RefinementInput input;
+    input.origins = r.planes.origins;
+    input.normals = r.planes.normals;
+    input.oriented = r.normals();
+    input.curvature = r.quadrics->curvature;
+    input.distance = &f;
+    input.spacing = r.planes.local_gap;
+    if (r.oriented) input.piece = r.oriented->graph.components.label;
+    RefinementOptions refinement = options.refinement;
+    if (refinement.max_move <= 0.0) refinement.max_move = cell;
+    r.refinement = refine_mesh(r.contour.mesh, input, refinement);
+  }
+  if (r.offset != Vec3::Zero()) {
     for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
+    if (r.refinement)
+      for (Vec3& v : r.refinement->mesh.vertices) v += r.offset;
+  }
   return r;
 }
 

@@ -271,6 +271,7 @@ ReportInput report_input(const Reconstruction& r) {
   in.oriented = r.oriented ? &*r.oriented : nullptr;
   in.normals = r.normals();
   in.contour = &r.contour;
+  in.mesh = &r.mesh();
   return in;
 }
 
@@ -310,7 +311,7 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
   if (in.oriented != nullptr) add_graph(in, options, layers);
   if (in.contour != nullptr) {
     add_corners(*in.contour, in, options, layers);
-    add_mesh(in.contour->mesh, options, layers);
+    add_mesh(in.mesh != nullptr ? *in.mesh : in.contour->mesh, options, layers);
   }
   return layers;
 }

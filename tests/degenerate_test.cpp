@@ -32,13 +32,13 @@ PointCloud sphere_cloud(std::size_t n, std::uint64_t seed, double radius = 1.0, 
 // The mesh is `pieces` closed spheres facing outward, every vertex within
 // `tolerance` of the true surface.
 void expect_closed_spheres(const Reconstruction& r, const Shape& truth, std::size_t pieces, double tolerance) {
-  const MeshTopology t = analyze_topology(r.contour.mesh);
+  const MeshTopology t = analyze_topology(r.mesh());
   EXPECT_TRUE(t.watertight()) << "boundary " << t.boundary_edges << ", non-manifold " << t.non_manifold_edges;
   EXPECT_EQ(t.components, pieces);
   EXPECT_EQ(t.euler_characteristic, 2 * static_cast<long>(pieces));
   for (const auto& c : t.component_list) EXPECT_GT(c.signed_volume, 0.0) << "a component faces inward";
   double worst = 0.0;
-  for (const Vec3& v : r.contour.mesh.vertices) worst = std::max(worst, truth.distance(v));
+  for (const Vec3& v : r.mesh().vertices) worst = std::max(worst, truth.distance(v));
   EXPECT_LT(worst, tolerance);
 }
 
@@ -102,8 +102,8 @@ TEST(DegenerateClouds, GeoReferencedCoordinatesKeepTheirPrecision) {
   EXPECT_EQ(near_origin.offset, Vec3::Zero());
   EXPECT_LT((moved.offset - far).norm(), 0.1);
   expect_closed_spheres(moved, *make_sphere(0.1, far), 1, 0.001);
-  const Mesh& a = near_origin.contour.mesh;
-  const Mesh& b = moved.contour.mesh;
+  const Mesh& a = near_origin.mesh();
+  const Mesh& b = moved.mesh();
   ASSERT_EQ(a.vertices.size(), b.vertices.size());
   ASSERT_EQ(a.triangles, b.triangles);
   double worst = 0.0;
@@ -217,7 +217,7 @@ TEST(DegenerateClouds, MemoryLimitRefusesBeforeAllocatingAndSaysWhatToChange) {
   EXPECT_CONTAINS(lattice, "use a larger --cell or a smaller --resolution, or raise --max-memory");
   options.cell.reset();
   const Reconstruction r = reconstruct(cloud, options);  // the default cell fits
-  EXPECT_GT(r.contour.mesh.triangles.size(), 1000u);
+  EXPECT_GT(r.mesh().triangles.size(), 1000u);
 }
 
 }  // namespace

@@ -29,11 +29,11 @@ struct Outcome {
 Outcome reconstruct_shape(const Shape& shape, const PointCloud& cloud, const ReconstructionOptions& options = {}) {
   Outcome o;
   o.r = reconstruct(cloud, options);
-  o.topology = analyze_topology(o.r.contour.mesh);
+  o.topology = analyze_topology(o.r.mesh());
   o.diagonal = bounding_box<3>(cloud.positions).diagonal();
   double sum = 0.0;
-  for (const Vec3& v : o.r.contour.mesh.vertices) sum += shape.distance(v);
-  o.mean_error = sum / static_cast<double>(std::max<std::size_t>(1, o.r.contour.mesh.vertices.size()));
+  for (const Vec3& v : o.r.mesh().vertices) sum += shape.distance(v);
+  o.mean_error = sum / static_cast<double>(std::max<std::size_t>(1, o.r.mesh().vertices.size()));
   return o;
 }
 
@@ -68,7 +68,7 @@ TEST(Reconstruct, ScanLikeTerrainIsOneOpenDisc) {
   EXPECT_LT(o.mean_error, 0.001 * o.diagonal);
   const Box<3> box = bounding_box<3>(cloud.positions);
   const double reach = 1.5 * o.r.planes.rho + o.r.delta + o.r.contour.cell;  // a cube's diagonal share aside
-  for (const Vec3& v : o.r.contour.mesh.vertices) {
+  for (const Vec3& v : o.r.mesh().vertices) {
     EXPECT_GE(v.x(), box.min.x() - reach);
     EXPECT_LE(v.x(), box.max.x() + reach);
     EXPECT_GE(v.y(), box.min.y() - reach);
@@ -145,7 +145,7 @@ TEST(Reconstruct, PlanePatchWithHoleStaysOpen) {
     if (p.head<2>().norm() > hole) cloud.positions.push_back(p);
   }
   const Reconstruction r = reconstruct(cloud);
-  const MeshTopology t = analyze_topology(r.contour.mesh);
+  const MeshTopology t = analyze_topology(r.mesh());
   EXPECT_EQ(t.components, 1u);
   EXPECT_EQ(t.boundary_loops, 2u);  // the rim and the hole
   EXPECT_EQ(t.euler_characteristic, 0);  // an annulus
@@ -156,7 +156,7 @@ TEST(Reconstruct, PlanePatchWithHoleStaysOpen) {
   const auto largest_rho = static_cast<double>(*std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end()));
   const double reach = 1.5 * largest_rho + r.delta;
   EXPECT_LT(reach, 0.5 * hole);
-  for (const Vec3& v : r.contour.mesh.vertices) {
+  for (const Vec3& v : r.mesh().vertices) {
     EXPECT_NEAR(v.z(), 0.0, 1e-9);                   // a flat patch reconstructs flat
     EXPECT_GT(v.head<2>().norm(), hole - reach);     // no cap over the hole
     EXPECT_LT(v.head<2>().lpNorm<Eigen::Infinity>(), 1.0 + reach);
@@ -169,7 +169,7 @@ TEST(Reconstruct, HemisphereRimStaysOpen) {
   for (const Vec3& p : sphere.positions)
     if (p.z() > 0.0) cloud.positions.push_back(p);
   const Reconstruction r = reconstruct(cloud);
-  const MeshTopology t = analyze_topology(r.contour.mesh);
+  const MeshTopology t = analyze_topology(r.mesh());
   EXPECT_EQ(t.components, 1u);
   EXPECT_EQ(t.boundary_loops, 1u);
   EXPECT_EQ(t.euler_characteristic, 1);  // a disc
@@ -178,7 +178,7 @@ TEST(Reconstruct, HemisphereRimStaysOpen) {
   const auto largest_rho = static_cast<double>(*std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end()));
   const double reach = 1.5 * largest_rho + r.delta;
   EXPECT_LT(reach, 0.2);
-  for (const Vec3& v : r.contour.mesh.vertices) EXPECT_GT(v.z(), -reach);
+  for (const Vec3& v : r.mesh().vertices) EXPECT_GT(v.z(), -reach);
 }
 
 // Density varying by 20x over a sphere (sparse at the bottom, dense at the
@@ -197,12 +197,12 @@ TEST(Reconstruct, VaryingDensityKeepsSparseRegionsClosedAndRealHolesOpen) {
     cloud.positions.push_back(p);
   }
   const Reconstruction r = reconstruct(cloud);
-  const MeshTopology t = analyze_topology(r.contour.mesh);
+  const MeshTopology t = analyze_topology(r.mesh());
   EXPECT_EQ(t.components, 1u);
   EXPECT_EQ(t.boundary_loops, 1u);  // the hole, and nothing in the sparse part
   EXPECT_EQ(t.euler_characteristic, 1);
   EXPECT_EQ(t.non_manifold_edges, 0u);
-  for (const Vec3& v : r.contour.mesh.vertices) {
+  for (const Vec3& v : r.mesh().vertices) {
     EXPECT_NEAR(v.norm(), 1.0, 0.02);
     EXPECT_GT(std::acos(std::clamp(v.normalized().dot(hole_centre), -1.0, 1.0)), 0.5 * hole_angle);
   }
@@ -255,9 +255,9 @@ TEST(Reconstruct, ThreadCountDoesNotChangeTheResult) {
   set_thread_count(threads);
   const auto normals0 = runs[0].normals(), normals1 = runs[1].normals();
   EXPECT_TRUE(std::equal(normals0.begin(), normals0.end(), normals1.begin(), normals1.end()));
-  EXPECT_TRUE(runs[0].contour.mesh.vertices == runs[1].contour.mesh.vertices);
-  EXPECT_TRUE(runs[0].contour.mesh.triangles == runs[1].contour.mesh.triangles);
-  EXPECT_GT(runs[0].contour.mesh.triangles.size(), 10000u);
+  EXPECT_TRUE(runs[0].mesh().vertices == runs[1].mesh().vertices);
+  EXPECT_TRUE(runs[0].mesh().triangles == runs[1].mesh().triangles);
+  EXPECT_GT(runs[0].mesh().triangles.size(), 10000u);
 }
 
 // Phase III's values at the first wave's corners are computed beside phase
@@ -276,18 +276,21 @@ TEST(Reconstruct, FirstWaveBesideOrientationGivesTheWalksOwnValues) {
   cases.push_back({make_torus(), "torus"});
   cases.push_back({make_box(), "box"});
   cases.push_back({make_terrain(), "terrain"});
+  for (const Method method : {Method::hoppe92, Method::refined})
   for (const Case& c : cases)
     for (const int t : {1, 2}) {
       set_thread_count(t);
-      const Reconstruction r = reconstruct(c.shape->sample(20000, 41));
+      ReconstructionOptions options;
+      options.method = method;
+      const Reconstruction r = reconstruct(c.shape->sample(20000, 41), options);
       ASSERT_TRUE(r.oriented.has_value());
-      const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree);
+      const SignedDistance<3> f = signed_distance_of(r);
       MarchingCubesOptions mc;
       mc.cell = r.contour.cell;
       MarchingCubesResult walk = marching_cubes(std::cref(f), r.points(), mc);
       for (Vec3& v : walk.mesh.vertices) v += r.offset;
-      EXPECT_TRUE(walk.mesh.vertices == r.contour.mesh.vertices) << c.name << ", " << t << " threads";
-      EXPECT_TRUE(walk.mesh.triangles == r.contour.mesh.triangles) << c.name << ", " << t << " threads";
+      EXPECT_TRUE(walk.mesh.vertices == r.contour.mesh.vertices) << c.name << ", " << t << " threads, " << method_name(method);
+      EXPECT_TRUE(walk.mesh.triangles == r.contour.mesh.triangles) << c.name << ", " << t << " threads, " << method_name(method);
       EXPECT_EQ(walk.undefined_corners, r.contour.undefined_corners);
       // (PCA turns a height field's normals one way already: the terrain needs no flip.)
       if (c.name != "terrain") {
@@ -302,7 +305,7 @@ TEST(Reconstruct, FirstWaveBesideOrientationGivesTheWalksOwnValues) {
 MeshTopology reconstruct_file(const std::string& relative, Reconstruction* out = nullptr) {
   const PointCloud cloud = io::read_points(testing::shared_data(relative));
   Reconstruction r = reconstruct(cloud);
-  const MeshTopology t = analyze_topology(r.contour.mesh);
+  const MeshTopology t = analyze_topology(r.mesh());
   EXPECT_GT(t.triangles, 100u) << relative;
   EXPECT_EQ(t.non_manifold_edges, 0u) << relative;
   EXPECT_EQ(r.planes.isolated, 0u) << relative << ": real scans have no sample that far from the rest";
@@ -340,7 +343,7 @@ TEST(ReconstructRealData, BunnyStaysCloseToItsOwnSurface) {
   const Mesh reference = io::read_mesh(path);
   Reconstruction r;
   (void)reconstruct_file("stanford_bunny/bun_zipper.ply", &r);
-  const Mesh& mesh = r.contour.mesh;
+  const Mesh& mesh = r.mesh();
   // Reference triangles around each reference vertex, and a tree over them.
   std::vector<std::vector<std::uint32_t>> around(reference.vertices.size());
   for (std::uint32_t t = 0; t < reference.triangles.size(); ++t)

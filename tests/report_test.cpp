@@ -160,10 +160,10 @@ TEST(Report, BudgetsDrawARegularSubsampleAndSaySo) {
   EXPECT_EQ(layers.tree_flip.size(), drawn_with_parent) << "one tree edge per drawn point that has a parent";
   EXPECT_LE(layers.corner_values.size(), 700u);
   EXPECT_LE(layers.mesh_triangles.size() / 3, 2000u);
-  EXPECT_EQ(layers.triangles_total, r.contour.mesh.triangles.size());
+  EXPECT_EQ(layers.triangles_total, r.mesh().triangles.size());
   // A thinned mesh keeps only its drawn triangles' vertices, renumbered:
   // each drawn triangle has the corners of the triangle it stands for.
-  const Mesh& mesh = r.contour.mesh;
+  const Mesh& mesh = r.mesh();
   ASSERT_GT(layers.triangle_stride, 1u);
   std::set<std::uint32_t> used;
   for (std::size_t t = 0; 3 * t < layers.mesh_triangles.size(); ++t)
@@ -204,7 +204,7 @@ TEST(Report, CornersAreTheEvaluatedLatticeCornersWithUndefinedOnesMarked) {
 TEST(Report, MeshWithItsBoundaryEdges) {
   const Reconstruction& r = open_and_closed();
   const ReportLayers layers = make_report_layers(report_input(r));
-  const Mesh& mesh = r.contour.mesh;
+  const Mesh& mesh = r.mesh();
   ASSERT_TRUE(layers.has_mesh);
   ASSERT_EQ(layers.mesh_triangles.size(), 3 * mesh.triangles.size());
   ASSERT_EQ(layers.mesh_vertices.size(), 3 * mesh.vertices.size());
@@ -227,15 +227,15 @@ TEST(Report, BoundaryEdgesWithinTheirBudget) {
   ReportOptions options;
   options.max_boundary_edges = 10;
   const ReportLayers layers = make_report_layers(report_input(r), options);
-  const auto boundary = boundary_edges(r.contour.mesh);
+  const auto boundary = boundary_edges(r.mesh());
   ASSERT_GT(boundary.size(), 10u);
   EXPECT_EQ(layers.boundary_edges_total, boundary.size());
   EXPECT_EQ(layers.boundary_stride, (boundary.size() + 9) / 10);
   ASSERT_EQ(layers.boundary_segments.size(), 6 * ((boundary.size() + layers.boundary_stride - 1) / layers.boundary_stride));
   for (std::size_t e = 0; 6 * e < layers.boundary_segments.size(); ++e) {
     const auto& [a, b] = boundary[e * layers.boundary_stride];
-    EXPECT_LT((at(layers.boundary_segments, 2 * e) + layers.centre - r.contour.mesh.vertices[a]).norm(), 1e-5);
-    EXPECT_LT((at(layers.boundary_segments, 2 * e + 1) + layers.centre - r.contour.mesh.vertices[b]).norm(), 1e-5);
+    EXPECT_LT((at(layers.boundary_segments, 2 * e) + layers.centre - r.mesh().vertices[a]).norm(), 1e-5);
+    EXPECT_LT((at(layers.boundary_segments, 2 * e + 1) + layers.centre - r.mesh().vertices[b]).norm(), 1e-5);
   }
 }
 

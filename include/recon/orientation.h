@@ -12,6 +12,36 @@
 // whose normal points against its parent's (n_child . n_parent < 0) is
 // flipped.
 //
+// The refined method also decides each component's side more robustly than
+// by its highest point (sign_by_extremes). The highest point of a tall cone
+// is its apex, whose plane stands nearly upright, and "make it point up"
+// then picks a side at random; rims and creases on top do the same. So the
+// samples within two neighbourhood radii of the top are searched for the
+// normal nearest to vertical: where it is within 25 degrees of vertical,
+// it points up, as in Hoppe's rule. Where no normal up there is (a tip, a
+// crease), the same is asked of the other five axis directions (the
+// extremes of a closed surface have outward normals along them), and the
+// best-aligned one decides. The whole component is turned round when that
+// normal points inwards; the tree walk still decides every sign relative to
+// the others. (Open surfaces, a terrain, a facade, have no inside: there the
+// side facing up is kept, as before, wherever the top is well defined.)
+//
+// Facing sheets (the refined method). Where two sheets of surface lie
+// closer than a neighbourhood (the two sides of a thin plate, two objects
+// nearly touching), graph edges join them: their planes are parallel, the
+// edge costs nothing, and Hoppe's walk makes the two normals agree, turning
+// one sheet inside out. But facing sheets' outward normals point opposite
+// ways, whether the gap between them is solid (a plate) or empty (two
+// objects). With `sheet_misfit`, an edge between nearly parallel planes
+// (within 25 degrees) that leaves both of them steeply (more than 30
+// degrees from each plane, measured between the origins, which lie on the
+// fitted surfaces) and whose planes lie apart by more than three times
+// their fits' misfit (noise on one sheet tilts short edges, by less) joins
+// two facing sheets, and the walk and the vote carry the orientation
+// across it reversed. (With plane origins at the centroids of
+// neighbourhoods spanning both sheets, such edges cannot be told: this
+// needs local_quadrics.h's origins.)
+//
 // An addition to Hoppe's method: a few rounds of a local vote afterwards. A
 // normal that points against the sum of its graph neighbours' normals is
 // turned round. On clean data nothing changes; with noise about half the
@@ -23,6 +53,7 @@
 #include "recon/tangent_planes.h"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace recon {
@@ -30,6 +61,19 @@ namespace recon {
 struct OrientationOptions {
   RiemannianGraphOptions graph{};  ///< k, gap factor
   int vote_rounds = 3;             ///< rounds of the neighbour vote after the tree walk (0: pure Hoppe)
+  bool sign_by_extremes = false;   ///< decide each component's side at its best extreme (see above; refined)
+  /// Per plane, the RMS misfit of its fit (LocalQuadrics::residual): when
+  /// given, the orientation is carried reversed between facing sheets (see
+  /// above; refined). Empty: never. Referenced, not copied.
+  std::span<const float> sheet_misfit;
+  /// Normals to carry the orientation with, on the same side as
+  /// planes.normals (empty: planes.normals). The refined method walks with
+  /// phase I's PCA normals: across a sharp edge the fitted planes of the two
+  /// faces meet at right angles, where "agrees with its parent" is a coin
+  /// toss, but the PCA planes of the neighbourhoods astride the edge turn
+  /// from one face to the other in steps. The signs found are then given to
+  /// planes.normals. Referenced, not copied. (3D only.)
+  std::span<const Vec3> guide;
 };
 
 template <int D>
@@ -40,6 +84,8 @@ struct OrientedNormals {
   std::vector<std::uint8_t> flipped;  ///< 1 where the normal was reversed from the PCA one
   std::size_t flip_count = 0;         ///< normals reversed in the end
   std::size_t vote_flips = 0;         ///< of which changed by the vote
+  std::size_t components_turned = 0;  ///< components turned round by sign_by_extremes
+  std::size_t sheet_edges = 0;        ///< tree edges between facing sheets (walked reversed)
   double seconds_mst = 0.0;
 
   [[nodiscard]] std::size_t component_count() const { return graph.components.sizes.size(); }

@@ -2,8 +2,10 @@
 // The whole of Hoppe's algorithm in one call: phases I to IV, keeping every
 // phase's result (the visual feedback and the statistics read them).
 
+#include "recon/local_quadrics.h"
 #include "recon/marching_cubes.h"
 #include "recon/orientation.h"
+#include "recon/refinement.h"
 #include "recon/resource_usage.h"  // default_memory_limit
 #include "recon/signed_distance.h"
 #include "recon/tangent_planes.h"
@@ -14,11 +16,23 @@
 
 namespace recon {
 
+/// Which pipeline runs.
+/// - refined (the default): phase I fits a quadric per neighbourhood and
+///   moves each plane onto it (local_quadrics.h), phase IV contours at
+///   rho / sqrt 2, and phase V (refinement.h) moves the mesh onto the
+///   quadrics, sharpens creases and drops fragments.
+/// - hoppe92: the paper's four phases exactly (planes through centroids, a
+///   cell of rho, the contoured mesh as it comes), as the course teaches them.
+enum class Method { refined, hoppe92 };
+
 struct ReconstructionOptions {
+  Method method = Method::refined;
   TangentPlaneOptions planes{};            ///< phase I: k, rho
   OrientationOptions orientation{};        ///< phase II (its k is the k phase I used)
   SignedDistanceOptions distance{};        ///< phase III: delta
-  std::optional<double> cell;              ///< phase IV cube side; default rho (as in Hoppe's paper)
+  LocalQuadricOptions quadrics{};          ///< phase I's second-order fits (refined only)
+  RefinementOptions refinement{};          ///< phase V (refined only)
+  std::optional<double> cell;              ///< phase IV cube side; default rho (hoppe92, as in the paper), rho / sqrt 2 (refined)
   std::optional<int> resolution;           ///< or: cubes along the longest side of the bounding box
   bool use_input_normals = false;          ///< orient with the cloud's own normals, skipping phase II
   /// Refuse, before allocating, work estimated to need more memory (bytes);
@@ -31,9 +45,14 @@ struct ReconstructionOptions {
   /// about 1 GB). Their sizes stay in RiemannianGraph::edge_count.
   bool keep_graph = true;
   /// Called as each phase starts, with its name ("tangent planes",
-  /// "orientation", "signed distance", "contouring"): for progress displays.
+  /// "orientation", "signed distance", "contouring", and "refinement" in the
+  /// refined method): for progress displays.
   std::function<void(const char* phase)> on_phase;
 };
+
+/// "refined" or "hoppe92"; InvalidInputError for another name.
+[[nodiscard]] Method method_from_name(std::string_view name);
+[[nodiscard]] const char* method_name(Method method);
 
 /// Per-point results (planes, normals, graph vertices) are indexed in
 /// spatial order, the leaf order of phase I's kd-tree: entry j is input
@@ -67,7 +86,16 @@ struct Reconstruction {
   }
   double delta = 0.0;
   bool delta_given = false;
-  MarchingCubesResult contour;                 ///< the mesh (input coordinates) and the lattice statistics
+  Method method = Method::refined;
+  /// Phase I's second-order fits (refined): their origins and normals have
+  /// moved into `planes` (which the later phases read), phase I's normals
+  /// were here while phase II used them (released after); the curvature,
+  /// residuals and counts stay here.
+  std::optional<LocalQuadrics> quadrics;
+  MarchingCubesResult contour;                 ///< phase IV's mesh (input coordinates) and the lattice statistics
+  std::optional<Refinement> refinement;        ///< phase V's mesh (input coordinates), refined only
+  /// The result: phase V's mesh when there is one, phase IV's otherwise.
+  [[nodiscard]] const Mesh& mesh() const { return refinement ? refinement->mesh : contour.mesh; }
   /// Phase III's time outside phase II: f's set-up, and the first wave's
   /// corners still to evaluate once the orientation was done.
   double seconds_distance_setup = 0.0;
@@ -90,6 +118,10 @@ struct Reconstruction {
 /// I's kd-tree holds the points, which lowers the peak memory (the const&
 /// form works on a copy).
 [[nodiscard]] Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options = {});
+
+/// Phase III's f as reconstruct() built it for `r` (the same planes, delta
+/// and plane choice); it references r, which must outlive it.
+[[nodiscard]] SignedDistance<3> signed_distance_of(const Reconstruction& r);
 
 /// The translation reconstruct() applies before working: the centre of the
 /// bounding box when the cloud lies farther from the origin than its own
@@ -120,7 +152,8 @@ void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit)
 [[nodiscard]] double chosen_cell(std::optional<double> cell, std::optional<int> resolution,
                                  const std::function<double()>& longest_side, double fallback);
 
-/// The cube side that `options` asks for, given the points and the phase I result.
+/// The cube side that `options` asks for, given the points and the phase I
+/// result: the given cell or resolution, else rho (hoppe92) or rho / sqrt 2 (refined).
 [[nodiscard]] double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes,
                                   const ReconstructionOptions& options);
 

@@ -65,6 +65,7 @@ struct ReportInput {
   const OrientedNormals<3>* oriented = nullptr;      ///< phase II with its graph kept; null: no layer 4
   std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's)
   const MarchingCubesResult* contour = nullptr;      ///< null: no layers 6 and 7 (`recon normals`)
+  const Mesh* mesh = nullptr;                        ///< the mesh drawn in layer 7; null: contour->mesh
 };
 
 /// A Reconstruction made with keep_graph and keep_corners (without them,

@@ -1,0 +1,725 @@
+#include "recon/refinement.h"
+
+#include "recon/errors.h"
+#include "recon/timer.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+namespace recon {
+namespace {
+
+constexpr std::uint32_t none = UINT32_MAX;
+
+// A contoured vertex after step 1: where it went, the surface's normal
+// there (unoriented), and the plane whose quadric it went onto.
+struct Projected {
+  std::vector<std::uint8_t> covered;   // a sample lies within the local spacing (not past an open boundary)
+  std::vector<Vec3> point;
+  std::vector<Vec3> normal;           // oriented
+  std::vector<std::uint32_t> plane;
+  std::vector<std::uint32_t> partner;  // the vertex across the crease it was brought back to, or none
+  std::size_t unmoved = 0;
+};
+
+// Step 1: every vertex onto the quadric of the plane f takes there (so the
+// faces meeting at a crease split the space as f does). A vertex that would
+// move further than max_move stays put.
+Projected project_vertices(const Mesh& mesh, const RefinementInput& in, double max_move) {
+  const std::size_t n = mesh.vertices.size();
+  Projected out;
+  out.point.resize(n);
+  out.normal.resize(n);
+  out.plane.resize(n);
+  out.partner.assign(n, none);
+  out.covered.assign(n, 1);
+  std::size_t unmoved = 0;
+  const auto count = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : unmoved)
+  for (std::int64_t s = 0; s < count; ++s) {
+    const auto v = static_cast<std::size_t>(s);
+    const Vec3& p = mesh.vertices[v];
+    const std::uint32_t i = in.distance->plane_for(p);
+    const SurfacePoint q = project_onto_quadric(in.origins[i], in.normals[i], in.curvature[i], p);
+    const bool trusted = max_move <= 0.0 || (q.point - p).norm() <= max_move;
+    out.point[v] = trusted ? q.point : p;
+    out.normal[v] = in.oriented[i].dot(in.normals[i]) < 0.0 ? Vec3(-q.normal) : q.normal;
+    out.plane[v] = i;
+    if (!in.spacing.empty())
+      out.covered[v] = (p - in.origins[i]).norm() <= static_cast<double>(in.spacing[i]) ? 1 : 0;
+    unmoved += trusted ? 0 : 1;
+  }
+  out.unmoved = unmoved;
+  return out;
+}
+
+// The normal curvature of plane i's quadric along the direction d (any
+// length; its part in the tangent plane counts).
+double curvature_along(const RefinementInput& in, std::uint32_t i, const Vec3& d) {
+  const auto t = tangent_basis(in.normals[i]);
+  const double a = d.dot(t[0]), b = d.dot(t[1]);
+  const double length2 = a * a + b * b;
+  if (!(length2 > 0.0)) return 0.0;
+  const Curvature& c = in.curvature[i];
+  const auto cp = static_cast<double>(c.p), cq = static_cast<double>(c.q), cr = static_cast<double>(c.r);
+  return 2.0 * (cp * a * a + cq * a * b + cr * b * b) / length2;
+}
+
+// Step 2's test: whether the edge (a, b) crosses a crease. The ends'
+// normals must differ by more than the crease angle and by more than twice
+// what the curvature at either end turns a normal along the edge.
+bool is_crease(const Projected& pr, const RefinementInput& in, std::uint32_t a, std::uint32_t b, double cos_crease) {
+  const double cosine = std::abs(pr.normal[a].dot(pr.normal[b]));
+  if (cosine >= cos_crease) return false;
+  const Vec3 e = pr.point[b] - pr.point[a];
+  const double turn = e.norm() * std::max(std::abs(curvature_along(in, pr.plane[a], e)),
+                                          std::abs(curvature_along(in, pr.plane[b], e)));
+  return std::acos(std::min(1.0, cosine)) > 2.0 * turn;
+}
+
+// The point of the line where the tangent planes at a and b meet nearest
+// to `near`: x = near + s n_a + t n_b on both planes.
+Vec3 on_crease_line(const Projected& pr, std::uint32_t a, std::uint32_t b, const Vec3& near) {
+  const Vec3 &na = pr.normal[a], &nb = pr.normal[b];
+  const double c = na.dot(nb);
+  const double ra = na.dot(pr.point[a] - near), rb = nb.dot(pr.point[b] - near);
+  const double det = 1.0 - c * c;
+  return near + ((ra - c * rb) / det) * na + ((rb - c * ra) / det) * nb;
+}
+
+// The crease point of a crease edge: where the crease line passes nearest
+// the edge's midpoint, if that lies within the edge.
+std::optional<Vec3> crease_point(const Projected& pr, std::uint32_t a, std::uint32_t b) {
+  const Vec3 &pa = pr.point[a], &pb = pr.point[b];
+  const Vec3 e = pb - pa;
+  const double length2 = e.squaredNorm();
+  const Vec3 x = on_crease_line(pr, a, b, 0.5 * (pa + pb));
+  const double along = (x - pa).dot(e) / length2;
+  if (along < 0.02 || along > 0.98 || (x - (pa + along * e)).squaredNorm() > 0.25 * length2) return std::nullopt;
+  return x;
+}
+
+// Step 2a: an end of a crease edge that lies past the crease, on its own
+// face's plane but outside the other face's half-space at a convex edge
+// (inside it at a concave one), is moved onto the crease line, once.
+std::size_t bring_back(Projected& pr, const Mesh& contoured, const RefinementInput& in, double cos_crease,
+                       double max_move) {
+  std::size_t moved = 0;
+  auto check = [&](std::uint32_t a, std::uint32_t b) {
+    if (pr.partner[a] != none) return;
+    const Vec3 &na = pr.normal[a], &nb = pr.normal[b];
+    // Convex or concave, from the planes' origins (samples of the faces:
+    // a itself may be the one past the crease).
+    const Vec3 between = in.origins[pr.plane[b]] - in.origins[pr.plane[a]];
+    const bool convex = na.dot(between) < 0.0 && nb.dot(between) > 0.0;
+    const bool concave = na.dot(between) > 0.0 && nb.dot(between) < 0.0;
+    const double beyond = nb.dot(pr.point[a] - pr.point[b]);  // f of b's plane at a
+    if (!((convex && beyond > 0.0) || (concave && beyond < 0.0))) return;
+    const Vec3 x = on_crease_line(pr, a, b, pr.point[a]);
+    if (max_move > 0.0 && (x - pr.point[a]).norm() > max_move) return;
+    pr.point[a] = x;
+    pr.partner[a] = b;
+    ++moved;
+  };
+  for (const auto& t : contoured.triangles)
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+      if (!is_crease(pr, in, a, b, cos_crease)) continue;
+      check(a, b);
+      check(b, a);
+    }
+  return moved;
+}
+
+// Where the tangent planes at the projected vertices `on` meet, if they
+// meet at a well-defined point within `reach` of `centre`.
+std::optional<Vec3> corner_point(const Projected& pr, const std::array<std::uint32_t, 3>& on, const Vec3& centre,
+                                 double reach) {
+  Eigen::Matrix3d normals;
+  Eigen::Vector3d offsets;
+  for (std::size_t r = 0; r < 3; ++r) {
+    normals.row(static_cast<Eigen::Index>(r)) = pr.normal[on[r]].transpose();
+    offsets[static_cast<Eigen::Index>(r)] = pr.normal[on[r]].dot(pr.point[on[r]]);
+  }
+  if (std::abs(normals.determinant()) < 0.2) return std::nullopt;
+  const Vec3 x = normals.partialPivLu().solve(offsets);
+  if ((x - centre).norm() > reach) return std::nullopt;
+  return x;
+}
+
+double longest_edge(const std::vector<Vec3>& x, const std::array<std::uint32_t, 3>& t) {
+  return std::max({(x[t[0]] - x[t[1]]).norm(), (x[t[1]] - x[t[2]]).norm(), (x[t[2]] - x[t[0]]).norm()});
+}
+
+// The refined mesh under construction: the projected vertices, then the
+// crease and corner vertices added (each crease vertex once, by its edge).
+struct Builder {
+  Mesh mesh;
+  std::vector<float> displacement;
+  /// The tangent planes each vertex lies on, by the projected vertex they
+  /// belong to: its own for a projected vertex, both ends' for a crease vertex.
+  std::vector<std::array<std::uint32_t, 2>> planes;
+  std::unordered_map<std::uint64_t, std::uint32_t> crease_of_edge;  // none: tested, no crease
+  std::size_t creases = 0, corners = 0;
+
+  std::uint32_t add(const Vec3& p, float moved, std::array<std::uint32_t, 2> on) {
+    mesh.vertices.push_back(p);
+    displacement.push_back(moved);
+    planes.push_back(on);
+    return static_cast<std::uint32_t>(mesh.vertices.size() - 1);
+  }
+
+  // The crease vertices by grid cell (of side `grid`), to find one near a point.
+  double grid = 0.0;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> crease_cells;
+  [[nodiscard]] std::uint64_t cell_key(const Vec3& p, int dx, int dy, int dz) const {
+    auto c = [this](double x, int d) {
+      return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / grid)) + d) & 0x1FFFFF;
+    };
+    return c(p.x(), dx) | c(p.y(), dy) << 21 | c(p.z(), dz) << 42;
+  }
+  void note_crease(std::uint32_t v) { crease_cells[cell_key(mesh.vertices[v], 0, 0, 0)].push_back(v); }
+  [[nodiscard]] bool crease_near(const Vec3& p, double tolerance) const {
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto cell = crease_cells.find(cell_key(p, dx, dy, dz));
+          if (cell == crease_cells.end()) continue;
+          for (const std::uint32_t v : cell->second)
+            if ((mesh.vertices[v] - p).norm() <= tolerance) return true;
+        }
+    return false;
+  }
+};
+
+std::uint32_t split_vertex(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in,
+                           std::uint32_t u, std::uint32_t v, double cos_crease) {
+  if (std::abs(pr.normal[u].dot(pr.normal[v])) >= cos_crease) return none;  // the common case, no lookup
+  const std::uint64_t key = (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
+  const auto found = b.crease_of_edge.find(key);
+  if (found != b.crease_of_edge.end()) return found->second;
+  std::uint32_t id = none;
+  const std::uint32_t low = std::min(u, v), high = std::max(u, v);
+  const auto x = is_crease(pr, in, low, high, cos_crease) ? crease_point(pr, low, high) : std::nullopt;
+  // Where a crease pierces the mesh across a lattice face, the edges there
+  // all meet it at one point: only the first is split (a second vertex at
+  // the same place would pinch the surface).
+  if (x && !b.crease_near(*x, 1e-4 * (pr.point[u] - pr.point[v]).norm())) {
+    const Vec3 mid = 0.5 * (contoured.vertices[u] + contoured.vertices[v]);
+    id = b.add(*x, static_cast<float>((*x - mid).norm()), {u, v});
+    b.note_crease(id);
+    ++b.creases;
+  }
+  b.crease_of_edge.emplace(key, id);
+  return id;
+}
+
+// The triangle (a, b, c) with crease vertices m[e] on its edges e = ab, bc,
+// ca (none where the edge has none), as triangles of the same winding. (A
+// triangle crossed by three creases holds a corner: snap_corners puts a
+// vertex on it afterwards.)
+void emit(Builder& b, const std::array<std::uint32_t, 3>& t, const std::array<std::uint32_t, 3>& m) {
+  auto& out = b.mesh.triangles;
+  const int splits = (m[0] != none) + (m[1] != none) + (m[2] != none);
+  if (splits == 0) {
+    out.push_back(t);
+  } else if (splits == 1) {
+    const std::size_t e = m[0] != none ? 0 : (m[1] != none ? 1 : 2);
+    const std::uint32_t p = t[e], q = t[(e + 1) % 3], r = t[(e + 2) % 3];
+    out.push_back({p, m[e], r});
+    out.push_back({m[e], q, r});
+  } else if (splits == 2) {
+    // The corner between the two split edges is cut off along the crease;
+    // the rest, a quadrilateral, is split along its shorter diagonal.
+    const std::size_t lone = m[0] == none ? 2 : (m[1] == none ? 0 : 1);  // the vertex between the split edges
+    const std::uint32_t q = t[lone], r = t[(lone + 1) % 3], p = t[(lone + 2) % 3];
+    const std::uint32_t before = m[(lone + 2) % 3], after = m[lone];  // on edges p-q and q-r
+    out.push_back({before, q, after});
+    const auto& x = b.mesh.vertices;
+    if ((x[p] - x[after]).squaredNorm() <= (x[before] - x[r]).squaredNorm()) {
+      out.push_back({p, before, after});
+      out.push_back({p, after, r});
+    } else {
+      out.push_back({p, before, r});
+      out.push_back({before, after, r});
+    }
+  } else {
+    out.push_back({t[0], m[0], m[2]});
+    out.push_back({m[0], t[1], m[1]});
+    out.push_back({m[2], m[1], t[2]});
+    out.push_back({m[0], m[1], m[2]});
+  }
+}
+
+// Step 2 over the whole mesh, in triangle order; then the corners.
+void snap_corners(Builder& b, const Projected& pr, double cos_crease);
+void weld_coincident(Builder& b, std::size_t projected);
+void flip_slivers(Builder& b);
+void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle);
+
+void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in, double cos_crease) {
+  // The crease grid's side: about a thousandth of an edge (the first
+  // triangles' longest), far above any tolerance asked of it.
+  double edge = 0.0;
+  for (std::size_t t = 0; t < std::min<std::size_t>(contoured.triangles.size(), 64); ++t)
+    edge = std::max(edge, longest_edge(pr.point, contoured.triangles[t]));
+  b.grid = edge > 0.0 ? 1e-3 * edge : 1.0;
+  for (const auto& t : contoured.triangles) {
+    std::array<std::uint32_t, 3> m{};
+    for (std::size_t e = 0; e < 3; ++e) m[e] = split_vertex(b, pr, contoured, in, t[e], t[(e + 1) % 3], cos_crease);
+    emit(b, t, m);
+  }
+  snap_corners(b, pr, cos_crease);
+  weld_coincident(b, pr.point.size());
+  flip_slivers(b);
+}
+
+// Three or more tangent planes far apart in direction among a triangle's
+// vertices (the planes a crease vertex lies on count for it): a corner
+// where they meet, if they meet nearby.
+std::optional<Vec3> triangle_corner(const Builder& b, const Projected& pr, const std::array<std::uint32_t, 3>& t,
+                                    double cos_crease) {
+  std::array<std::uint32_t, 6> distinct{};
+  std::size_t count = 0;
+  for (const std::uint32_t v : t)
+    for (const std::uint32_t plane : b.planes[v]) {
+      if (plane == none) continue;
+      bool apart = true;
+      for (std::size_t d = 0; d < count && apart; ++d)
+        apart = std::abs(pr.normal[plane].dot(pr.normal[distinct[d]])) < cos_crease;
+      if (apart) distinct[count++] = plane;
+    }
+  if (count < 3) return std::nullopt;
+  // The three planes most nearly perpendicular to one another.
+  std::array<std::uint32_t, 3> best{};
+  double best_det = -1.0;
+  for (std::size_t i = 0; i < count; ++i)
+    for (std::size_t j = i + 1; j < count; ++j)
+      for (std::size_t k = j + 1; k < count; ++k) {
+        const double det = std::abs(pr.normal[distinct[i]].dot(pr.normal[distinct[j]].cross(pr.normal[distinct[k]])));
+        if (det > best_det) {
+          best_det = det;
+          best = {distinct[i], distinct[j], distinct[k]};
+        }
+      }
+  const Vec3 centre = (b.mesh.vertices[t[0]] + b.mesh.vertices[t[1]] + b.mesh.vertices[t[2]]) / 3.0;
+  return corner_point(pr, best, centre, longest_edge(b.mesh.vertices, t));
+}
+
+// A corner found in one or more triangles (candidates within an edge's
+// length of one another count as one, the first found standing for them)
+// is taken by the nearest vertex of those triangles: the mesh then has a
+// vertex on it, where the crease lines of its faces meet.
+struct CornerCandidate {
+  Vec3 point;
+  double reach;
+  std::array<std::uint32_t, 3> triangle;
+};
+
+std::vector<std::vector<std::uint32_t>> cluster_corners(const std::vector<CornerCandidate>& found) {
+  double size = 0.0;
+  for (const auto& c : found) size = std::max(size, c.reach);
+  auto cell_of = [size](const Vec3& p, int dx, int dy, int dz) {
+    auto coordinate = [size](double x, int d) {
+      return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / size)) + d) & 0x1FFFFF;
+    };
+    return coordinate(p.x(), dx) | coordinate(p.y(), dy) << 21 | coordinate(p.z(), dz) << 42;
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;  // cell -> clusters started there
+  std::vector<std::vector<std::uint32_t>> clusters;                   // candidates; the first stands for all
+  for (std::uint32_t c = 0; c < found.size(); ++c) {
+    std::uint32_t joined = none;
+    for (int dx = -1; dx <= 1 && joined == none; ++dx)
+      for (int dy = -1; dy <= 1 && joined == none; ++dy)
+        for (int dz = -1; dz <= 1 && joined == none; ++dz) {
+          const auto cell = grid.find(cell_of(found[c].point, dx, dy, dz));
+          if (cell == grid.end()) continue;
+          for (const std::uint32_t k : cell->second) {
+            const CornerCandidate& first = found[clusters[k][0]];
+            if ((first.point - found[c].point).norm() <= std::max(first.reach, found[c].reach)) {
+              joined = k;
+              break;
+            }
+          }
+        }
+    if (joined == none) {
+      joined = static_cast<std::uint32_t>(clusters.size());
+      clusters.emplace_back();
+      grid[cell_of(found[c].point, 0, 0, 0)].push_back(joined);
+    }
+    clusters[joined].push_back(c);
+  }
+  return clusters;
+}
+
+// Whether moving vertex v to p keeps every triangle around it a triangle
+// facing the way it did.
+bool can_move(const Builder& b, const std::vector<std::uint32_t>& around, std::uint32_t v, const Vec3& p) {
+  for (const std::uint32_t t : around) {
+    const auto& tri = b.mesh.triangles[t];
+    std::array<Vec3, 3> before{}, after{};
+    for (std::size_t c = 0; c < 3; ++c) {
+      before[c] = b.mesh.vertices[tri[c]];
+      after[c] = tri[c] == v ? p : before[c];
+    }
+    const Vec3 n0 = (before[1] - before[0]).cross(before[2] - before[0]);
+    const Vec3 n1 = (after[1] - after[0]).cross(after[2] - after[0]);
+    const double scale = longest_edge(b.mesh.vertices, tri);
+    if (!(n1.norm() > 1e-6 * scale * scale) || n0.dot(n1) <= 0.0) return false;
+  }
+  return true;
+}
+
+void snap_corners(Builder& b, const Projected& pr, double cos_crease) {
+  std::vector<CornerCandidate> found;
+  for (const auto& t : b.mesh.triangles)
+    if (const auto x = triangle_corner(b, pr, t, cos_crease)) found.push_back({*x, longest_edge(b.mesh.vertices, t), t});
+  if (found.empty()) return;
+  const auto clusters = cluster_corners(found);
+  // The triangles around each vertex that might move.
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> around;
+  for (const auto& c : found)
+    for (const std::uint32_t v : c.triangle) around[v];
+  for (std::uint32_t t = 0; t < b.mesh.triangles.size(); ++t)
+    for (const std::uint32_t v : b.mesh.triangles[t])
+      if (const auto it = around.find(v); it != around.end()) it->second.push_back(t);
+  for (const auto& cluster : clusters) {
+    const Vec3& corner = found[cluster[0]].point;
+    // The cluster's vertices, nearest first; the first that can move there does.
+    std::vector<std::pair<double, std::uint32_t>> nearest;
+    for (const std::uint32_t c : cluster)
+      for (const std::uint32_t v : found[c].triangle)
+        if (b.planes[v][0] != none || b.planes[v][1] != none)  // not snapped already
+          nearest.emplace_back((b.mesh.vertices[v] - corner).squaredNorm(), v);
+    std::sort(nearest.begin(), nearest.end());
+    nearest.erase(std::unique(nearest.begin(), nearest.end()), nearest.end());
+    for (const auto& [d2, v] : nearest) {
+      if (!can_move(b, around[v], v, corner)) continue;
+      b.displacement[v] += static_cast<float>(std::sqrt(d2));
+      b.mesh.vertices[v] = corner;
+      b.planes[v] = {none, none};
+      ++b.corners;
+      break;
+    }
+  }
+}
+
+// Crease vertices of one triangle that coincide (an edge of the lattice
+// and its neighbour in the same lattice plane can cross a crease at the
+// same point) become one vertex; the triangles between them, now with a
+// repeated vertex, go.
+void weld_coincident(Builder& b, std::size_t projected) {
+  std::vector<std::uint32_t> same(b.mesh.vertices.size());
+  for (std::uint32_t v = 0; v < same.size(); ++v) same[v] = v;
+  auto root = [&same](std::uint32_t v) {
+    while (same[v] != v) v = same[v] = same[same[v]];
+    return v;
+  };
+  bool any = false;
+  for (const auto& t : b.mesh.triangles) {
+    const double tolerance = 1e-4 * longest_edge(b.mesh.vertices, t);
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t u = t[e], v = t[(e + 1) % 3];
+      if (u < projected || v < projected || (b.mesh.vertices[u] - b.mesh.vertices[v]).norm() > tolerance) continue;
+      const std::uint32_t a = root(u), c = root(v);
+      if (a != c) same[std::max(a, c)] = std::min(a, c);
+      any = true;
+    }
+  }
+  if (!any) return;
+  std::vector<std::uint8_t> keep(b.mesh.triangles.size(), 1);
+  for (std::size_t i = 0; i < b.mesh.triangles.size(); ++i) {
+    auto& t = b.mesh.triangles[i];
+    for (auto& v : t) v = root(v);
+    keep[i] = t[0] != t[1] && t[1] != t[2] && t[2] != t[0];
+  }
+  compact(b, keep);
+}
+
+// A split can leave a sliver: a triangle (a, b, c) with c on the segment ab
+// (a crease vertex in line with two others). Its longest edge ab is flipped
+// with the triangle (b, a, d) across it: (c, a, d) and (c, d, b) split that
+// triangle at c instead, unless c and d are joined already.
+void flip_slivers(Builder& b) {
+  auto& tris = b.mesh.triangles;
+  const auto& x = b.mesh.vertices;
+  auto key = [](std::uint32_t u, std::uint32_t v) { return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v); };
+  std::unordered_map<std::uint64_t, std::uint32_t> sliver_of;  // a sliver's longest edge -> the sliver
+  for (std::uint32_t t = 0; t < tris.size(); ++t) {
+    const auto& tri = tris[t];
+    const double longest = longest_edge(x, tri);
+    if ((x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]).norm() > 1e-8 * longest * longest) continue;
+    std::size_t e = 0;  // the edge tri[e] -> tri[e + 1] of that length
+    while ((x[tri[e]] - x[tri[(e + 1) % 3]]).norm() < longest) ++e;
+    sliver_of.emplace(key(tri[e], tri[(e + 1) % 3]), t);
+  }
+  if (sliver_of.empty()) return;
+  std::unordered_map<std::uint64_t, std::uint32_t> edges;  // every edge -> a triangle using it (to tell joined pairs)
+  std::unordered_map<std::uint32_t, std::uint32_t> neighbour_of;  // sliver -> the triangle across its longest edge
+  for (std::uint32_t t = 0; t < tris.size(); ++t)
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint64_t k = key(tris[t][e], tris[t][(e + 1) % 3]);
+      edges.emplace(k, t);
+      const auto s = sliver_of.find(k);
+      if (s != sliver_of.end() && s->second != t) neighbour_of.emplace(s->second, t);
+    }
+  std::vector<std::uint8_t> touched(tris.size(), 0);
+  for (const auto& [sliver, other] : neighbour_of) {
+    if (touched[sliver] || touched[other]) continue;
+    const auto s = tris[sliver];
+    std::size_t e = 0;  // the sliver's longest edge
+    for (; e < 2; ++e) {
+      const auto it = sliver_of.find(key(s[e], s[(e + 1) % 3]));
+      if (it != sliver_of.end() && it->second == sliver) break;
+    }
+    const std::uint32_t a = s[e], bb = s[(e + 1) % 3], c = s[(e + 2) % 3];
+    std::uint32_t d = none;
+    for (const std::uint32_t v : tris[other])
+      if (v != a && v != bb) d = v;
+    if (d == none || edges.count(key(c, d)) != 0) continue;
+    tris[sliver] = {c, a, d};
+    tris[other] = {c, d, bb};
+    touched[sliver] = touched[other] = 1;
+  }
+}
+
+// Step 3: the mean sag of each vertex's smooth edges, |e|^2 kappa / 12 with
+// kappa = (n_b - n_a) . e / |e|^2 (both normals on one side), signed along
+// the vertex's own normal: positive where the surface bulges that way.
+std::vector<double> mean_sag(const Mesh& contoured, const Projected& pr, double cos_crease) {
+  const std::size_t n = contoured.vertices.size();
+  std::vector<double> sum(n, 0.0);
+  std::vector<std::uint32_t> edges(n, 0);
+  auto add = [&](std::uint32_t a, std::uint32_t b) {
+    const double c = pr.normal[a].dot(pr.normal[b]);
+    if (std::abs(c) < cos_crease) return;
+    const Vec3 nb = c < 0.0 ? Vec3(-pr.normal[b]) : pr.normal[b];
+    sum[a] += (nb - pr.normal[a]).dot(pr.point[b] - pr.point[a]) / 12.0;
+    ++edges[a];
+  };
+  for (const auto& t : contoured.triangles)
+    for (std::size_t e = 0; e < 3; ++e) {
+      add(t[e], t[(e + 1) % 3]);
+      add(t[(e + 1) % 3], t[e]);
+    }
+  for (std::size_t v = 0; v < n; ++v) sum[v] = edges[v] > 0 && pr.partner[v] == none ? sum[v] / edges[v] : 0.0;
+  return sum;
+}
+
+// Step 4a: an open boundary is cut back to the data. f is defined up to
+// about 1.5 rho + delta past the last samples (signed_distance.h), so the
+// contoured surface runs on past an open edge of the data; triangles whose
+// three vertices lie farther from their plane's sample than the local
+// spacing there are peeled off, starting from the boundary and moving
+// inwards only (a closed surface has no boundary and loses nothing, and no
+// hole is made inside the surface).
+std::size_t trim_boundaries(Builder& b, const Projected& pr) {
+  const std::size_t n = b.mesh.vertices.size();
+  std::vector<std::uint8_t> covered(n, 1);
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto& on = b.planes[v];
+    if (on[0] != none) covered[v] = pr.covered[on[0]] || (on[1] != none && pr.covered[on[1]]);
+  }
+  // The triangles touching an uncovered vertex, and their edges that have
+  // an uncovered end (all of whose triangles are among them).
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t t = 0; t < b.mesh.triangles.size(); ++t) {
+    const auto& tri = b.mesh.triangles[t];
+    if (!covered[tri[0]] || !covered[tri[1]] || !covered[tri[2]]) candidates.push_back(t);
+  }
+  if (candidates.empty()) return 0;
+  auto key = [](std::uint32_t u, std::uint32_t v) { return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v); };
+  std::unordered_map<std::uint64_t, std::array<std::uint32_t, 2>> sides;  // the (up to) two triangles of an edge
+  for (const std::uint32_t t : candidates) {
+    const auto& tri = b.mesh.triangles[t];
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
+      if (covered[u] && covered[v]) continue;
+      auto [it, added] = sides.try_emplace(key(u, v), std::array<std::uint32_t, 2>{t, none});
+      if (!added) it->second[1] = t;
+    }
+  }
+  std::vector<std::uint8_t> removed(b.mesh.triangles.size(), 0);
+  auto peelable = [&](std::uint32_t t) {
+    const auto& tri = b.mesh.triangles[t];
+    return !removed[t] && !covered[tri[0]] && !covered[tri[1]] && !covered[tri[2]];
+  };
+  // Across edge (u, v) of t: the other triangle, or none at the boundary.
+  auto across = [&](std::uint32_t t, std::uint32_t u, std::uint32_t v) {
+    const auto& two = sides.at(key(u, v));
+    const std::uint32_t other = two[0] == t ? two[1] : two[0];
+    return other != none && !removed[other] ? other : none;
+  };
+  std::vector<std::uint32_t> queue;
+  for (const std::uint32_t t : candidates) {
+    if (!peelable(t)) continue;
+    const auto& tri = b.mesh.triangles[t];
+    for (std::size_t e = 0; e < 3; ++e)
+      if (across(t, tri[e], tri[(e + 1) % 3]) == none) {
+        queue.push_back(t);
+        break;
+      }
+  }
+  std::size_t peeled = 0;
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const std::uint32_t t = queue[q];
+    if (!peelable(t)) continue;
+    removed[t] = 1;
+    ++peeled;
+    const auto& tri = b.mesh.triangles[t];
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t other = across(t, tri[e], tri[(e + 1) % 3]);
+      if (other != none && peelable(other)) queue.push_back(other);
+    }
+  }
+  if (peeled == 0) return 0;
+  std::vector<std::uint8_t> keep(removed.size());
+  for (std::size_t t = 0; t < keep.size(); ++t) keep[t] = removed[t] ? 0 : 1;
+  compact(b, keep);
+  return peeled;
+}
+
+// Step 4: components (through shared vertices), the piece of data each is
+// drawn from (the most common piece among its vertices' planes), and which
+// to keep.
+struct Fragments {
+  std::vector<std::uint8_t> keep_triangle;
+  std::size_t dropped = 0, dropped_triangles = 0;
+};
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t v) {
+  while (parent[v] != v) v = parent[v] = parent[parent[v]];
+  return v;
+}
+
+Fragments find_fragments(const Mesh& mesh, const std::vector<std::array<std::uint32_t, 2>>& planes, const Projected& pr,
+                         const RefinementInput& in, double fraction) {
+  const std::size_t n = mesh.vertices.size();
+  std::vector<std::uint32_t> parent(n);
+  for (std::uint32_t v = 0; v < n; ++v) parent[v] = v;
+  for (const auto& t : mesh.triangles)
+    for (std::size_t e = 1; e < 3; ++e) {
+      const std::uint32_t a = find_root(parent, t[0]), b = find_root(parent, t[e]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  // Per component (by root): triangles, and votes for its piece.
+  std::unordered_map<std::uint32_t, std::size_t> triangles;
+  std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::size_t>> votes;
+  for (const auto& t : mesh.triangles) ++triangles[find_root(parent, t[0])];
+  for (std::uint32_t v = 0; v < n; ++v) {
+    const std::uint32_t projected = planes[v][0];  // none for a corner; a crease vertex votes with its first end
+    if (projected == none) continue;
+    const std::uint32_t piece = in.piece.empty() ? 0 : in.piece[pr.plane[projected]];
+    ++votes[find_root(parent, v)][piece];
+  }
+  std::unordered_map<std::uint32_t, std::uint32_t> piece_of;
+  std::unordered_map<std::uint32_t, std::size_t> largest;  // per piece
+  for (const auto& [root, count] : triangles) {
+    std::uint32_t piece = 0;
+    std::size_t best = 0;
+    for (const auto& [p, c] : votes[root])
+      if (c > best || (c == best && p < piece)) {
+        best = c;
+        piece = p;
+      }
+    piece_of[root] = piece;
+    largest[piece] = std::max(largest[piece], count);
+  }
+  Fragments f;
+  f.keep_triangle.resize(mesh.triangles.size(), 1);
+  for (const auto& [root, count] : triangles)
+    if (static_cast<double>(count) < fraction * static_cast<double>(largest[piece_of[root]])) {
+      ++f.dropped;
+      f.dropped_triangles += count;
+    }
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::uint32_t root = find_root(parent, mesh.triangles[t][0]);
+    if (static_cast<double>(triangles[root]) < fraction * static_cast<double>(largest[piece_of[root]]))
+      f.keep_triangle[t] = 0;
+  }
+  return f;
+}
+
+// Removes the dropped triangles and the vertices no triangle uses any more,
+// keeping the order of the rest.
+void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle) {
+  std::vector<std::uint32_t> renumber(b.mesh.vertices.size(), none);
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  for (std::size_t t = 0; t < b.mesh.triangles.size(); ++t) {
+    if (!keep_triangle[t]) continue;
+    kept.push_back(b.mesh.triangles[t]);
+    for (const std::uint32_t v : b.mesh.triangles[t]) renumber[v] = 0;
+  }
+  std::uint32_t next = 0;
+  for (std::size_t v = 0; v < renumber.size(); ++v) {
+    if (renumber[v] == none) continue;
+    renumber[v] = next;
+    b.mesh.vertices[next] = b.mesh.vertices[v];
+    b.displacement[next] = b.displacement[v];
+    b.planes[next] = b.planes[v];
+    ++next;
+  }
+  b.mesh.vertices.resize(next);
+  b.displacement.resize(next);
+  b.planes.resize(next);
+  for (auto& t : kept)
+    for (auto& v : t) v = renumber[v];
+  b.mesh.triangles = std::move(kept);
+}
+
+void check_input(const RefinementInput& in) {
+  const std::size_t n = in.origins.size();
+  if (in.normals.size() != n || in.curvature.size() != n || (!in.piece.empty() && in.piece.size() != n) ||
+      in.oriented.size() != n || in.distance == nullptr)
+    throw InvalidInputError("refine_mesh: the origins, normals (both), curvatures and pieces must all describe the same " +
+                            std::to_string(n) + " planes, and f is needed");
+  if (n == 0) throw InvalidInputError("refine_mesh: no planes to refine against");
+}
+
+}  // namespace
+
+Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, const RefinementOptions& options) {
+  check_input(input);
+  Timer timer;
+  const double cos_crease = std::cos(options.crease_angle_degrees * std::numbers::pi / 180.0);
+  Projected pr = project_vertices(contoured, input, options.max_move);
+  const std::size_t brought_back = bring_back(pr, contoured, input, cos_crease, options.max_move);
+  Builder b;
+  b.mesh.vertices = pr.point;
+  b.displacement.resize(pr.point.size());
+  b.planes.resize(pr.point.size());
+  for (std::uint32_t v = 0; v < pr.point.size(); ++v) b.planes[v] = {v, pr.partner[v]};
+  if (options.chord_balance != 0.0) {
+    const std::vector<double> sag = mean_sag(contoured, pr, cos_crease);
+    for (std::size_t v = 0; v < sag.size(); ++v) b.mesh.vertices[v] += options.chord_balance * sag[v] * pr.normal[v];
+  }
+  for (std::size_t v = 0; v < pr.point.size(); ++v)
+    b.displacement[v] = static_cast<float>((b.mesh.vertices[v] - contoured.vertices[v]).norm());
+  sharpen(b, pr, contoured, input, cos_crease);
+  Refinement result;
+  result.trimmed = trim_boundaries(b, pr);
+  result.crease_vertices = b.creases;
+  result.brought_back = brought_back;
+  result.corner_vertices = b.corners;
+  result.unmoved = pr.unmoved;
+  if (!options.keep_fragments) {
+    const Fragments f = find_fragments(b.mesh, b.planes, pr, input, options.fragment_fraction);
+    result.fragments = f.dropped;
+    result.fragment_triangles = f.dropped_triangles;
+    if (f.dropped > 0) compact(b, f.keep_triangle);
+  }
+  result.mesh = std::move(b.mesh);
+  result.displacement = std::move(b.displacement);
+  result.seconds = timer.lap();
+  return result;
+}
+
+}  // namespace recon
