@@ -497,10 +497,10 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
       continue;
     }
     const Foot foot = foot_on(q, x[i], planes.normals[i]);
-    if (q.residual > poor) {
-      // Unresolved (a corner's samples may find no neighbourhood on one
-      // face): the sample itself is nearer the surface than its foot on a
-      // misfit, and the plane there is flat.
+    if (q.residual > 2.5 * poor) {
+      // Unresolved, and far beyond what noise explains (a corner's samples
+      // may find no neighbourhood on one face): the sample itself is nearer
+      // the surface than its foot on a misfit, and the plane there is flat.
       result.origins[i] = x[i];
       result.normals[i] = foot.normal;
       ++flat;

@@ -387,6 +387,12 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
     input.curvature = r.quadrics->curvature;
     input.distance = &f;
     input.spacing = r.planes.local_gap;
+    // Noisy data (the fits miss their samples by over a hundredth of the
+    // sampling density): blend the quadrics of 8 planes around each vertex.
+    if (r.planes.noise > 0.01 * r.planes.rho) {
+      input.blend = 8;
+      input.origin_tree = &r.origin_tree;
+    }
     if (r.oriented) input.piece = r.oriented->graph.components.label;
     RefinementOptions refinement = options.refinement;
     if (refinement.max_move <= 0.0) refinement.max_move = cell;

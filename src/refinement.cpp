@@ -30,6 +30,32 @@ struct Projected {
   std::size_t unmoved = 0;
 };
 
+// On noisy data each quadric carries its neighbourhood's noise: the point
+// is projected onto the quadrics of the `blend` origins nearest to it that
+// face the same way as plane i (not across a crease), and the results are
+// averaged with weights falling off with the distance to each origin (a
+// Gaussian of the farthest one's distance): a moving least-squares surface.
+SurfacePoint blended_projection(const RefinementInput& in, std::uint32_t i, const Vec3& p) {
+  constexpr std::size_t most = 32;
+  std::array<Neighbor, most> found;
+  const std::size_t count =
+      in.origin_tree->knn(p, std::span<Neighbor>(found.data(), std::min<std::size_t>(most, static_cast<std::size_t>(in.blend))));
+  const double h2 = std::max(found[count - 1].distance2, 1e-300);
+  Vec3 point = Vec3::Zero(), normal = Vec3::Zero();
+  double total = 0.0;
+  for (std::size_t c = 0; c < count; ++c) {
+    const std::uint32_t j = found[c].index;
+    if (std::abs(in.normals[j].dot(in.normals[i])) < 0.9063077870366499) continue;  // across a crease
+    const SurfacePoint q = project_onto_quadric(in.origins[j], in.normals[j], in.curvature[j], p);
+    const double w = std::exp(-found[c].distance2 / h2);
+    point += w * q.point;
+    normal += w * (q.normal.dot(in.normals[i]) < 0.0 ? Vec3(-q.normal) : q.normal);
+    total += w;
+  }
+  if (!(total > 0.0)) return project_onto_quadric(in.origins[i], in.normals[i], in.curvature[i], p);
+  return {point / total, normal.normalized()};
+}
+
 // Step 1: every vertex onto the quadric of the plane f takes there (so the
 // faces meeting at a crease split the space as f does). A vertex that would
 // move further than max_move stays put.
@@ -48,7 +74,7 @@ Projected project_vertices(const Mesh& mesh, const RefinementInput& in, double m
     const auto v = static_cast<std::size_t>(s);
     const Vec3& p = mesh.vertices[v];
     const std::uint32_t i = in.distance->plane_for(p);
-    const SurfacePoint q = project_onto_quadric(in.origins[i], in.normals[i], in.curvature[i], p);
+    const SurfacePoint q = in.blend > 1 ? blended_projection(in, i, p) : project_onto_quadric(in.origins[i], in.normals[i], in.curvature[i], p);
     const bool trusted = max_move <= 0.0 || (q.point - p).norm() <= max_move;
     out.point[v] = trusted ? q.point : p;
     out.normal[v] = in.oriented[i].dot(in.normals[i]) < 0.0 ? Vec3(-q.normal) : q.normal;
@@ -682,6 +708,8 @@ void check_input(const RefinementInput& in) {
     throw InvalidInputError("refine_mesh: the origins, normals (both), curvatures and pieces must all describe the same " +
                             std::to_string(n) + " planes, and f is needed");
   if (n == 0) throw InvalidInputError("refine_mesh: no planes to refine against");
+  if (in.blend > 1 && (in.origin_tree == nullptr || in.origin_tree->size() != n))
+    throw InvalidInputError("refine_mesh: blending needs the tree over the origins");
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 //   1. Project. Each vertex goes onto the osculating quadric of the tangent
 //      plane f takes there (signed_distance.h; local_quadrics.h): the surface
 //      as the samples around it curve, not the plane, nor the lattice edge.
+//      On noisy data (blend), onto a weighted average of the quadrics of the
+//      planes around it, which averages their noise out.
 //   2. Sharpen. Where the two ends of a mesh edge lie on surfaces that meet
 //      at a crease (their normals differ by more than crease_angle, far more
 //      than the curvature between them explains), an end projected past the
@@ -70,6 +72,10 @@ struct RefinementInput {
   /// open boundaries are not cut back (step 4).
   std::span<const float> spacing;
   std::span<const std::uint32_t> piece;      ///< per plane, its component in phase II (empty: one piece)
+  /// Noisy data: each vertex is projected onto the quadrics of this many
+  /// origins around it and the points averaged (1: its plane's alone).
+  int blend = 1;
+  const KdTree<3>* origin_tree = nullptr;    ///< over `origins`; needed when blend > 1
 };
 
 struct Refinement {
