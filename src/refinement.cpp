@@ -8,11 +8,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
+#include <vector>
 
 namespace recon {
 namespace {
@@ -288,7 +291,7 @@ void emit(Builder& b, const std::array<std::uint32_t, 3>& t, const std::array<st
 // Step 2 over the whole mesh, in triangle order; then the corners.
 void snap_corners(Builder& b, const Projected& pr, double cos_crease);
 void weld_coincident(Builder& b, std::size_t projected);
-void flip_slivers(Builder& b);
+void remove_slivers(Builder& b);
 void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle);
 
 void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in, double cos_crease) {
@@ -305,7 +308,7 @@ void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const Refin
   }
   snap_corners(b, pr, cos_crease);
   weld_coincident(b, pr.point.size());
-  flip_slivers(b);
+  remove_slivers(b);
 }
 
 // Three or more tangent planes far apart in direction among a triangle's
@@ -473,47 +476,150 @@ void weld_coincident(Builder& b, std::size_t projected) {
 // A split can leave a sliver: a triangle (a, b, c) with c on the segment ab
 // (a crease vertex in line with two others). Its longest edge ab is flipped
 // with the triangle (b, a, d) across it: (c, a, d) and (c, d, b) split that
-// triangle at c instead, unless c and d are joined already.
-void flip_slivers(Builder& b) {
-  auto& tris = b.mesh.triangles;
-  const auto& x = b.mesh.vertices;
-  auto key = [](std::uint32_t u, std::uint32_t v) { return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v); };
+// triangle at c instead, unless c and d are joined already. Where the
+// triangle across is a sliver too (several crease vertices in a row), no
+// flip helps: the sliver's shortest edge is collapsed instead. Both repeat
+// until no sliver is left (a few passes at most).
+using Triangles = std::vector<std::array<std::uint32_t, 3>>;
+
+std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
+  return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
+}
+
+// The edge e (tri[e] -> tri[e + 1]) that is a sliver's longest, or 3 when
+// the triangle is no sliver.
+std::size_t sliver_edge(const std::vector<Vec3>& x, const std::array<std::uint32_t, 3>& tri) {
+  const double longest = longest_edge(x, tri);
+  if ((x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]).norm() > 1e-8 * longest * longest) return 3;
+  std::size_t e = 0;
+  while ((x[tri[e]] - x[tri[(e + 1) % 3]]).norm() < longest) ++e;
+  return e;
+}
+
+// One pass of flips; returns the slivers left as they were (a flip may make
+// a new one: the next pass looks again).
+struct Slivers {
+  std::size_t flipped = 0;
+  std::vector<std::uint32_t> left;
+};
+
+Slivers flip_slivers(Triangles& tris, const std::vector<Vec3>& x) {
+  std::vector<std::uint32_t> slivers;
   std::unordered_map<std::uint64_t, std::uint32_t> sliver_of;  // a sliver's longest edge -> the sliver
   for (std::uint32_t t = 0; t < tris.size(); ++t) {
-    const auto& tri = tris[t];
-    const double longest = longest_edge(x, tri);
-    if ((x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]).norm() > 1e-8 * longest * longest) continue;
-    std::size_t e = 0;  // the edge tri[e] -> tri[e + 1] of that length
-    while ((x[tri[e]] - x[tri[(e + 1) % 3]]).norm() < longest) ++e;
-    sliver_of.emplace(key(tri[e], tri[(e + 1) % 3]), t);
+    const std::size_t e = sliver_edge(x, tris[t]);
+    if (e == 3) continue;
+    slivers.push_back(t);
+    sliver_of.emplace(edge_key(tris[t][e], tris[t][(e + 1) % 3]), t);
   }
-  if (sliver_of.empty()) return;
-  std::unordered_map<std::uint64_t, std::uint32_t> edges;  // every edge -> a triangle using it (to tell joined pairs)
-  std::unordered_map<std::uint32_t, std::uint32_t> neighbour_of;  // sliver -> the triangle across its longest edge
+  if (slivers.empty()) return {};
+  std::unordered_set<std::uint64_t> edges;
+  std::vector<std::uint32_t> across(tris.size(), none);  // sliver -> the triangle across its longest edge
   for (std::uint32_t t = 0; t < tris.size(); ++t)
     for (std::size_t e = 0; e < 3; ++e) {
-      const std::uint64_t k = key(tris[t][e], tris[t][(e + 1) % 3]);
-      edges.emplace(k, t);
+      const std::uint64_t k = edge_key(tris[t][e], tris[t][(e + 1) % 3]);
+      edges.insert(k);
       const auto s = sliver_of.find(k);
-      if (s != sliver_of.end() && s->second != t) neighbour_of.emplace(s->second, t);
+      if (s != sliver_of.end() && s->second != t) across[s->second] = t;
     }
   std::vector<std::uint8_t> touched(tris.size(), 0);
-  for (const auto& [sliver, other] : neighbour_of) {
-    if (touched[sliver] || touched[other]) continue;
-    const auto s = tris[sliver];
-    std::size_t e = 0;  // the sliver's longest edge
-    for (; e < 2; ++e) {
-      const auto it = sliver_of.find(key(s[e], s[(e + 1) % 3]));
-      if (it != sliver_of.end() && it->second == sliver) break;
-    }
-    const std::uint32_t a = s[e], bb = s[(e + 1) % 3], c = s[(e + 2) % 3];
+  Slivers result;
+  for (const std::uint32_t sliver : slivers) {
+    const std::uint32_t other = across[sliver];
+    const std::size_t e = sliver_edge(x, tris[sliver]);
+    const std::uint32_t a = tris[sliver][e], bb = tris[sliver][(e + 1) % 3], c = tris[sliver][(e + 2) % 3];
     std::uint32_t d = none;
-    for (const std::uint32_t v : tris[other])
-      if (v != a && v != bb) d = v;
-    if (d == none || edges.count(key(c, d)) != 0) continue;
+    if (other != none && !touched[sliver] && !touched[other] && sliver_edge(x, tris[other]) == 3)
+      for (const std::uint32_t v : tris[other])
+        if (v != a && v != bb) d = v;
+    if (d == none || edges.count(edge_key(c, d)) != 0) {
+      result.left.push_back(sliver);
+      continue;
+    }
     tris[sliver] = {c, a, d};
     tris[other] = {c, d, bb};
+    edges.insert(edge_key(c, d));
     touched[sliver] = touched[other] = 1;
+    ++result.flipped;
+  }
+  return result;
+}
+
+// Whether moving v onto u leaves every triangle around v that does not
+// hold u facing the same way (no fold).
+bool collapse_keeps_sides(const Triangles& tris, const std::vector<Vec3>& x, const std::vector<std::uint32_t>& around,
+                          std::uint32_t u, std::uint32_t v) {
+  for (const std::uint32_t t : around) {
+    const auto& tri = tris[t];
+    if (std::find(tri.begin(), tri.end(), u) != tri.end()) continue;
+    auto at = [&](std::size_t i) { return tri[i] == v ? x[u] : x[tri[i]]; };
+    const Vec3 before = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
+    const Vec3 after = (at(1) - at(0)).cross(at(2) - at(0));
+    if (before.dot(after) <= 0.0) return false;
+  }
+  return true;
+}
+
+// Collapses an edge (u, v) of each sliver left, the shortest that can be,
+// moving v onto u (never a corner vertex), where that keeps the surface a
+// manifold (u and v share no neighbour but the two triangles' third
+// vertices) and turns no triangle around v over. Returns whether any edge
+// was collapsed.
+bool collapse_slivers(Builder& b, const std::vector<std::uint32_t>& slivers) {
+  Triangles& tris = b.mesh.triangles;
+  const auto& x = b.mesh.vertices;
+  std::vector<std::vector<std::uint32_t>> around(x.size());
+  for (std::uint32_t t = 0; t < tris.size(); ++t)
+    for (const std::uint32_t v : tris[t]) around[v].push_back(t);
+  auto neighbours = [&](std::uint32_t v) {
+    std::vector<std::uint32_t> n;
+    for (const std::uint32_t t : around[v])
+      for (const std::uint32_t w : tris[t])
+        if (w != v) n.push_back(w);
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    return n;
+  };
+  std::vector<std::uint8_t> changed(x.size(), 0);
+  std::vector<std::uint8_t> keep(tris.size(), 1);
+  bool any = false;
+  auto try_collapse = [&](std::uint32_t u, std::uint32_t v) {
+    if (b.planes[v][0] == none || changed[u] || changed[v]) return false;  // a corner stays where it is
+    const auto nu = neighbours(u), nv = neighbours(v);
+    std::vector<std::uint32_t> common;
+    std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
+    std::size_t sharing = 0;  // triangles on the edge (u, v)
+    for (const std::uint32_t t : around[v]) sharing += std::find(tris[t].begin(), tris[t].end(), u) != tris[t].end();
+    if (common.size() != sharing || !collapse_keeps_sides(tris, x, around[v], u, v)) return false;
+    for (const std::uint32_t t : around[v]) {
+      for (auto& w : tris[t]) w = w == v ? u : w;
+      keep[t] = tris[t][0] != tris[t][1] && tris[t][1] != tris[t][2] && tris[t][2] != tris[t][0];
+    }
+    for (const std::uint32_t w : nv) changed[w] = 1;
+    for (const std::uint32_t w : nu) changed[w] = 1;
+    changed[u] = changed[v] = 1;
+    return true;
+  };
+  for (const std::uint32_t s : slivers) {
+    if (!keep[s]) continue;
+    std::array<std::size_t, 3> order{0, 1, 2};  // the sliver's edges, shortest first
+    auto length = [&](std::size_t e) { return (x[tris[s][e]] - x[tris[s][(e + 1) % 3]]).norm(); };
+    std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return length(i) < length(j); });
+    for (const std::size_t e : order)
+      if (try_collapse(tris[s][e], tris[s][(e + 1) % 3]) || try_collapse(tris[s][(e + 1) % 3], tris[s][e])) {
+        any = true;
+        break;
+      }
+  }
+  if (any) compact(b, keep);
+  return any;
+}
+
+void remove_slivers(Builder& b) {
+  for (int pass = 0; pass < 8; ++pass) {
+    const Slivers s = flip_slivers(b.mesh.triangles, b.mesh.vertices);
+    const bool collapsed = !s.left.empty() && collapse_slivers(b, s.left);
+    if (s.flipped == 0 && !collapsed) return;
   }
 }
 

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <map>
 #include <numbers>
 #include <random>
 
@@ -240,6 +241,45 @@ TEST(Reconstruct, CellAndResolutionOptions) {
   EXPECT_THROW((void)reconstruct(cloud, options), ResourceLimitError);  // refused before allocating
 }
 
+// `--method hoppe92` is the 1992 pipeline exactly as it was before the
+// refined method came: the meshes of four shapes hash (FNV-1a over the
+// vertex coordinates' and triangle indices' bytes) to the values the
+// library gave at commit c7b9c28, the last before it.
+std::uint64_t fnv1a(const Mesh& mesh) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  auto eat = [&h](const void* data, std::size_t size) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) h = (h ^ bytes[i]) * 0x100000001b3ULL;
+  };
+  for (const Vec3& v : mesh.vertices)
+    for (int a = 0; a < 3; ++a) eat(&v[a], sizeof(double));
+  for (const auto& t : mesh.triangles) eat(t.data(), 3 * sizeof(std::uint32_t));
+  return h;
+}
+
+TEST(Reconstruct, Hoppe92IsThe1992PipelineBitForBit) {
+  struct Expected {
+    const char* shape;
+    std::uint64_t seed;
+    std::size_t vertices, triangles;
+    std::uint64_t hash;
+  };
+  for (const Expected& e : {Expected{"torus", 51, 4868, 9736, 0x7f97d91d8465b68fULL},
+                            Expected{"box", 52, 3392, 6780, 0xea068ea275fa25f1ULL},
+                            Expected{"terrain", 53, 12719, 24974, 0x36513612479a973cULL},
+                            Expected{"two", 54, 4970, 9936, 0x9d168018fd905fbcULL}}) {
+    PointCloud cloud = make_shape(e.shape)->sample(20000, e.seed);
+    cloud.normals.clear();
+    ReconstructionOptions options;
+    options.method = Method::hoppe92;
+    const Reconstruction r = reconstruct(cloud, options);
+    EXPECT_FALSE(r.refinement.has_value());
+    EXPECT_EQ(r.mesh().vertices.size(), e.vertices) << e.shape;
+    EXPECT_EQ(r.mesh().triangles.size(), e.triangles) << e.shape;
+    EXPECT_EQ(fnv1a(r.mesh()), e.hash) << e.shape;
+  }
+}
+
 // Large enough that every parallel part splits its work (kd-tree build tasks
 // above 65536 points, OpenMP chunks of 4096), at two threads and at three (a
 // different split). The tsan preset runs it, and the other tests, under
@@ -335,6 +375,35 @@ TEST(ReconstructRealData, HotdogsAreTwoObjects) {
   EXPECT_EQ(t.components, 2u);
   EXPECT_TRUE(t.watertight());
   for (const auto& c : t.component_list) EXPECT_GT(c.signed_volume, 0.0);
+}
+
+// The "armadillo points" are a slab of the statue, cut by the planes
+// x = -13.66 and x = 11.12: no sample lies inside the outlines there (the
+// torso's, and an arm's that reaches past the first plane), so the data
+// itself is open in three places. The mesh is one piece with exactly those
+// three boundary loops: every boundary vertex lies near a cut plane (the
+// cut edges are ragged: within a fifth of the slab's width, measured 3.3 or
+// about 5 rho), none in the middle of the slab.
+TEST(ReconstructRealData, ArmadilloSlabIsOpenOnlyAtItsCutPlanes) {
+  RECON_REQUIRE_DATA(testing::shared_data("stanford_armadillo_points/Armadillo.ply"));
+  Reconstruction r;
+  const MeshTopology t = reconstruct_file("stanford_armadillo_points/Armadillo.ply", &r);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_EQ(t.boundary_loops, 3u);
+  EXPECT_GT(t.signed_volume, 0.0);
+  const Box<3> box = bounding_box<3>(r.planes.origins);
+  const double reach = 0.2 * (box.max.x() - box.min.x());
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+  for (const auto& tri : r.mesh().triangles)
+    for (std::size_t e = 0; e < 3; ++e) ++uses[std::minmax(tri[e], tri[(e + 1) % 3])];
+  std::size_t boundary = 0;
+  for (const auto& [edge, count] : uses) {
+    if (count != 1) continue;
+    ++boundary;
+    const double x = r.mesh().vertices[edge.first].x() - r.offset.x();
+    EXPECT_LT(std::min(x - box.min.x(), box.max.x() - x), reach) << "a boundary away from the cut planes";
+  }
+  EXPECT_GT(boundary, 1000u);
 }
 
 TEST(ReconstructRealData, BunnyStaysCloseToItsOwnSurface) {
