@@ -44,7 +44,9 @@ class Shape {
 /// z = 0.15 sin 2x cos 3y + 0.05 sin(5x + 4y) over [-1, 1]^2, sampled on a
 /// grid with 15 % jitter (rows of ceil(sqrt n) points; the last row may be
 /// partial) rather than uniformly at random. One boundary, Euler
-/// characteristic 1.
+/// characteristic 1. Its distance() follows the surface from p's own
+/// (x, y): exact near the surface (within 0.3 of it, where the tests ask),
+/// it may come out too large farther away.
 [[nodiscard]] std::unique_ptr<Shape> make_terrain();
 
 /// A machined part, the kind of solid a CAD model describes: the slab
