@@ -530,44 +530,83 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
   };
 }
 
+namespace {
+
+// Gaussian noise of standard deviation `fraction` of the cloud's bounding-box
+// diagonal, reproducible from the seed.
+void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed) {
+  Box<3> box;
+  for (const auto& p : cloud.positions) box.extend(p);
+  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ULL);
+  std::normal_distribution<double> gauss(0.0, fraction * box.diagonal());
+  for (auto& p : cloud.positions) p += Vec3(gauss(rng), gauss(rng), gauss(rng));
+}
+
+// How many points `recon generate SHAPE` writes without -n: the course's
+// data set at its own size, every other shape at 100,000.
+std::size_t default_point_count(const std::string& shape) { return shape == "conics" ? 16000 : 100000; }
+
+// --truth: a dense, noise-free sample of the true surface with its true
+// normals, the ground truth the evaluation scripts compare a mesh with
+// (a PLY with x y z nx ny nz). It is drawn with a seed of its own, so it is
+// not the cloud itself.
+void write_truth(const Shape& shape, const std::filesystem::path& path, std::size_t count, std::uint64_t seed,
+                 Summary& summary) {
+  const PointCloud truth = shape.sample(count, seed ^ 0x2545f4914f6cdd1dULL);
+  io::write_points(path, truth, {io::PointFormat::ply, false});
+  summary.say("wrote     " + path.string() + ": " + plural(truth.size(), "point") +
+              " of the true surface, with normals");
+}
+
+}  // namespace
+
 Command add_generate(CLI::App& app, const GlobalOptions& global) {
   struct Options {
     std::string shape;
-    std::size_t count = 100000;
+    std::size_t count = 0;  // 0: default_point_count(shape)
     std::uint64_t seed = 1;
     double noise = 0.0;
     bool with_normals = false;
     std::filesystem::path output;
+    std::filesystem::path truth;
+    std::size_t truth_count = 300000;
   };
   auto o = std::make_shared<Options>();
   app.add_option("shape", o->shape,
-                 "sphere, torus, ellipsoid, box, two (a sphere beside a torus), or terrain (a scan-like open "
-                 "height field on a jittered grid)")
+                 "sphere, torus, ellipsoid, box, two (a sphere beside a torus), terrain (a scan-like open "
+                 "height field on a jittered grid), part (a slab with three holes: sharp creases, genus 3), handle "
+                 "(a long thin capsule), or conics (the course's data set: two cones, two cylinders and a sphere)")
       ->required();
   app.add_option("-o,--output", o->output, "Point cloud to write (.ply or .xyz)")->required();
-  app.add_option("-n,--points", o->count, "Number of points")->default_val(o->count)->check(CLI::Range(1, 1 << 30));
+  app.add_option("-n,--points", o->count, "Number of points (default 100000; conics: 16000)")
+      ->check(CLI::Range(1, 1 << 30));
   app.add_option("--seed", o->seed, "Random seed")->default_val(o->seed);
   app.add_option("--noise", o->noise, "Gaussian noise, as a fraction of the bounding-box diagonal")
       ->check(CLI::Range(0.0, 1.0));
   app.add_flag("--with-normals", o->with_normals, "Also write the true outward normals");
+  CLI::Option* truth = app.add_option(
+      "--truth", o->truth,
+      "Also write the ground truth: a dense noise-free sample of the true surface with its normals (.ply)");
+  app.add_option("--truth-points", o->truth_count, "Number of points of the ground truth")
+      ->default_val(o->truth_count)
+      ->check(CLI::Range(1, 1 << 30))
+      ->needs(truth);
   return [o, &global] {
     Summary summary(global.quiet);
     io::WritePointsOptions write_options;
     write_options.format = writable_point_format(o->output);
-    check_outputs({}, {o->output});
+    if (!o->truth.empty() && io::point_format_from_path(o->truth) != io::PointFormat::ply)
+      throw InvalidInputError(o->truth.string() + ": the ground truth is written as .ply (x y z nx ny nz)");
+    check_outputs({}, {o->output, o->truth});
     const auto shape = make_shape(o->shape);
-    PointCloud cloud = shape->sample(o->count, o->seed);
-    if (o->noise > 0.0) {
-      Box<3> box;
-      for (const auto& p : cloud.positions) box.extend(p);
-      std::mt19937_64 rng(o->seed ^ 0x9e3779b97f4a7c15ULL);
-      std::normal_distribution<double> gauss(0.0, o->noise * box.diagonal());
-      for (auto& p : cloud.positions) p += Vec3(gauss(rng), gauss(rng), gauss(rng));
-    }
+    const std::size_t count = o->count > 0 ? o->count : default_point_count(o->shape);
+    PointCloud cloud = shape->sample(count, o->seed);
+    if (o->noise > 0.0) add_noise(cloud, o->noise, o->seed);
     if (!o->with_normals) cloud.normals.clear();
     io::write_points(o->output, cloud, write_options);
     summary.say("wrote     " + o->output.string() + ": " + plural(cloud.size(), "point") + " sampled from '" +
                 o->shape + "'");
+    if (!o->truth.empty()) write_truth(*shape, o->truth, o->truth_count, o->seed, summary);
   };
 }
 

@@ -101,7 +101,8 @@ int main(int argc, char** argv) {
   add("normals", "Estimate consistently oriented normals (phases I and II) and write the oriented cloud",
       recon::cli::add_normals);
   add("reconstruct", "Reconstruct a triangle mesh from a point cloud (all four phases)", recon::cli::add_reconstruct);
-  add("generate", "Write a point sample of a known shape (sphere, torus, ellipsoid, box, two, terrain)",
+  add("generate",
+      "Write a point sample of a known shape (sphere, torus, ellipsoid, box, two, terrain, part, handle, conics)",
       recon::cli::add_generate);
 
   try {

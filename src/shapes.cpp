@@ -2,9 +2,14 @@
 
 #include "recon/errors.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <numeric>
 #include <random>
 
 namespace recon {
@@ -21,6 +26,23 @@ Vec3 unit_vector(Rng& rng) {
     const double norm = v.norm();
     if (norm > 1e-9) return v / norm;
   }
+}
+
+// Running sums of patch areas: the last is the total area, and a uniform
+// draw in [0, total) falls after the sums of the patches before the one
+// it picks, so each patch is picked with probability area / total.
+std::vector<double> running_sums(const std::vector<double>& areas) {
+  std::vector<double> sums(areas.size());
+  std::partial_sum(areas.begin(), areas.end(), sums.begin());
+  return sums;
+}
+
+// A patch picked with probability proportional to its area (a patch of
+// zero area is never picked).
+std::size_t pick_patch(const std::vector<double>& sums, Rng& rng) {
+  const double u = uniform(rng) * sums.back();
+  const auto after = std::upper_bound(sums.begin(), sums.end(), u);
+  return std::min(static_cast<std::size_t>(after - sums.begin()), sums.size() - 1);
 }
 
 class Sphere final : public Shape {
@@ -189,6 +211,243 @@ class Union final : public Shape {
   std::unique_ptr<Shape> a_, b_;
 };
 
+// The slab with three holes of make_machined_part(). Its surface is eleven
+// patches: the six faces of the slab (top and bottom with three disks cut
+// out) and three hole walls. Sampling picks a patch by its area, then a
+// point uniformly on it (on the top and bottom by rejection: points that
+// fall in a hole are drawn again). The distance is the smallest of the
+// exact distances to the patches.
+class MachinedPart final : public Shape {
+ public:
+  PointCloud sample(std::size_t n, std::uint64_t seed) const override {
+    Rng rng(seed);
+    const std::vector<double> sums = running_sums(patch_areas());
+    PointCloud cloud;
+    cloud.positions.reserve(n);
+    cloud.normals.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t patch = pick_patch(sums, rng);
+      if (patch < 6)
+        sample_face(static_cast<int>(patch), rng, cloud);
+      else
+        sample_wall(patch - 6, rng, cloud);
+    }
+    return cloud;
+  }
+  double distance(const Vec3& p) const override {
+    double d = std::numeric_limits<double>::infinity();
+    for (int face = 0; face < 6; ++face) d = std::min(d, face_distance(p, face));
+    for (std::size_t hole = 0; hole < hole_x.size(); ++hole) d = std::min(d, wall_distance(p, hole));
+    return d;
+  }
+  double area() const override {
+    const std::vector<double> areas = patch_areas();
+    return std::accumulate(areas.begin(), areas.end(), 0.0);
+  }
+  int euler_characteristic() const override { return -4; }  // genus 3
+
+ private:
+  static constexpr double hole_radius = 0.18;
+  static constexpr std::array<double, 3> hole_x = {-0.6, 0.0, 0.6};  // hole axes, at y = 0
+  const Vec3 half_ = Vec3(1.0, 0.5, 0.2);                            // half the slab's sides
+
+  // Faces 0 to 5 are normal to axis face / 2, on its + side when face is
+  // even; faces 4 and 5 (top and bottom) have the holes.
+  static int face_axis(int face) { return face / 2; }
+  static double face_sign(int face) { return face % 2 == 0 ? 1.0 : -1.0; }
+
+  // Patches 0-5: the faces; 6-8: the hole walls.
+  std::vector<double> patch_areas() const {
+    const Vec3 side = 2.0 * half_;
+    const double disks = 3.0 * std::numbers::pi * hole_radius * hole_radius;
+    const double wall = 2.0 * std::numbers::pi * hole_radius * side.z();
+    const double end = side.y() * side.z(), front = side.x() * side.z(), top = side.x() * side.y() - disks;
+    return {end, end, front, front, top, top, wall, wall, wall};
+  }
+
+  // How far (x, y) lies inside a hole's disk: 0 when in no disk.
+  static double depth_in_hole(double x, double y) {
+    for (const double cx : hole_x) {
+      const double r = std::hypot(x - cx, y);
+      if (r < hole_radius) return hole_radius - r;
+    }
+    return 0.0;
+  }
+
+  void sample_face(int face, Rng& rng, PointCloud& cloud) const {
+    const int axis = face_axis(face);
+    Vec3 p;
+    do {
+      for (int a = 0; a < 3; ++a) p[a] = (2.0 * uniform(rng) - 1.0) * half_[a];
+    } while (axis == 2 && depth_in_hole(p.x(), p.y()) > 0.0);
+    p[axis] = face_sign(face) * half_[axis];
+    Vec3 normal = Vec3::Zero();
+    normal[axis] = face_sign(face);
+    cloud.positions.push_back(p);
+    cloud.normals.push_back(normal);
+  }
+
+  // A hole wall's outward normal points into the hole, towards its axis.
+  void sample_wall(std::size_t hole, Rng& rng, PointCloud& cloud) const {
+    const double phi = 2.0 * std::numbers::pi * uniform(rng);
+    const double z = (2.0 * uniform(rng) - 1.0) * half_.z();
+    const Vec3 radial(std::cos(phi), std::sin(phi), 0.0);
+    cloud.positions.push_back(Vec3(hole_x[hole], 0.0, z) + hole_radius * radial);
+    cloud.normals.push_back(-radial);
+  }
+
+  // A face is a region of its plane: sqrt(h^2 + d^2), h the height over the
+  // plane and d the distance within the plane from p's projection to the
+  // region: to the rectangle when outside it, to a hole's circle when
+  // inside a hole (the holes never reach the rim), 0 otherwise.
+  double face_distance(const Vec3& p, int face) const {
+    const int axis = face_axis(face), u = (axis + 1) % 3, v = (axis + 2) % 3;
+    const double h = p[axis] - face_sign(face) * half_[axis];
+    const double du = std::max(std::abs(p[u]) - half_[u], 0.0);
+    const double dv = std::max(std::abs(p[v]) - half_[v], 0.0);
+    double d = std::hypot(du, dv);
+    if (axis == 2 && d == 0.0) d = depth_in_hole(p.x(), p.y());
+    return std::hypot(h, d);
+  }
+
+  // A finite cylinder wall (no caps): radially |rho - r|, and along the axis
+  // the distance past its end.
+  double wall_distance(const Vec3& p, std::size_t hole) const {
+    const double rho = std::hypot(p.x() - hole_x[hole], p.y());
+    return std::hypot(rho - hole_radius, std::max(std::abs(p.z()) - half_.z(), 0.0));
+  }
+};
+
+// The points at distance r from a segment along x: a cylinder and two
+// hemispherical caps, which together make a sphere's area.
+class Capsule final : public Shape {
+ public:
+  Capsule(double half_length, double radius) : half_(half_length), r_(radius) {}
+  PointCloud sample(std::size_t n, std::uint64_t seed) const override {
+    Rng rng(seed);
+    const double side = 2.0 * std::numbers::pi * r_ * 2.0 * half_;
+    PointCloud cloud;
+    for (std::size_t i = 0; i < n; ++i) {
+      Vec3 axis_point = Vec3::Zero(), normal;
+      if (uniform(rng) * area() < side) {
+        const double phi = 2.0 * std::numbers::pi * uniform(rng);
+        axis_point.x() = (2.0 * uniform(rng) - 1.0) * half_;
+        normal = Vec3(0.0, std::cos(phi), std::sin(phi));
+      } else {
+        // A point of a whole sphere: its half facing +x goes on the right cap.
+        normal = unit_vector(rng);
+        axis_point.x() = normal.x() >= 0.0 ? half_ : -half_;
+      }
+      cloud.positions.push_back(axis_point + r_ * normal);
+      cloud.normals.push_back(normal);
+    }
+    return cloud;
+  }
+  double distance(const Vec3& p) const override {
+    const Vec3 nearest(std::clamp(p.x(), -half_, half_), 0.0, 0.0);
+    return std::abs((p - nearest).norm() - r_);
+  }
+  double area() const override { return 2.0 * std::numbers::pi * r_ * 2.0 * half_ + 4.0 * std::numbers::pi * r_ * r_; }
+  int euler_characteristic() const override { return 2; }
+
+ private:
+  double half_, r_;
+};
+
+// Distance in the plane from m to the segment ab.
+double segment_distance(const Vec2& m, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((m - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - m).norm();
+}
+
+// Where along a frustum band, from radius r1 (t = 0) to r2 (t = 1), a share
+// u of its area lies. The band's width at t is proportional to its radius
+// r1 + t (r2 - r1), so the area up to t is r1 t + (r2 - r1) t^2 / 2 (of a
+// total (r1 + r2) / 2); the root of that quadratic is written in the form
+// that stays accurate when r1 is close to r2.
+double band_parameter(double r1, double r2, double u) {
+  const double share = u * 0.5 * (r1 + r2);
+  const double denominator = r1 + std::sqrt(std::max(r1 * r1 + 2.0 * (r2 - r1) * share, 0.0));
+  return denominator > 0.0 ? std::min(2.0 * share / denominator, 1.0) : 0.0;
+}
+
+// A closed solid of revolution around its own z axis, given by its profile:
+// a polyline in the meridian half-plane (rho, z), rho >= 0, that starts and
+// ends on the axis and runs from bottom to top with the solid on its left
+// (a cone: (0, 0), (r, 0), (0, h)). Each profile segment sweeps a frustum
+// band of area pi (r1 + r2) length, and its outward normal in the
+// half-plane is the segment's direction turned clockwise. The solid is then
+// rotated and moved into place.
+//
+// The distance is measured in the meridian half-plane through p: the
+// nearest point of a surface of revolution lies in that half-plane, so the
+// 2D distance from (rho, z) to the profile is the exact 3D distance.
+class SolidOfRevolution final : public Shape {
+ public:
+  SolidOfRevolution(std::vector<Vec2> profile, const Eigen::Matrix3d& rotation, Vec3 origin)
+      : profile_(std::move(profile)), rotation_(rotation), origin_(std::move(origin)) {}
+  PointCloud sample(std::size_t n, std::uint64_t seed) const override {
+    Rng rng(seed);
+    const std::vector<double> sums = running_sums(band_areas());
+    PointCloud cloud;
+    cloud.positions.reserve(n);
+    cloud.normals.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t s = pick_patch(sums, rng);
+      const Vec2 a = profile_[s], b = profile_[s + 1];
+      const Vec2 m = a + band_parameter(a.x(), b.x(), uniform(rng)) * (b - a);
+      const Vec2 direction = (b - a).normalized();
+      const Vec2 outward(direction.y(), -direction.x());
+      const double phi = 2.0 * std::numbers::pi * uniform(rng);
+      const double c = std::cos(phi), sn = std::sin(phi);
+      cloud.positions.push_back(origin_ + rotation_ * Vec3(m.x() * c, m.x() * sn, m.y()));
+      cloud.normals.push_back(rotation_ * Vec3(outward.x() * c, outward.x() * sn, outward.y()));
+    }
+    return cloud;
+  }
+  double distance(const Vec3& p) const override {
+    const Vec3 q = rotation_.transpose() * (p - origin_);
+    const Vec2 m(std::hypot(q.x(), q.y()), q.z());
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t s = 0; s + 1 < profile_.size(); ++s)
+      d = std::min(d, segment_distance(m, profile_[s], profile_[s + 1]));
+    return d;
+  }
+  double area() const override {
+    const std::vector<double> areas = band_areas();
+    return std::accumulate(areas.begin(), areas.end(), 0.0);
+  }
+  int euler_characteristic() const override { return 2; }
+
+ private:
+  std::vector<double> band_areas() const {
+    std::vector<double> areas;
+    for (std::size_t s = 0; s + 1 < profile_.size(); ++s) {
+      const Vec2 a = profile_[s], b = profile_[s + 1];
+      areas.push_back(std::numbers::pi * (a.x() + b.x()) * (b - a).norm());
+    }
+    return areas;
+  }
+
+  std::vector<Vec2> profile_;
+  Eigen::Matrix3d rotation_;
+  Vec3 origin_;
+};
+
+// Several shapes as one: Union of the first and the union of the rest.
+std::unique_ptr<Shape> unite(std::vector<std::unique_ptr<Shape>> pieces) {
+  std::unique_ptr<Shape> all = std::move(pieces.back());
+  for (std::size_t i = pieces.size() - 1; i-- > 0;) all = std::make_unique<Union>(std::move(pieces[i]), std::move(all));
+  return all;
+}
+
+// An upright cone or cylinder standing on z = 0 at (x, 0, 0).
+std::unique_ptr<Shape> standing(std::vector<Vec2> profile, double x) {
+  return std::make_unique<SolidOfRevolution>(std::move(profile), Eigen::Matrix3d::Identity(), Vec3(x, 0.0, 0.0));
+}
+
 // A wavy height field z = h(x, y) over a square, sampled on a jittered grid:
 // what a range scanner looking down at a landscape records (regular
 // spacing, an open surface with one boundary). nx = ceil(sqrt(n)) samples per
@@ -268,6 +527,25 @@ std::unique_ptr<Shape> make_sphere_and_torus(double gap) {
                                  std::make_unique<Torus>(1.0, 0.35, Vec3::Zero()));
 }
 
+std::unique_ptr<Shape> make_machined_part() { return std::make_unique<MachinedPart>(); }
+std::unique_ptr<Shape> make_handle() { return std::make_unique<Capsule>(1.0, 0.08); }
+
+std::vector<std::unique_ptr<Shape>> make_conics_pieces() {
+  auto cone = [](double r, double h) { return std::vector<Vec2>{{0.0, 0.0}, {r, 0.0}, {0.0, h}}; };
+  auto cylinder = [](double r, double z0, double z1) {
+    return std::vector<Vec2>{{0.0, z0}, {r, z0}, {r, z1}, {0.0, z1}};
+  };
+  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(std::numbers::pi / 3.0, Vec3::UnitY()).toRotationMatrix();
+  std::vector<std::unique_ptr<Shape>> pieces;
+  pieces.push_back(standing(cone(0.12, 1.2), -1.7));
+  pieces.push_back(standing(cone(0.35, 0.4), -0.8));
+  pieces.push_back(standing(cylinder(0.2, 0.0, 0.5), 0.15));
+  pieces.push_back(std::make_unique<SolidOfRevolution>(cylinder(0.15, -0.3, 0.3), tilt, Vec3(1.1, 0.0, 0.3)));
+  pieces.push_back(make_sphere(0.25, Vec3(2.1, 0.0, 0.25)));
+  return pieces;
+}
+std::unique_ptr<Shape> make_conics() { return unite(make_conics_pieces()); }
+
 std::unique_ptr<Shape> make_shape(const std::string& name) {
   if (name == "sphere") return make_sphere();
   if (name == "torus") return make_torus();
@@ -275,7 +553,11 @@ std::unique_ptr<Shape> make_shape(const std::string& name) {
   if (name == "box") return make_box();
   if (name == "two") return make_sphere_and_torus();
   if (name == "terrain") return make_terrain();
-  throw InvalidInputError("unknown shape '" + name + "' (known: sphere, torus, ellipsoid, box, two, terrain)");
+  if (name == "part") return make_machined_part();
+  if (name == "handle") return make_handle();
+  if (name == "conics") return make_conics();
+  throw InvalidInputError("unknown shape '" + name +
+                          "' (known: sphere, torus, ellipsoid, box, two, terrain, part, handle, conics)");
 }
 
 }  // namespace recon

@@ -14,6 +14,7 @@
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 #include "recon/mesh.h"
+#include "recon/shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -270,7 +271,9 @@ TEST_F(CliHelp, EachSubcommandListsItsOptions) {
       {"reconstruct",
        {"input", "--format", "--output", "--k", "--rho", "--delta", "--cell", "--resolution", "--use-normals",
         "--ascii", "--stats"}},
-      {"generate", {"shape", "--output", "--points", "--seed", "--noise", "--with-normals", "sphere", "torus", "two"}},
+      {"generate",
+       {"shape", "--output", "--points", "--seed", "--noise", "--with-normals", "--truth", "--truth-points", "sphere",
+        "torus", "two", "part", "handle", "conics"}},
   };
   for (const auto& [command, options] : expected) {
     const RunResult run = recon({command, "--help"});
@@ -1013,6 +1016,77 @@ TEST_F(CliCurves, ReportIsRefusedWithWhereToLook) {
   EXPECT_NE(run.err.find("--report draws 3D reconstructions; for curves, the SVG output shows"), std::string::npos)
       << run.err;
   EXPECT_EQ(entries(), std::vector<std::string>{"circle.txt"});
+}
+
+// ---------------------------------------------------------------- generate
+
+using CliGenerate = CliTest;
+
+// The largest distance from the points of `cloud` to the shape's surface.
+double farthest_from(const Shape& shape, const PointCloud& cloud) {
+  double farthest = 0.0;
+  for (const Vec3& p : cloud.positions) farthest = std::max(farthest, shape.distance(p));
+  return farthest;
+}
+
+TEST_F(CliGenerate, NewShapesWriteCloudsOnTheirSurfaces) {
+  for (const char* name : {"part", "handle", "conics"}) {
+    const std::string file = std::string(name) + ".xyz";
+    ASSERT_NO_FATAL_FAILURE(generate(name, 3000, file));
+    const PointCloud cloud = io::read_points(at(file));
+    EXPECT_EQ(cloud.size(), 3000U) << name;
+    EXPECT_FALSE(cloud.has_normals()) << name;
+    // Written in text as the shortest round-tripping decimals: still on the surface.
+    EXPECT_LT(farthest_from(*make_shape(name), cloud), 1e-12) << name;
+  }
+}
+
+TEST_F(CliGenerate, ConicsComeAtTheCoursesSizeUnlessToldOtherwise) {
+  EXPECT_TRUE(succeeded(recon({"--quiet", "generate", "conics", "-o", "c.ply"})));
+  EXPECT_EQ(io::read_points(at("c.ply")).size(), 16000U);
+  EXPECT_TRUE(succeeded(recon({"--quiet", "generate", "handle", "-o", "h.ply"})));
+  EXPECT_EQ(io::read_points(at("h.ply")).size(), 100000U);
+}
+
+// --truth: a noise-free sample of the true surface with its normals, drawn
+// with a seed of its own (not the cloud), written atomically.
+TEST_F(CliGenerate, TruthIsADenseSampleOfTheSurfaceWithNormals) {
+  const RunResult run = recon({"generate", "part", "-n", "2000", "--noise", "0.01", "-o", "p.ply", "--truth", "gt.ply",
+                               "--truth-points", "5000"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_NE(run.out.find("gt.ply: 5000 points of the true surface"), std::string::npos) << describe(run);
+  EXPECT_EQ(entries(), (std::vector<std::string>{"gt.ply", "p.ply"}));
+  const PointCloud truth = io::read_points(at("gt.ply"));
+  ASSERT_EQ(truth.size(), 5000U);
+  ASSERT_TRUE(truth.has_normals());
+  const auto part = make_machined_part();
+  EXPECT_LT(farthest_from(*part, truth), 1e-12);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    ASSERT_NEAR(truth.normals[i].norm(), 1.0, 1e-12);
+    ASSERT_NEAR(part->distance(truth.positions[i] + 1e-3 * truth.normals[i]), 1e-3, 1e-9);
+  }
+  const PointCloud noise_free = part->sample(2000, 1);  // the cloud, before its noise
+  EXPECT_NE(std::vector<Vec3>(truth.positions.begin(), truth.positions.begin() + 2000), noise_free.positions);
+  EXPECT_TRUE(succeeded(recon({"--quiet", "generate", "conics", "-o", "c.xyz", "--truth", "c_gt.ply"})));
+  EXPECT_EQ(io::read_points(at("c_gt.ply")).size(), 300000U);  // the default
+}
+
+TEST_F(CliGenerate, BadTruthOptionsAreRefusedBeforeWriting) {
+  const RunResult zero = recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "gt.ply",
+                                "--truth-points", "0"});
+  EXPECT_EQ(zero.exit_code, 2) << describe(zero);  // a usage error, like every option out of range
+  EXPECT_TRUE(zero.err.starts_with("recon: error: --truth-points: Value 0 not in range")) << describe(zero);
+  EXPECT_EQ(count_lines(zero.err), 1U) << describe(zero);
+  const RunResult alone = recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth-points", "10"});
+  EXPECT_EQ(alone.exit_code, 2) << describe(alone);
+  EXPECT_NE(alone.err.find("--truth-points requires --truth"), std::string::npos) << describe(alone);
+  EXPECT_TRUE(refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "gt.xyz"}),
+                      {"gt.xyz", ".ply"}));
+  EXPECT_TRUE(refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "h.ply"}),
+                      {"h.ply is named for two outputs"}));
+  EXPECT_TRUE(refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "nowhere/gt.ply"}),
+                      {"nowhere"}));
+  EXPECT_TRUE(entries().empty());
 }
 
 // ---------------------------------------------------------------- real data
