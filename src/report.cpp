@@ -124,34 +124,129 @@ void add_corners(const MarchingCubesResult& c, const ReportInput& in, const Repo
   }
 }
 
-void add_mesh(const Mesh& mesh, const ReportOptions& options, ReportLayers& layers) {
-  layers.has_mesh = true;
-  layers.triangles_total = mesh.triangles.size();
-  layers.triangle_stride = stride_for(mesh.triangles.size(), options.max_triangles);
-  if (layers.triangle_stride == 1) {
-    layers.mesh_vertices.reserve(3 * mesh.vertices.size());
-    for (const Vec3& v : mesh.vertices) push(layers.mesh_vertices, v - layers.centre);
-    for (const auto& t : mesh.triangles) layers.mesh_triangles.insert(layers.mesh_triangles.end(), t.begin(), t.end());
+// The drawn triangles of `mesh` (every stride-th), with their vertices
+// relative to `centre`; returns the mesh's index of each drawn vertex.
+std::vector<std::uint32_t> add_triangles(const Mesh& mesh, std::size_t budget, const Vec3& centre, ReportMesh& out) {
+  out.triangles_total = mesh.triangles.size();
+  out.triangle_stride = stride_for(mesh.triangles.size(), budget);
+  std::vector<std::uint32_t> source;
+  if (out.triangle_stride == 1) {
+    source.resize(mesh.vertices.size());
+    for (std::uint32_t v = 0; v < source.size(); ++v) source[v] = v;
+    for (const auto& t : mesh.triangles) out.triangles.insert(out.triangles.end(), t.begin(), t.end());
   } else {
     // Only the vertices of the drawn triangles, renumbered in order of use.
     constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
     std::vector<std::uint32_t> renumbered(mesh.vertices.size(), unused);
-    std::uint32_t next = 0;
-    for (std::size_t t = 0; t < mesh.triangles.size(); t += layers.triangle_stride)
+    for (std::size_t t = 0; t < mesh.triangles.size(); t += out.triangle_stride)
       for (const std::uint32_t v : mesh.triangles[t]) {
         if (renumbered[v] == unused) {
-          renumbered[v] = next++;
-          push(layers.mesh_vertices, mesh.vertices[v] - layers.centre);
+          renumbered[v] = static_cast<std::uint32_t>(source.size());
+          source.push_back(v);
         }
-        layers.mesh_triangles.push_back(renumbered[v]);
+        out.triangles.push_back(renumbered[v]);
       }
   }
+  out.vertices.reserve(3 * source.size());
+  for (const std::uint32_t v : source) push(out.vertices, mesh.vertices[v] - centre);
+  return source;
+}
+
+void add_boundary(const Mesh& mesh, std::size_t budget, const Vec3& centre, ReportMesh& out) {
   const auto boundary = boundary_edges(mesh);
-  layers.boundary_edges_total = boundary.size();
-  layers.boundary_stride = stride_for(boundary.size(), options.max_boundary_edges);
-  for (std::size_t e = 0; e < boundary.size(); e += layers.boundary_stride)
-    push_segment(layers.boundary_segments, mesh.vertices[boundary[e][0]] - layers.centre,
-                 mesh.vertices[boundary[e][1]] - layers.centre);
+  out.boundary_edges_total = boundary.size();
+  out.boundary_stride = stride_for(boundary.size(), budget);
+  for (std::size_t e = 0; e < boundary.size(); e += out.boundary_stride)
+    push_segment(out.boundary_segments, mesh.vertices[boundary[e][0]] - centre, mesh.vertices[boundary[e][1]] - centre);
+}
+
+// Distances from points to the surface of a mesh (its triangles). The
+// nearest point lies on some triangle, and every vertex of that triangle
+// lies within the mesh's longest edge of it. So, with d_v the distance to
+// the nearest vertex (an upper bound), only the triangles around the
+// vertices within d_v + longest edge need be measured, nearest first, until
+// the vertices lie farther than the best distance found + longest edge.
+class MeshDistance {
+ public:
+  explicit MeshDistance(const Mesh& mesh) : mesh_(mesh) {
+    std::vector<std::uint32_t> count(mesh.vertices.size() + 1, 0);
+    for (const auto& t : mesh.triangles) {
+      for (const std::uint32_t v : t) ++count[v + 1];
+      for (std::size_t c = 0; c < 3; ++c)
+        longest_ = std::max(longest_, (mesh.vertices[t[c]] - mesh.vertices[t[(c + 1) % 3]]).norm());
+    }
+    std::vector<Vec3> used;  // vertices of some triangle: an unused one bounds nothing
+    for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v)
+      if (count[v + 1] > 0) {
+        used.push_back(mesh.vertices[v]);
+        used_id_.push_back(v);
+      }
+    for (std::size_t v = 1; v < count.size(); ++v) count[v] += count[v - 1];
+    first_ = count;
+    around_.resize(3 * mesh.triangles.size());
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+      for (const std::uint32_t v : mesh.triangles[t]) around_[count[v]++] = t;
+    tree_ = KdTree<3>(used);
+  }
+
+  /// NaN when the mesh has no triangle.
+  [[nodiscard]] double operator()(const Vec3& p) const {
+    if (tree_.empty()) return std::numeric_limits<double>::quiet_NaN();
+    double best = std::sqrt(tree_.nearest(p).distance2);
+    const double reach = best + longest_;
+    for (const Neighbor& n : tree_.radius(p, reach * reach)) {
+      if (std::sqrt(n.distance2) > best + longest_) break;
+      const std::uint32_t v = used_id_[n.index];
+      for (std::uint32_t i = first_[v]; i < first_[v + 1]; ++i) {
+        const auto& t = mesh_.triangles[around_[i]];
+        best = std::min(best, point_triangle_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]));
+      }
+    }
+    return best;
+  }
+
+ private:
+  const Mesh& mesh_;
+  double longest_ = 0.0;
+  std::vector<std::uint32_t> used_id_;        // the mesh's index of each tree point
+  std::vector<std::uint32_t> first_, around_;  // the triangles around vertex v: around_[first_[v] .. first_[v + 1])
+  KdTree<3> tree_;
+};
+
+void add_refinement(const Mesh& refined, const Mesh& contoured, std::size_t budget, const ReportOptions& options,
+                    ReportLayers& layers) {
+  layers.has_refinement = true;
+  const std::vector<std::uint32_t> source = add_triangles(refined, budget, layers.centre, layers.refined);
+  add_boundary(refined, options.max_boundary_edges, layers.centre, layers.refined);
+  const MeshDistance distance(contoured);
+  layers.refined_distance.reserve(source.size());
+  double sum = 0.0;
+  for (const std::uint32_t v : source) {
+    const double d = distance(refined.vertices[v]);
+    layers.refined_distance.push_back(static_cast<float>(d));
+    sum += d;
+    layers.distance_max = std::max(layers.distance_max, d);
+  }
+  if (source.empty()) return;
+  layers.distance_mean = sum / static_cast<double>(source.size());
+  std::vector<float> sorted = layers.refined_distance;
+  const std::size_t at = std::min(sorted.size() - 1, sorted.size() * 98 / 100);
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(at), sorted.end());
+  layers.distance_scale = sorted[at];
+}
+
+void extend(Box<3>& box, const std::vector<float>& xyz) {
+  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
+    box.extend(Vec3(static_cast<double>(xyz[i]), static_cast<double>(xyz[i + 1]), static_cast<double>(xyz[i + 2])));
+}
+
+// Everything drawn: the points (the kd-tree's cells and the planes lie
+// within a sample spacing of them), the corners and the meshes.
+Box<3> drawn_box(const ReportLayers& layers) {
+  Box<3> box;
+  for (const auto* xyz : {&layers.points, &layers.corners, &layers.mesh.vertices, &layers.refined.vertices})
+    extend(box, *xyz);
+  return box;
 }
 
 // ---- writing
@@ -261,6 +356,37 @@ class JsonWriter {
   std::vector<Bytes> arrays_;
 };
 
+// A mesh layer's figures and arrays, inside the object the caller opened.
+void write_mesh(JsonWriter& w, const ReportMesh& mesh) {
+  w.count("triangles_total", mesh.triangles_total);
+  w.count("stride", mesh.triangle_stride);
+  w.count("drawn", mesh.triangles.size() / 3);
+  w.count("boundary_drawn", mesh.boundary_segments.size() / 6);
+  w.array("vertices", mesh.vertices);
+  w.array("triangles", mesh.triangles);
+  w.count("boundary_total", mesh.boundary_edges_total);
+  w.count("boundary_stride", mesh.boundary_stride);
+  w.array("boundary", mesh.boundary_segments);
+}
+
+// The box the first view frames (a point at the centre when nothing is drawn).
+void write_drawn_box(JsonWriter& w, const Box<3>& box) {
+  w.open("drawn_box");
+  w.vec("min", box.empty() ? Vec3::Zero() : box.min);
+  w.vec("max", box.empty() ? Vec3::Zero() : box.max);
+  w.close();
+}
+
+// Layers 6, 7 and 8; each mesh layer has the triangle budget to itself.
+void add_surfaces(const ReportInput& in, const ReportOptions& options, ReportLayers& layers) {
+  add_corners(*in.contour, in, options, layers);
+  const Mesh& contoured = in.mesh != nullptr ? *in.mesh : in.contour->mesh;
+  layers.has_mesh = true;
+  add_triangles(contoured, options.max_triangles, layers.centre, layers.mesh);
+  add_boundary(contoured, options.max_boundary_edges, layers.centre, layers.mesh);
+  if (in.refinement != nullptr) add_refinement(in.refinement->mesh, contoured, options.max_triangles, options, layers);
+}
+
 }  // namespace
 
 ReportInput report_input(const Reconstruction& r) {
@@ -271,7 +397,7 @@ ReportInput report_input(const Reconstruction& r) {
   in.oriented = r.oriented ? &*r.oriented : nullptr;
   in.normals = r.normals();
   in.contour = &r.contour;
-  in.mesh = &r.mesh();
+  in.refinement = r.refinement ? &*r.refinement : nullptr;
   return in;
 }
 
@@ -309,10 +435,8 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
 
   add_kdtree(planes.point_tree, layers.centre - in.offset, options.max_kdtree_depth, layers);
   if (in.oriented != nullptr) add_graph(in, options, layers);
-  if (in.contour != nullptr) {
-    add_corners(*in.contour, in, options, layers);
-    add_mesh(in.mesh != nullptr ? *in.mesh : in.contour->mesh, options, layers);
-  }
+  if (in.contour != nullptr) add_surfaces(in, options, layers);
+  layers.drawn_box = drawn_box(layers);
   return layers;
 }
 
@@ -324,6 +448,7 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
   w.vec("centre", layers.centre);
   w.number("diagonal", layers.diagonal);
   w.number("rho", layers.rho);
+  write_drawn_box(w, layers.drawn_box);
   w.raw("stats", options.stats_json.empty() ? std::string_view("{}") : std::string_view(options.stats_json));
 
   w.open("points");
@@ -374,15 +499,18 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
   }
   if (layers.has_mesh) {
     w.open("mesh");
-    w.count("triangles_total", layers.triangles_total);
-    w.count("stride", layers.triangle_stride);
-    w.count("drawn", layers.mesh_triangles.size() / 3);
-    w.count("boundary_drawn", layers.boundary_segments.size() / 6);
-    w.array("vertices", layers.mesh_vertices);
-    w.array("triangles", layers.mesh_triangles);
-    w.count("boundary_total", layers.boundary_edges_total);
-    w.count("boundary_stride", layers.boundary_stride);
-    w.array("boundary", layers.boundary_segments);
+    write_mesh(w, layers.mesh);
+    w.close();
+  }
+  if (layers.has_refinement) {
+    w.open("refinement");
+    write_mesh(w, layers.refined);
+    w.open("distance");
+    w.array("value", layers.refined_distance);
+    w.number("mean", layers.distance_mean);
+    w.number("max", layers.distance_max);
+    w.number("scale", layers.distance_scale);
+    w.close();
     w.close();
   }
   w.close();

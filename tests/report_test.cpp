@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -137,6 +138,24 @@ TEST(Report, GraphAndSpanningTreeWithTheEdgesWhereTheOrientationTurns) {
   EXPECT_GT(flips, 0u);  // PCA's signs are arbitrary: a walk over a sphere must turn some
 }
 
+// A thinned mesh keeps only its drawn triangles' vertices, renumbered:
+// each drawn triangle has the corners of the triangle it stands for.
+void expect_thinned(const ReportMesh& drawn, const Mesh& mesh, const Vec3& centre) {
+  ASSERT_GT(drawn.triangle_stride, 1u);
+  EXPECT_EQ(drawn.triangles.size() / 3, (mesh.triangles.size() + drawn.triangle_stride - 1) / drawn.triangle_stride);
+  std::set<std::uint32_t> used;
+  for (std::size_t t = 0; 3 * t < drawn.triangles.size(); ++t)
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::uint32_t v = drawn.triangles[3 * t + c];
+      ASSERT_LT(v, drawn.vertices.size() / 3);
+      used.insert(v);
+      const Vec3 original = mesh.vertices[mesh.triangles[t * drawn.triangle_stride][c]];
+      EXPECT_LT((at(drawn.vertices, v) + centre - original).norm(), 1e-5);
+    }
+  EXPECT_EQ(used.size(), drawn.vertices.size() / 3) << "no vertex stored that no drawn triangle uses";
+  EXPECT_LT(drawn.vertices.size() / 3, mesh.vertices.size());
+}
+
 TEST(Report, BudgetsDrawARegularSubsampleAndSaySo) {
   const Reconstruction& r = open_and_closed();
   const std::size_t n = r.points().size();
@@ -159,23 +178,14 @@ TEST(Report, BudgetsDrawARegularSubsampleAndSaySo) {
     drawn_with_parent += r.oriented->tree.parent[i] != SpanningForest::no_parent ? 1U : 0U;
   EXPECT_EQ(layers.tree_flip.size(), drawn_with_parent) << "one tree edge per drawn point that has a parent";
   EXPECT_LE(layers.corner_values.size(), 700u);
-  EXPECT_LE(layers.mesh_triangles.size() / 3, 2000u);
-  EXPECT_EQ(layers.triangles_total, r.mesh().triangles.size());
-  // A thinned mesh keeps only its drawn triangles' vertices, renumbered:
-  // each drawn triangle has the corners of the triangle it stands for.
-  const Mesh& mesh = r.mesh();
-  ASSERT_GT(layers.triangle_stride, 1u);
-  std::set<std::uint32_t> used;
-  for (std::size_t t = 0; 3 * t < layers.mesh_triangles.size(); ++t)
-    for (std::size_t c = 0; c < 3; ++c) {
-      const std::uint32_t v = layers.mesh_triangles[3 * t + c];
-      ASSERT_LT(v, layers.mesh_vertices.size() / 3);
-      used.insert(v);
-      const Vec3 original = mesh.vertices[mesh.triangles[t * layers.triangle_stride][c]];
-      EXPECT_LT((at(layers.mesh_vertices, v) + layers.centre - original).norm(), 1e-5);
-    }
-  EXPECT_EQ(used.size(), layers.mesh_vertices.size() / 3) << "no vertex stored that no drawn triangle uses";
-  EXPECT_LT(layers.mesh_vertices.size() / 3, mesh.vertices.size());
+  // Each mesh layer has the triangle budget to itself.
+  EXPECT_LE(layers.mesh.triangles.size() / 3, 2000u);
+  EXPECT_LE(layers.refined.triangles.size() / 3, 2000u);
+  EXPECT_EQ(layers.mesh.triangles_total, r.contour.mesh.triangles.size());
+  EXPECT_EQ(layers.refined.triangles_total, r.refinement->mesh.triangles.size());
+  expect_thinned(layers.mesh, r.contour.mesh, layers.centre);
+  expect_thinned(layers.refined, r.refinement->mesh, layers.centre);
+  EXPECT_EQ(layers.refined_distance.size(), layers.refined.vertices.size() / 3) << "one distance per drawn vertex";
   EXPECT_EQ(layers.corners_total, r.contour.evaluated_corners);
 }
 
@@ -201,25 +211,34 @@ TEST(Report, CornersAreTheEvaluatedLatticeCornersWithUndefinedOnesMarked) {
   EXPECT_GT(undefined, 0u);  // under the open half sphere
 }
 
-TEST(Report, MeshWithItsBoundaryEdges) {
-  const Reconstruction& r = open_and_closed();
-  const ReportLayers layers = make_report_layers(report_input(r));
-  const Mesh& mesh = r.mesh();
-  ASSERT_TRUE(layers.has_mesh);
-  ASSERT_EQ(layers.mesh_triangles.size(), 3 * mesh.triangles.size());
-  ASSERT_EQ(layers.mesh_vertices.size(), 3 * mesh.vertices.size());
+// Every triangle and vertex of `mesh` drawn, and its boundary, which is
+// the half sphere's rim: near z = 0 (below `rim`), on the first sphere.
+void expect_whole_with_rim(const ReportMesh& drawn, const Mesh& mesh, const Vec3& centre, double rim) {
+  ASSERT_EQ(drawn.triangles.size(), 3 * mesh.triangles.size());
+  ASSERT_EQ(drawn.vertices.size(), 3 * mesh.vertices.size());
   for (std::size_t v = 0; v < mesh.vertices.size(); v += 11)
-    EXPECT_LT((at(layers.mesh_vertices, v) + layers.centre - mesh.vertices[v]).norm(), 1e-5);
+    EXPECT_LT((at(drawn.vertices, v) + centre - mesh.vertices[v]).norm(), 1e-5);
   const MeshTopology t = analyze_topology(mesh);
   EXPECT_GT(t.boundary_edges, 0u);
-  EXPECT_EQ(layers.boundary_edges_total, t.boundary_edges);
-  EXPECT_EQ(layers.boundary_segments.size(), 6 * t.boundary_edges);
-  // The boundary is the half sphere's rim: near z = 0, on the first sphere.
+  EXPECT_EQ(drawn.boundary_edges_total, t.boundary_edges);
+  EXPECT_EQ(drawn.boundary_segments.size(), 6 * t.boundary_edges);
   for (std::size_t e = 0; e < 2 * t.boundary_edges; ++e) {
-    const Vec3 p = at(layers.boundary_segments, e) + layers.centre;
+    const Vec3 p = at(drawn.boundary_segments, e) + centre;
     EXPECT_LT(p.x(), 2.0);
-    EXPECT_LT(std::abs(p.z()), 0.25);
+    EXPECT_LT(std::abs(p.z()), rim);
   }
+}
+
+TEST(Report, ContouredAndRefinedMeshesWithTheirBoundaryEdges) {
+  const Reconstruction& r = open_and_closed();
+  const ReportLayers layers = make_report_layers(report_input(r));
+  ASSERT_TRUE(layers.has_mesh);
+  // The contoured surface runs on past the open edge (f reaches about
+  // 1.5 rho + delta past the last samples); phase V cuts it back.
+  expect_whole_with_rim(layers.mesh, r.contour.mesh, layers.centre, 0.4);
+  ASSERT_TRUE(layers.has_refinement);
+  expect_whole_with_rim(layers.refined, r.refinement->mesh, layers.centre, 0.25);
+  EXPECT_EQ(layers.refined_distance.size(), r.refinement->mesh.vertices.size());
 }
 
 TEST(Report, BoundaryEdgesWithinTheirBudget) {
@@ -227,16 +246,105 @@ TEST(Report, BoundaryEdgesWithinTheirBudget) {
   ReportOptions options;
   options.max_boundary_edges = 10;
   const ReportLayers layers = make_report_layers(report_input(r), options);
-  const auto boundary = boundary_edges(r.mesh());
-  ASSERT_GT(boundary.size(), 10u);
-  EXPECT_EQ(layers.boundary_edges_total, boundary.size());
-  EXPECT_EQ(layers.boundary_stride, (boundary.size() + 9) / 10);
-  ASSERT_EQ(layers.boundary_segments.size(), 6 * ((boundary.size() + layers.boundary_stride - 1) / layers.boundary_stride));
-  for (std::size_t e = 0; 6 * e < layers.boundary_segments.size(); ++e) {
-    const auto& [a, b] = boundary[e * layers.boundary_stride];
-    EXPECT_LT((at(layers.boundary_segments, 2 * e) + layers.centre - r.mesh().vertices[a]).norm(), 1e-5);
-    EXPECT_LT((at(layers.boundary_segments, 2 * e + 1) + layers.centre - r.mesh().vertices[b]).norm(), 1e-5);
+  for (const auto& [drawn, mesh] : {std::pair{&layers.mesh, &r.contour.mesh}, std::pair{&layers.refined, &r.refinement->mesh}}) {
+    const auto boundary = boundary_edges(*mesh);
+    ASSERT_GT(boundary.size(), 10u);
+    EXPECT_EQ(drawn->boundary_edges_total, boundary.size());
+    EXPECT_EQ(drawn->boundary_stride, (boundary.size() + 9) / 10);
+    ASSERT_EQ(drawn->boundary_segments.size(), 6 * ((boundary.size() + drawn->boundary_stride - 1) / drawn->boundary_stride));
+    for (std::size_t e = 0; 6 * e < drawn->boundary_segments.size(); ++e) {
+      const auto& [a, b] = boundary[e * drawn->boundary_stride];
+      EXPECT_LT((at(drawn->boundary_segments, 2 * e) + layers.centre - mesh->vertices[a]).norm(), 1e-5);
+      EXPECT_LT((at(drawn->boundary_segments, 2 * e + 1) + layers.centre - mesh->vertices[b]).norm(), 1e-5);
+    }
   }
+}
+
+// ---- layer 8: the refinement and its distance to the 1992 surface
+
+const Reconstruction& small_sphere(Method method) {
+  static const auto make = [](Method m) {
+    ReconstructionOptions options;
+    options.method = m;
+    return reconstruct(make_sphere()->sample(2500, 21), options);
+  };
+  static const Reconstruction refined = make(Method::refined), hoppe92 = make(Method::hoppe92);
+  return method == Method::refined ? refined : hoppe92;
+}
+
+// The oracle: the distance to the nearest of all the mesh's triangles.
+double brute_force_distance(const Vec3& p, const Mesh& mesh) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : mesh.triangles)
+    best = std::min(best, point_triangle_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+  return best;
+}
+
+void expect_distances_to(const ReportLayers& layers, const Mesh& refined, const Mesh& contoured) {
+  ASSERT_EQ(layers.refined_distance.size(), refined.vertices.size());
+  double max = 0.0, sum = 0.0;
+  for (std::size_t v = 0; v < refined.vertices.size(); ++v) {
+    const double expected = brute_force_distance(refined.vertices[v], contoured);
+    EXPECT_NEAR(layers.refined_distance[v], expected, 1e-6 + 1e-6 * expected) << "vertex " << v;
+    max = std::max(max, expected);
+    sum += expected;
+  }
+  EXPECT_NEAR(layers.distance_max, max, 1e-9 + 1e-6 * max);
+  EXPECT_NEAR(layers.distance_mean, sum / static_cast<double>(refined.vertices.size()), 1e-9 + 1e-6 * max);
+  EXPECT_LE(layers.distance_scale, layers.distance_max);
+  EXPECT_GT(layers.distance_scale, 0.0);
+}
+
+TEST(Report, RefinementLayerDrawsTheRefinedMeshByItsDistanceToThe1992Surface) {
+  const Reconstruction& r = small_sphere(Method::refined);
+  ASSERT_TRUE(r.refinement);
+  const ReportLayers layers = make_report_layers(report_input(r));
+  ASSERT_TRUE(layers.has_mesh);
+  ASSERT_TRUE(layers.has_refinement);
+  EXPECT_EQ(layers.mesh.triangles_total, r.contour.mesh.triangles.size());
+  EXPECT_EQ(layers.mesh.triangles.size(), 3 * r.contour.mesh.triangles.size());
+  EXPECT_EQ(layers.refined.triangles_total, r.refinement->mesh.triangles.size());
+  EXPECT_EQ(layers.refined.triangles.size(), 3 * r.refinement->mesh.triangles.size());
+  EXPECT_EQ(layers.refined.vertices.size(), 3 * r.refinement->mesh.vertices.size());
+  expect_distances_to(layers, r.refinement->mesh, r.contour.mesh);
+  // Phase V moves the vertices by a fraction of a cell.
+  EXPECT_LT(layers.distance_max, r.contour.cell);
+}
+
+// Far from the mesh the search must look beyond the nearest vertex's
+// triangles: the refined mesh here is the contoured one blown up by 1.5.
+TEST(Report, RefinementDistancesFarFromThe1992Surface) {
+  const Reconstruction& r = small_sphere(Method::refined);
+  Refinement moved;
+  moved.mesh = r.contour.mesh;
+  for (Vec3& v : moved.mesh.vertices) v *= 1.5;
+  ReportInput input = report_input(r);
+  input.refinement = &moved;
+  const ReportLayers layers = make_report_layers(input);
+  expect_distances_to(layers, moved.mesh, r.contour.mesh);
+  EXPECT_GT(layers.distance_mean, 0.4);  // the unit sphere's vertices moved out by 0.5
+  // The first view frames what is drawn, the larger sphere included.
+  for (std::size_t v = 0; v < layers.refined.vertices.size() / 3; ++v) {
+    const Vec3 p = at(layers.refined.vertices, v);
+    EXPECT_TRUE((p.array() >= layers.drawn_box.min.array() - 1e-9).all() &&
+                (p.array() <= layers.drawn_box.max.array() + 1e-9).all());
+  }
+  EXPECT_GT(layers.drawn_box.extent().minCoeff(), 2.9);
+}
+
+TEST(Report, Hoppe92RunHasNoRefinementLayer) {
+  const Reconstruction& r = small_sphere(Method::hoppe92);
+  ASSERT_FALSE(r.refinement);
+  const ReportLayers layers = make_report_layers(report_input(r));
+  EXPECT_FALSE(layers.has_refinement);
+  EXPECT_TRUE(layers.refined.triangles.empty());
+  EXPECT_TRUE(layers.refined_distance.empty());
+  ASSERT_TRUE(layers.has_mesh);
+  EXPECT_EQ(layers.mesh.triangles.size(), 3 * r.mesh().triangles.size()) << "the whole budget for layer 7";
+  const std::string html = report_html(layers);
+  const std::string_view json = element(html, "recon-data");
+  EXPECT_NE(json.find("\"mesh\":{"), std::string::npos);
+  EXPECT_EQ(json.find("\"refinement\""), std::string::npos);
 }
 
 TEST(Report, NormalsOnlyRunHasNoLatticeLayers) {
@@ -246,11 +354,13 @@ TEST(Report, NormalsOnlyRunHasNoLatticeLayers) {
   const ReportLayers layers = make_report_layers(input);
   EXPECT_FALSE(layers.has_corners);
   EXPECT_FALSE(layers.has_mesh);
+  EXPECT_FALSE(layers.has_refinement);
   EXPECT_TRUE(layers.has_graph);
   const std::string html = report_html(layers);
   const std::string_view json = element(html, "recon-data");
   EXPECT_NE(json.find("\"graph\":{"), std::string::npos);
   EXPECT_EQ(json.find("\"mesh\""), std::string::npos);
+  EXPECT_EQ(json.find("\"refinement\""), std::string::npos);
   EXPECT_EQ(json.find("\"corners\""), std::string::npos);
 }
 
@@ -340,11 +450,16 @@ TEST(ReportPage, ArraysRoundTripThroughThePage) {
   EXPECT_EQ(decode<std::uint32_t>(html, 1), layers.component);
   EXPECT_EQ(decode<std::int8_t>(html, 3), layers.pca_normals);
   EXPECT_EQ(decode<float>(html, 8), layers.kdtree_boxes);
-  // ... graph 10-12, corners 13-14, mesh 15-17.
+  // ... graph 10-12, corners 13-14, mesh 15-17, refinement 18-20 and its distances 21.
   EXPECT_EQ(decode<float>(html, 14).size(), layers.corner_values.size());
-  EXPECT_EQ(decode<std::uint32_t>(html, 16), layers.mesh_triangles);
-  EXPECT_EQ(decode<float>(html, 17), layers.boundary_segments);
-  EXPECT_TRUE(element(html, "recon-array-18").empty());
+  EXPECT_EQ(decode<std::uint32_t>(html, 16), layers.mesh.triangles);
+  EXPECT_EQ(decode<float>(html, 17), layers.mesh.boundary_segments);
+  EXPECT_EQ(decode<float>(html, 18), layers.refined.vertices);
+  EXPECT_EQ(decode<std::uint32_t>(html, 19), layers.refined.triangles);
+  EXPECT_EQ(decode<float>(html, 21), layers.refined_distance);
+  EXPECT_TRUE(element(html, "recon-array-22").empty());
+  EXPECT_NE(json.find("\"distance\":{\"value\":21,\"mean\":"), std::string_view::npos);
+  EXPECT_NE(json.find("\"drawn_box\":{\"min\":["), std::string_view::npos);
 }
 
 TEST(ReportPage, WrittenWholeOrNotAtAll) {

@@ -8,7 +8,7 @@
 // browser by the viewer in web/report/ (three.js), which the build bundles
 // into this library, so a report needs no network and no other file.
 //
-// Seven layers, each taken from one phase's result:
+// Eight layers, each taken from one phase's result:
 //   1. the input points, coloured by component (phase II's pieces);
 //   2. the kd-tree's cells, node boxes down to a depth chosen on the page;
 //   3. the tangent planes' normals before orientation, coloured by the
@@ -18,7 +18,10 @@
 //   5. the oriented normals;
 //   6. the signed distance at the lattice corners the walk evaluated, by
 //      sign, undefined corners marked;
-//   7. the mesh, shaded, with its boundary edges.
+//   7. phase IV's mesh (the 1992 surface), shaded, with its boundary edges;
+//   8. phase V's refined mesh (Method::refined only), coloured by each
+//      vertex's distance to the 1992 surface of layer 7, with its boundary
+//      edges.
 //
 // Large runs stay viewable: each layer draws at most a budget of elements
 // (ReportOptions) and beyond it a regular subsample (every s-th point, edge
@@ -26,11 +29,13 @@
 // in spatial order, so every s-th point is an even sample of the surface.
 // Geometry is stored as little-endian float32 relative to `centre` (the
 // middle of the points' bounding box), normals as int8, base64-encoded in a
-// JSON block (4 characters per 3 bytes). With the default budgets a report
-// is at most about 45 MB, whatever the size of the run.
+// JSON block (4 characters per 3 bytes). The default budgets bound a
+// report's size whatever the size of the run: a 1M-point torus gives 66 MB,
+// two meshes of about a million triangles each.
 
 #include "recon/marching_cubes.h"
 #include "recon/orientation.h"
+#include "recon/refinement.h"
 #include "recon/tangent_planes.h"
 
 #include <cstdint>
@@ -47,7 +52,7 @@ struct ReportOptions {
   std::size_t max_points = 100'000;      ///< points drawn, with their planes and normals (27 bytes each)
   std::size_t max_edges = 100'000;       ///< Riemannian-graph edges drawn (24 bytes each; tree edges: one per drawn point)
   std::size_t max_corners = 200'000;     ///< lattice corners drawn (16 bytes each)
-  std::size_t max_triangles = 1'000'000; ///< mesh triangles drawn (12 bytes each, and their vertices)
+  std::size_t max_triangles = 1'000'000; ///< mesh triangles drawn, per mesh layer (7 and 8; 12 bytes each, and their vertices)
   std::size_t max_boundary_edges = 100'000;  ///< mesh boundary edges drawn (24 bytes each)
   int max_kdtree_depth = 12;             ///< kd-tree cells stored down to this depth (the root is depth 0)
   std::string title;                     ///< shown as the page's heading (the input file, say)
@@ -64,13 +69,27 @@ struct ReportInput {
   const TangentPlanes<3>* planes = nullptr;          ///< required
   const OrientedNormals<3>* oriented = nullptr;      ///< phase II with its graph kept; null: no layer 4
   std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's)
-  const MarchingCubesResult* contour = nullptr;      ///< null: no layers 6 and 7 (`recon normals`)
+  const MarchingCubesResult* contour = nullptr;      ///< null: no layers 6, 7 and 8 (`recon normals`)
   const Mesh* mesh = nullptr;                        ///< the mesh drawn in layer 7; null: contour->mesh
+  const Refinement* refinement = nullptr;            ///< phase V (input coordinates); null: no layer 8 (hoppe92)
 };
 
 /// A Reconstruction made with keep_graph and keep_corners (without them,
-/// layers 4 and 6 are left out).
+/// layers 4 and 6 are left out). Layer 7 is its contour's mesh, layer 8 its
+/// refinement when it has one.
 [[nodiscard]] ReportInput report_input(const Reconstruction& r);
+
+/// A mesh as drawn (layers 7 and 8): float positions relative to the
+/// layers' centre.
+struct ReportMesh {
+  std::size_t triangles_total = 0;
+  std::size_t triangle_stride = 1;         ///< every triangle_stride-th triangle is drawn
+  std::vector<float> vertices;             ///< all, or (when subsampled) those of the drawn triangles, 3 each
+  std::vector<std::uint32_t> triangles;    ///< 3 per drawn triangle, indices into `vertices`
+  std::size_t boundary_edges_total = 0;
+  std::size_t boundary_stride = 1;
+  std::vector<float> boundary_segments;    ///< every boundary_stride-th boundary edge (of the whole mesh), 6 each
+};
 
 /// The layers as drawn: float positions relative to `centre`, three floats
 /// per point, six per segment. `*_total` counts what the run had, the array
@@ -120,15 +139,23 @@ struct ReportLayers {
   std::vector<float> corner_values;        ///< f, NaN where undefined
   double cell = 0.0;
 
-  // 7. mesh
+  // 7. phase IV's mesh
   bool has_mesh = false;
-  std::size_t triangles_total = 0;
-  std::size_t triangle_stride = 1;
-  std::vector<float> mesh_vertices;           ///< all, or (when subsampled) those of the drawn triangles
-  std::vector<std::uint32_t> mesh_triangles;  ///< 3 per drawn triangle, indices into mesh_vertices
-  std::size_t boundary_edges_total = 0;
-  std::size_t boundary_stride = 1;
-  std::vector<float> boundary_segments;       ///< every boundary_stride-th boundary edge (of the whole mesh)
+  ReportMesh mesh;
+
+  // 8. phase V's refined mesh, and how far it lies from layer 7's
+  bool has_refinement = false;
+  ReportMesh refined;
+  /// Per drawn vertex of `refined`: its distance to layer 7's mesh (the
+  /// nearest point on any of its triangles, all of them, not only those drawn).
+  std::vector<float> refined_distance;
+  double distance_mean = 0.0;   ///< over the drawn vertices
+  double distance_max = 0.0;
+  double distance_scale = 0.0;  ///< where the page's colour ramp ends: the 98th percentile of refined_distance
+
+  /// The bounding box of everything drawn, relative to `centre` (the page's
+  /// first view frames it).
+  Box<3> drawn_box;
 };
 
 /// Throws InvalidInputError when input.planes is null or the spans' sizes

@@ -25,6 +25,7 @@ const steps = [
   { name: '5-oriented-normals', layers: ['normals'], zoom: 0.6 },
   { name: '6-signed-distance', layers: ['distance'] },
   { name: '7-mesh', layers: ['mesh'] },
+  { name: '8-refinement', layers: ['refinement'] },
 ];
 const only = process.env.RECON_PICTURES?.split(',');
 

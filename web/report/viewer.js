@@ -11,6 +11,7 @@
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { boundingSphere, clipPlanes, frameSphere } from './framing.js';
 
 const timings = { start: performance.now() };  // script start and first frame (the load test prints both)
 const data = JSON.parse(document.getElementById('recon-data').textContent);
@@ -49,6 +50,7 @@ const palette = [0x1f77b4, 0xff7f0e, 0x2ca02c, 0xd62728, 0x9467bd, 0x8c564b, 0xe
 // Planarity: blue (flat) through green and yellow to red (surface variation planarityFull and above).
 const rampStops = [[0.0, 0x2b59c3], [0.33, 0x2ca02c], [0.66, 0xe8c21a], [1.0, 0xd62728]].map(([t, c]) => [t, new THREE.Color(c)]);
 const planarityFull = 0.05;
+const rampCss = `linear-gradient(90deg,${rampStops.map(([t, c]) => '#' + c.getHexString() + ' ' + 100 * t + '%').join(',')})`;
 function ramp(t, out) {
   t = Math.min(1, Math.max(0, t));
   for (let s = 1; s < rampStops.length; ++s) {
@@ -73,12 +75,15 @@ const canvas = document.getElementById('canvas');
 // Antialiasing (multisampling) costs little on a graphics card but doubles
 // the time of a frame drawn in software; large meshes, which fill the
 // picture with tiny triangles anyway, go without.
-const antialias = (data.mesh?.drawn ?? 0) <= 200000;
+const antialias = ((data.refinement ?? data.mesh)?.drawn ?? 0) <= 200000;
 const renderer = new THREE.WebGLRenderer({ canvas, antialias, preserveDrawingBuffer: true });
 renderer.setPixelRatio(Math.min(2, window.devicePixelRatio));
 renderer.setClearColor(0xf4f5f7);
 const scene = new THREE.Scene();
 const diagonal = data.diagonal > 0 ? data.diagonal : 1;
+// The sphere around everything drawn, which the first view frames (framing.js).
+const sphere = data.drawn_box ? boundingSphere(data.drawn_box.min, data.drawn_box.max) : { centre: [0, 0, 0], radius: diagonal / 2 };
+const sphereCentre = new THREE.Vector3(...sphere.centre);
 const camera = new THREE.PerspectiveCamera(40, 1, diagonal * 1e-3, diagonal * 20);
 camera.up.set(0, 0, 1);  // Hoppe's orientation starts from the largest z: z is up
 scene.add(camera);
@@ -97,12 +102,24 @@ function requestRender() {
   renderQueued = true;
   requestAnimationFrame(() => { renderQueued = false; render(); });
 }
-controls.addEventListener('change', requestRender);
+// The clipping planes follow the camera, so that nothing drawn is cut off
+// however far it orbits, pans or zooms.
+function fitClipPlanes() {
+  const { near, far } = clipPlanes(camera.position.distanceTo(sphereCentre), sphere.radius);
+  if (near === camera.near && far === camera.far) return;
+  camera.near = near;
+  camera.far = far;
+  camera.updateProjectionMatrix();
+}
+controls.addEventListener('change', () => { fitClipPlanes(); requestRender(); });
 
+// The whole model, from outside, for the view's present shape.
 function resetView() {
-  camera.position.set(0.65 * diagonal, -0.95 * diagonal, 0.6 * diagonal);
-  controls.target.set(0, 0, 0);
+  const view = frameSphere(sphere, { fovY: camera.fov, aspect: camera.aspect });
+  camera.position.set(...view.position);
+  controls.target.set(...view.target);
   controls.update();
+  fitClipPlanes();
   requestRender();
 }
 
@@ -236,7 +253,7 @@ addLayer('pca', '3. Tangent planes (unoriented normals)', () => {
   }
   return colouredSegments(positions, c);
 }, 'from each plane origin o_i along n_i (PCA), before orientation',
-`<span class="swatch" style="background:${css(0x2b59c3)}"></span>flat <span class="ramp" style="background:linear-gradient(90deg,${rampStops.map(([t, c]) => '#' + c.getHexString() + ' ' + 100 * t + '%').join(',')})"></span> surface variation ≥ ${planarityFull}`,
+`<span class="swatch" style="background:${css(0x2b59c3)}"></span>flat <span class="ramp" style="background:${rampCss}"></span> surface variation ≥ ${planarityFull}`,
 false);
 
 // 4. Riemannian graph and spanning tree
@@ -287,49 +304,82 @@ addLayer('distance', '6. Signed distance at lattice corners', C ? () => {
 `<span class="swatch" style="background:${css(colours.outside)}"></span>f &gt; 0 outside <span class="swatch" style="background:${css(colours.inside)}"></span>f &lt; 0 inside <span class="swatch" style="background:${css(colours.undefined)}"></span>undefined`,
 false);
 
-// 7. the mesh and its boundary
+// 7. and 8. the meshes and their boundaries
 // One pass for both sides: diffuse light from the viewer's direction, the
-// outside grey, the inside (a back face: a hole, or a wrongly oriented part)
-// red.
-function meshMaterial() {
+// outside grey (or, with vertexColours, the colour of each vertex), the
+// inside (a back face: a hole, or a wrongly oriented part) red.
+function meshMaterial(vertexColours = false) {
   return new THREE.ShaderMaterial({
     side: THREE.DoubleSide,
+    vertexColors: vertexColours,  // defines USE_COLOR and the colour attribute
     uniforms: { front: { value: new THREE.Color(colours.meshFront) }, back: { value: new THREE.Color(colours.meshBack) } },
     vertexShader: `
+      uniform vec3 front;
       varying vec3 viewNormal;
       varying vec3 viewPosition;
+      varying vec3 outside;
       void main() {
         vec4 p = modelViewMatrix * vec4(position, 1.0);
         viewPosition = p.xyz;
         viewNormal = normalMatrix * normal;
+        #ifdef USE_COLOR
+          outside = color;
+        #else
+          outside = front;
+        #endif
         gl_Position = projectionMatrix * p;
       }`,
     fragmentShader: `
-      uniform vec3 front;
       uniform vec3 back;
       varying vec3 viewNormal;
       varying vec3 viewPosition;
+      varying vec3 outside;
       void main() {
         vec3 n = normalize(viewNormal) * (gl_FrontFacing ? 1.0 : -1.0);
         float light = 0.35 + 0.65 * abs(dot(n, normalize(-viewPosition)));
-        gl_FragColor = vec4((gl_FrontFacing ? front : back) * light, 1.0);
+        gl_FragColor = vec4((gl_FrontFacing ? outside : back) * light, 1.0);
         #include <colorspace_fragment>
       }`,
   });
 }
-const M = data.mesh;
-addLayer('mesh', '7. Mesh', M ? () => {
+// A mesh layer's object: the shaded triangles and the boundary edges;
+// `vertexColours` (3 per drawn vertex) colours the outside.
+function meshGroup(mesh, vertexColours = null) {
   const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(f32(M.vertices), 3));
-  geometry.setIndex(new THREE.BufferAttribute(u32(M.triangles), 1));
+  geometry.setAttribute('position', new THREE.BufferAttribute(f32(mesh.vertices), 3));
+  geometry.setIndex(new THREE.BufferAttribute(u32(mesh.triangles), 1));
+  if (vertexColours) geometry.setAttribute('color', new THREE.BufferAttribute(vertexColours, 3));
   geometry.computeVertexNormals();
   const group = new THREE.Group();
-  group.add(new THREE.Mesh(geometry, meshMaterial()));
-  group.add(lineSegments(f32(M.boundary), colours.boundary));
+  group.add(new THREE.Mesh(geometry, meshMaterial(vertexColours !== null)));
+  group.add(lineSegments(f32(mesh.boundary), colours.boundary));
   return group;
-} : null, M ? `${subsample(M.drawn, M.triangles_total, 'triangles', M.stride)}; ${M.boundary_stride > 1 ? subsample(M.boundary_drawn, M.boundary_total, 'boundary edges', M.boundary_stride) : `${count(M.boundary_total)} boundary edges`}` :
-  'not available: this run made no mesh',
-`<span class="swatch" style="background:${css(colours.meshFront)}"></span>outside <span class="swatch" style="background:${css(colours.meshBack)}"></span>inside (seen from behind) <span class="swatch" style="background:${css(colours.boundary)}"></span>boundary edge`,
+}
+const meshNote = (mesh) => `${subsample(mesh.drawn, mesh.triangles_total, 'triangles', mesh.stride)}; ` +
+  (mesh.boundary_stride > 1 ? subsample(mesh.boundary_drawn, mesh.boundary_total, 'boundary edges', mesh.boundary_stride) :
+    `${count(mesh.boundary_total)} boundary edges`);
+const insideAndBoundary = `<span class="swatch" style="background:${css(colours.meshBack)}"></span>inside (seen from behind) ` +
+  `<span class="swatch" style="background:${css(colours.boundary)}"></span>boundary edge`;
+
+const M = data.mesh, R = data.refinement;
+addLayer('mesh', R ? '7. Mesh of phase IV (the 1992 surface)' : '7. Mesh', M ? () => meshGroup(M) : null,
+  M ? meshNote(M) : 'not available: this run made no mesh',
+  `<span class="swatch" style="background:${css(colours.meshFront)}"></span>outside ${insideAndBoundary}`,
+  M !== undefined && !R);
+
+// 8. the refined mesh, coloured by each vertex's distance to the 1992 surface
+// (layer 7's mesh), on the ramp of layer 3 from 0 to the distance scale.
+const distanceScale = R ? (R.distance.scale > 0 ? R.distance.scale : R.distance.max > 0 ? R.distance.max : 1) : 1;
+addLayer('refinement', '8. Refined mesh (phase V)', R ? () => {
+  const distance = f32(R.distance.value);
+  const c = new Float32Array(3 * distance.length);
+  const colour = new THREE.Color();
+  for (let i = 0; i < distance.length; ++i) ramp(distance[i] / distanceScale, colour).toArray(c, 3 * i);
+  return meshGroup(R, c);
+} : null, R ? `${meshNote(R)}; its vertices lie ${formatNumber(R.distance.mean)} from the 1992 surface on average, ` +
+  `${formatNumber(R.distance.max)} at most` : 'not available: phase V runs in the refined method only (this run: hoppe92)',
+R ? `distance to the 1992 surface: 0 <span class="ramp" style="background:${rampCss}"></span> ≥ ${formatNumber(distanceScale)}` +
+  (C?.cell > 0 ? ` (${formatNumber(distanceScale / C.cell)} cell)` : '') + `<br>${insideAndBoundary}` : null,
 true);
 
 // ---- the panel
@@ -444,5 +494,10 @@ window.reconReport = {
     controls.update();
     requestRender();
   },
+  // The camera as it is, and the sphere the first view frames (for the tests).
+  view: () => ({
+    position: camera.position.toArray(), target: controls.target.toArray(), near: camera.near, far: camera.far,
+    fov: camera.fov, aspect: camera.aspect, sphere,
+  }),
   stats,
 };

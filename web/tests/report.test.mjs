@@ -10,7 +10,7 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { existsSync, mkdtempSync, readFileSync, rmSync, statSync } from 'node:fs';
+import { existsSync, mkdtempSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { pathToFileURL } from 'node:url';
@@ -78,7 +78,7 @@ const difference = (page, a, b) => page.evaluate(([a, b]) => {
   return differ / (x.length / 4);
 }, [a, b]);
 
-const layerIds = ['points', 'kdtree', 'pca', 'graph', 'normals', 'distance', 'mesh'];
+const layerIds = ['points', 'kdtree', 'pca', 'graph', 'normals', 'distance', 'mesh', 'refinement'];
 async function setLayer(page, id, on) {
   const box = page.locator(`#layer-${id}`);
   if ((await box.isChecked()) !== on) await box.click();
@@ -119,6 +119,9 @@ test('a reconstruction report opens offline, and every layer toggle changes the 
   const { page } = opened;
   assert.equal(await page.title(), 'recon report: two.ply');
   assert.deepEqual(await page.evaluate(() => window.reconReport.layers.filter((l) => l.available).map((l) => l.id)), layerIds);
+  // The refined mesh is shown first, the 1992 surface on demand.
+  assert.equal(await page.evaluate(() => window.reconReport.visible('refinement')), true);
+  assert.equal(await page.evaluate(() => window.reconReport.visible('mesh')), false);
   await assertTogglesChangePicture(page, layerIds);
 
   // The kd-tree slider draws another depth.
@@ -155,9 +158,11 @@ test('a reconstruction report opens offline, and every layer toggle changes the 
   await snapshot(page, 'panned');
   assert.ok(await difference(page, 'reset', 'panned') > 0.002, 'a right-drag pans');
 
-  // The page says what it drew: two components, a closed mesh.
+  // The page says what it drew: two components, closed meshes, and how far
+  // phase V moved the surface.
   assert.match(await page.locator('#note-points').textContent(), /all 12,000 points; 2 components/);
   assert.match(await page.locator('#note-mesh').textContent(), /; 0 boundary edges/);
+  assert.match(await page.locator('#note-refinement').textContent(), /; 0 boundary edges; its vertices lie [0-9.e-]+ from the 1992 surface on average/);
   assertOffline(opened);
   await opened.context.close();
 });
@@ -195,8 +200,8 @@ test('the statistics on the page are those of the --stats JSON of the same run',
     'input.points': stats.input.points, 'tangent_planes.k': stats.tangent_planes.k, 'tangent_planes.rho': stats.tangent_planes.rho,
     'signed_distance.delta': stats.signed_distance.delta, 'contouring.cell': stats.contouring.cell, threads: stats.threads,
   });
-  // The notes count what the run had.
-  assert.match(await opened.page.locator('#note-mesh').textContent(), new RegExp(`all ${stats.mesh.faces.toLocaleString('en-US')} triangles`));
+  // The notes count what the run had: its mesh is phase V's (layer 8).
+  assert.match(await opened.page.locator('#note-refinement').textContent(), new RegExp(`all ${stats.mesh.faces.toLocaleString('en-US')} triangles`));
   assertOffline(opened);
   await opened.context.close();
 });
@@ -206,6 +211,57 @@ test('a report of recon normals has layers 1 to 5, and the others are unavailabl
   run('normals', 'sphere.xyz', '-o', 'sphere_normals.ply', '--report', 'normals.html', '-q');
   const opened = await open('normals.html');
   await assertTogglesChangePicture(opened.page, ['points', 'kdtree', 'pca', 'graph', 'normals']);
+  assertOffline(opened);
+  await opened.context.close();
+});
+
+test('a hoppe92 report has layers 1 to 7, and no refinement layer', async () => {
+  run('generate', 'torus', '-n', '5000', '-o', 'torus92.ply', '-q');
+  run('reconstruct', 'torus92.ply', '--method', 'hoppe92', '-o', 'torus92_mesh.ply', '--report', 'hoppe92.html', '-q');
+  const opened = await open('hoppe92.html');
+  assert.match(await opened.page.locator('#note-refinement').textContent(), /not available/);
+  assert.equal(await opened.page.evaluate(() => window.reconReport.visible('mesh')), true, 'the 1992 mesh is shown first');
+  await assertTogglesChangePicture(opened.page, layerIds.filter((id) => id !== 'refinement'));
+  assertOffline(opened);
+  await opened.context.close();
+});
+
+// A model six times taller than wide (a stretched sphere) opens seen whole
+// from outside: the camera is outside the sphere around it, the clipping
+// planes enclose that sphere, and the mesh neither touches the picture's
+// edges nor is lost in it.
+test('the first view frames a tall model whole, from outside', async () => {
+  run('generate', 'sphere', '-n', '6000', '-o', 'round.xyz', '-q');
+  const tall = readFileSync(join(work, 'round.xyz'), 'utf8').trim().split('\n')
+    .map((line) => line.trim().split(/\s+/).map(Number)).map(([x, y, z]) => `${x} ${6 * y} ${z}`).join('\n');
+  writeFileSync(join(work, 'tall.xyz'), tall + '\n');
+  run('reconstruct', 'tall.xyz', '-o', 'tall_mesh.ply', '--report', 'tall.html', '-q');
+  const opened = await open('tall.html');
+  const { page } = opened;
+  const view = await page.evaluate(() => window.reconReport.view());
+  const distance = Math.hypot(...view.position.map((p, i) => p - view.sphere.centre[i]));
+  assert.ok(distance > view.sphere.radius, `camera ${distance} from the centre, outside the sphere of radius ${view.sphere.radius}`);
+  assert.ok(view.near < distance - view.sphere.radius && view.far > distance + view.sphere.radius, 'nothing is clipped');
+  await settle(page);
+  const { edge, covered } = await page.evaluate(() => {
+    const canvas = document.getElementById('canvas');
+    const copy = new OffscreenCanvas(canvas.width, canvas.height);
+    const g = copy.getContext('2d');
+    g.drawImage(canvas, 0, 0);
+    const pixels = g.getImageData(0, 0, canvas.width, canvas.height).data;
+    const background = [0xf4, 0xf5, 0xf7];
+    let edge = 0, covered = 0;
+    for (let y = 0; y < canvas.height; ++y)
+      for (let x = 0; x < canvas.width; ++x) {
+        const i = 4 * (y * canvas.width + x);
+        if (Math.abs(pixels[i] - background[0]) + Math.abs(pixels[i + 1] - background[1]) + Math.abs(pixels[i + 2] - background[2]) < 6) continue;
+        ++covered;
+        if (x === 0 || y === 0 || x === canvas.width - 1 || y === canvas.height - 1) ++edge;
+      }
+    return { edge, covered: covered / (canvas.width * canvas.height) };
+  });
+  assert.equal(edge, 0, 'the model does not reach the edges of the picture');
+  assert.ok(covered > 0.03, `the model covers ${(100 * covered).toFixed(1)} % of the picture`);
   assertOffline(opened);
   await opened.context.close();
 });
@@ -223,7 +279,8 @@ test('a 1M-point reconstruction gives a report that loads in under 5 s', async (
   run('generate', 'torus', '-n', '1000000', '-o', 'big.ply', '-q');
   run('reconstruct', 'big.ply', '-o', 'big_mesh.ply', '--report', 'big.html', '-q');
   const megabytes = statSync(join(work, 'big.html')).size / 1e6;
-  assert.ok(megabytes < 45, `the report is ${megabytes.toFixed(1)} MB`);
+  // Two meshes of about 1M triangles each (phase IV's and phase V's).
+  assert.ok(megabytes < 70, `the report is ${megabytes.toFixed(1)} MB`);
   const limit = 5;
   const openings = [];
   const shown = () => openings.some((o) => o.wall < limit || o.processor < limit);
