@@ -35,23 +35,21 @@ std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const OrientedNo
   return offer;
 }
 
-// How the edge (i, j) relates the signs of the planes' normals (see the
-// header): 0 where the edge runs along the surface (Hoppe's rule decides),
-// +1 where it is steep to both planes and they must point the same way,
-// -1 where they must point opposite ways. Across a steep edge the surface
-// lies on one side of both planes or of neither: outward normals n_i, n_j
-// satisfy (d . n_i)(d . n_j) < 0 for d = o_j - o_i.
+// Whether the edge (i, j) joins two facing sheets (see the header): the
+// planes nearly parallel, the edge steep to both, and the planes apart by
+// more than their fits' misfit (noise tilts short edges between neighbours
+// on one sheet, by no more than that).
 template <int D>
-int steep_edge_sign(const TangentPlanes<D>& planes, std::span<const float> misfit, std::uint32_t i,
-                    std::uint32_t j) {
+bool joins_facing_sheets(const TangentPlanes<D>& planes, std::span<const float> misfit, std::uint32_t i,
+                         std::uint32_t j) {
+  constexpr double parallel = 0.9063077870366499;  // cos 25 degrees
   const Vec<D>&n_i = planes.normals[i], &n_j = planes.normals[j];
+  if (std::abs(n_i.dot(n_j)) < parallel) return false;
   const Vec<D> d = planes.origins[j] - planes.origins[i];
   const double half = 0.25 * d.squaredNorm();  // sin^2 30 degrees
   const double at_i = d.dot(n_i), at_j = d.dot(n_j);
   const double apart = 3.0 * (static_cast<double>(misfit[i]) + static_cast<double>(misfit[j]));
-  const bool steep = at_i * at_i > half && at_j * at_j > half && std::min(std::abs(at_i), std::abs(at_j)) > apart;
-  if (!steep) return 0;
-  return at_i * at_j < 0.0 ? 1 : -1;
+  return at_i * at_i > half && at_j * at_j > half && std::min(std::abs(at_i), std::abs(at_j)) > apart;
 }
 
 template <int D>
@@ -113,22 +111,16 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
 
   result.normals.assign(guide.begin(), guide.end());
   result.flipped.assign(n, 0);
-  // Across a steep edge the convexity rule decides (see the header), on
-  // the planes' own normals: whether v must differ in sign from p.
-  auto steep = [&](std::uint32_t a, std::uint32_t b) {
-    return options.sheet_misfit.empty() ? 0 : steep_edge_sign<D>(planes, options.sheet_misfit, a, b);
+  // Across an edge between facing sheets the normals must disagree.
+  auto reversed = [&](std::uint32_t a, std::uint32_t b) {
+    return !options.sheet_misfit.empty() && joins_facing_sheets<D>(planes, options.sheet_misfit, a, b);
   };
   for (std::uint32_t v : result.tree.order) {
     const std::uint32_t p = result.tree.parent[v];
-    const int rule = p == SpanningForest::no_parent ? 0 : steep(v, p);
-    result.sheet_edges += rule != 0 ? 1u : 0u;
-    bool flip;
-    if (p == SpanningForest::no_parent)
-      flip = result.normals[v][D - 1] < 0.0;
-    else if (rule == 0)
-      flip = result.normals[v].dot(result.normals[p]) < 0.0;
-    else
-      flip = (rule < 0) != (result.flipped[p] != 0);
+    const bool across = p != SpanningForest::no_parent && reversed(v, p);
+    result.sheet_edges += across ? 1u : 0u;
+    const bool flip = p == SpanningForest::no_parent ? result.normals[v][D - 1] < 0.0
+                                                     : (result.normals[v].dot(result.normals[p]) < 0.0) != across;
     if (flip) {
       result.normals[v] = -result.normals[v];
       result.flipped[v] = 1;
@@ -147,11 +139,8 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
     for (std::int64_t s = 0; s < count; ++s) {
       const auto v = static_cast<std::uint32_t>(s);
       double agreement = 0.0;
-      for (const std::uint32_t u : g.neighbors(v)) {
-        const int rule = steep(v, u);
-        agreement += rule == 0 ? result.normals[v].dot(result.normals[u])
-                               : ((rule < 0) == (result.flipped[v] != result.flipped[u]) ? 1.0 : -1.0);
-      }
+      for (const std::uint32_t u : g.neighbors(v))
+        agreement += (reversed(v, u) ? -1.0 : 1.0) * result.normals[v].dot(result.normals[u]);
       turn[v] = agreement < 0.0 ? 1 : 0;
       turned += turn[v];
     }
