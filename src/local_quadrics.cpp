@@ -407,7 +407,6 @@ Fits fit_all(const TangentPlanes<3>& planes, const LocalQuadricOptions& options,
 void split_sheets(const TangentPlanes<3>& planes, Fits& fits, const std::vector<std::uint8_t>& suspect,
                   const LocalQuadricOptions& options, LocalQuadrics& result) {
   const std::size_t n = fits.size();
-  const std::span<const Vec3> x = planes.point_tree.points();
   // The suspects, each with a frame slot and room for its split.
   std::vector<std::uint32_t> suspects;
   for (std::uint32_t i = 0; i < n; ++i)

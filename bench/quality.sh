@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# How close each reconstruction lies to the true surface: recon's default
+# (refined) and --method hoppe92 beside Open3D's and CGAL's Screened Poisson,
+# on the same clouds, measured by ../shared/eval/metrics.py (Chamfer,
+# Hausdorff-95, relative to the true surface's bounding-box diagonal, and the
+# topology). Writes bench/results/quality.md.
+#
+#   bench/quality.sh                       # every cloud: about 10 minutes on 2 cores
+#   QUALITY_CLOUDS="torus box" bench/quality.sh
+#
+#   QUALITY_CLOUDS   names from the list below (default: all)
+#   QUALITY_OUTPUT   the markdown written (default bench/results/quality.md)
+#   QUALITY_EVAL     the evaluation scripts (default ../shared/eval)
+#   QUALITY_DATA     the real data (default ../shared/data)
+#
+# Clouds: gen_synthetic.py's sphere, torus, box (rotated, sharp), plate
+# (thickness 0.05), torus with 0.2 % noise; recon generate's ellipsoid, part
+# (genus 3, creases) at 20,000 and at 4,100 points, handle, conics; the
+# Stanford bunny (its vertices, measured against its own mesh). Needs
+# python3-numpy python3-scipy python3-open3d libcgal-dev (bench/peers.sh
+# installs them); builds bench/peers' cgal_poisson into build/peers.
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+eval_dir="${QUALITY_EVAL:-$root/../shared/eval}"
+data_dir="${QUALITY_DATA:-$root/../shared/data}"
+output="${QUALITY_OUTPUT:-$root/bench/results/quality.md}"
+clouds="${QUALITY_CLOUDS:-sphere torus box plate noisy-torus ellipsoid part part-4100 handle conics bunny}"
+python=/usr/bin/python3
+recon="$root/build/release/app/recon"
+work="$root/build/quality"
+mkdir -p "$work"
+[ -x "$recon" ] || cmake --build --preset release --target recon_cli
+cmake -S bench/peers -B build/peers -DCMAKE_BUILD_TYPE=Release -G Ninja > "$work/peers-configure.log"
+cmake --build build/peers --target cgal_poisson > "$work/peers-build.log"
+cgal="$root/build/peers/cgal_poisson"
+
+# Makes $work/NAME.ply (the cloud) and $work/NAME_gt.ply (the truth).
+make_cloud() {
+  local name="$1" out="$work/$1.ply"
+  case "$name" in
+    sphere|torus) $python "$eval_dir/gen_synthetic.py" "$name" "$out" --n 100000 --seed 1 ;;
+    box) $python "$eval_dir/gen_synthetic.py" box "$out" --n 60000 --seed 1 ;;
+    plate) $python "$eval_dir/gen_synthetic.py" plate "$out" --n 40000 --thickness 0.05 --seed 1 ;;
+    noisy-torus) $python "$eval_dir/gen_synthetic.py" torus "$out" --n 100000 --noise 0.002 --seed 1 ;;
+    ellipsoid|part|handle) "$recon" generate "$name" -n 20000 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
+    part-4100) "$recon" generate part -n 4100 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
+    conics) "$recon" generate conics --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
+    bunny)  # the scan's vertices are the cloud (every program reads a PLY's vertices); its mesh is the truth
+      cp "$data_dir/stanford_bunny/bun_zipper.ply" "$work/bunny_gt.ply"
+      cp "$data_dir/stanford_bunny/bun_zipper.ply" "$out" ;;
+    *) echo "quality.sh: unknown cloud '$name'" >&2; exit 2 ;;
+  esac > /dev/null
+}
+
+# One row: method, Chamfer, Hausdorff-95, components, watertight, Euler.
+measure() {
+  local mesh="$1" gt="$2" label="$3"
+  if [ ! -s "$mesh" ]; then
+    echo "| $label | failed | | | | |"
+    return
+  fi
+  $python "$eval_dir/metrics.py" "$mesh" "$gt" | $python -c '
+import json, sys
+d = json.load(sys.stdin)
+print("| %s | %.3g | %.3g | %d | %s | %d |" % (sys.argv[1], d["chamfer"], d["hausdorff95"], d["components"],
+      "yes" if d["watertight"] else "no, %d boundary edges" % d["boundary_edges"], d["euler"]))' "$label"
+}
+
+{
+  echo "# Quality: distance to the true surface"
+  echo
+  echo "Written by \`bench/quality.sh\` on $(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD)$(git diff --quiet || echo ' with local changes'),"
+  echo "$(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo)."
+  echo "Chamfer and Hausdorff-95 are relative to the true surface's bounding-box diagonal (\`metrics.py\`);"
+  echo "every program at its defaults (Open3D: k = 30, depth 8; CGAL: k = 18, its default spacing)."
+  echo
+} > "$output.tmp"
+for name in $clouds; do
+  make_cloud "$name"
+  cloud="$work/$name.ply"
+  gt="$work/${name}_gt.ply"
+  "$recon" reconstruct "$cloud" -o "$work/$name-refined.ply" > /dev/null 2>&1 || rm -f "$work/$name-refined.ply"
+  "$recon" reconstruct "$cloud" --method hoppe92 -o "$work/$name-hoppe92.ply" > /dev/null 2>&1 || rm -f "$work/$name-hoppe92.ply"
+  timeout 900 $python bench/peers/open3d_poisson.py "$cloud" -o "$work/$name-open3d.ply" > /dev/null 2>&1 || rm -f "$work/$name-open3d.ply"
+  timeout 900 "$cgal" "$cloud" -o "$work/$name-cgal.ply" > /dev/null 2>&1 || rm -f "$work/$name-cgal.ply"
+  {
+    echo "## $name"
+    echo
+    echo "| method | Chamfer | Hausdorff-95 | components | closed | Euler |"
+    echo "|---|---|---|---|---|---|"
+    measure "$work/$name-refined.ply" "$gt" "recon (default: refined)"
+    measure "$work/$name-hoppe92.ply" "$gt" "recon --method hoppe92"
+    measure "$work/$name-open3d.ply" "$gt" "Open3D Poisson"
+    measure "$work/$name-cgal.ply" "$gt" "CGAL Poisson"
+    echo
+  } | tee -a "$output.tmp"
+done
+mv "$output.tmp" "$output"
+echo "wrote $output"
