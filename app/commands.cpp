@@ -240,6 +240,9 @@ void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   s["seconds_graph"] = g.seconds_graph;
   s["seconds_mst"] = oriented.seconds_mst;
   s["vote_flips"] = oriented.vote_flips;
+  s["sheet_edges"] = oriented.sheet_edges;
+  s["crease_patches_turned"] = oriented.crease_patches_turned;
+  s["components_turned"] = oriented.components_turned;
 }
 
 void report_phases_3_4(const Reconstruction& r, Summary& summary) {

@@ -4,9 +4,11 @@
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <array>
 #include <span>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <utility>
 
 namespace recon {
@@ -50,6 +52,152 @@ bool joins_facing_sheets(const TangentPlanes<D>& planes, std::span<const float> 
   const double at_i = d.dot(n_i), at_j = d.dot(n_j);
   const double apart = 3.0 * (static_cast<double>(misfit[i]) + static_cast<double>(misfit[j]));
   return at_i * at_i > half && at_j * at_j > half && std::min(std::abs(at_i), std::abs(at_j)) > apart;
+}
+
+// The convexity rule alone (see the header): +1 where the edge (i, j)
+// leaves both planes at more than the angle whose sine is `steep` and says
+// their normals point the same way, -1 where it says opposite ways, 0
+// where the edge is not that steep.
+template <int D>
+int convexity_sign(const TangentPlanes<D>& planes, std::span<const float> misfit, std::uint32_t i, std::uint32_t j,
+                   double steep) {
+  const Vec<D> d = planes.origins[j] - planes.origins[i];
+  const double half = steep * steep * d.squaredNorm();
+  const double at_i = d.dot(planes.normals[i]), at_j = d.dot(planes.normals[j]);
+  const double apart = 3.0 * (static_cast<double>(misfit[i]) + static_cast<double>(misfit[j]));
+  if (at_i * at_i <= half || at_j * at_j <= half || std::min(std::abs(at_i), std::abs(at_j)) <= apart) return 0;
+  return at_i * at_j < 0.0 ? 1 : -1;
+}
+
+// Sharp creases (see the header), in three steps.
+// 1. Patches: the pieces the graph falls into when only edges between
+//    planes within 25 degrees of parallel are kept, between well-fitted
+//    planes (misfit at most three times the median: the unresolved planes
+//    on a crease would otherwise bridge its two faces in small steps).
+// 2. Votes: every edge between two patches whose planes lie more than 45
+//    degrees apart and which leaves both planes by more than 10 degrees
+//    votes with the convexity rule: the signs found satisfy it, or not.
+//    (A wedge's faces meet at its angle, and an edge across it leaves the
+//    two by angles that add up to it: 30 degrees each would miss every
+//    wedge sharper than 60.)
+// 3. Turns: while some patch has at least 8 votes, four in five of them
+//    against, the patch with the most net votes against it (the smaller on
+//    a tie) is turned round; each turn satisfies more votes, so this ends.
+//    One steep edge proves nothing (a wavy surface sampled coarsely has
+//    some against); a whole crease line of them agreeing does.
+struct PatchPair {
+  std::uint32_t a = 0, b = 0;  // patch roots, a < b
+  int votes = 0, against = 0;
+};
+
+struct Patches {
+  std::vector<std::uint32_t> parent;  // union-find: root(v) is v's patch
+  bool any_crease = false;            // any graph edge between planes more than 45 degrees apart
+  std::uint32_t root(std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  }
+};
+
+constexpr double patch_parallel = 0.9063077870366499;  // cos 25 degrees
+constexpr double patch_crease = 0.7071067811865476;    // cos 45 degrees
+
+template <int D>
+Patches find_patches(const TangentPlanes<D>& planes, const Graph& g, std::span<const float> misfit) {
+  const auto n = static_cast<std::uint32_t>(planes.normals.size());
+  Patches p;
+  p.parent.resize(n);
+  for (std::uint32_t v = 0; v < n; ++v) p.parent[v] = v;
+  std::vector<float> sorted(misfit.begin(), misfit.end());
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n / 2), sorted.end());
+  const double poor = 3.0 * static_cast<double>(sorted[n / 2]);
+  auto fitted = [&](std::uint32_t v) { return static_cast<double>(misfit[v]) <= poor; };
+  for (std::uint32_t v = 0; v < n; ++v)
+    for (const std::uint32_t u : g.neighbors(v)) {
+      const double c = std::abs(planes.normals[v].dot(planes.normals[u]));
+      p.any_crease = p.any_crease || c < patch_crease;
+      if (u < v || c < patch_parallel || !fitted(v) || !fitted(u)) continue;
+      const std::uint32_t a = p.root(v), b = p.root(u);
+      if (a != b) p.parent[std::max(a, b)] = std::min(a, b);
+    }
+  return p;
+}
+
+template <int D>
+std::vector<PatchPair> crease_votes(const TangentPlanes<D>& planes, const Graph& g, std::span<const float> misfit,
+                                    Patches& patches, const std::vector<std::uint8_t>& flipped) {
+  constexpr double slope = 0.17364817766693033;  // sin 10 degrees
+  std::vector<PatchPair> pairs;
+  for (std::uint32_t v = 0; v < flipped.size(); ++v)
+    for (const std::uint32_t u : g.neighbors(v)) {
+      if (u < v || std::abs(planes.normals[v].dot(planes.normals[u])) >= patch_crease) continue;
+      const std::uint32_t a = patches.root(v), b = patches.root(u);
+      const int rule = a == b ? 0 : convexity_sign<D>(planes, misfit, v, u, slope);
+      if (rule == 0) continue;
+      const bool consistent = (rule < 0) == (flipped[v] != flipped[u]);
+      pairs.push_back({std::min(a, b), std::max(a, b), 1, consistent ? 0 : 1});
+    }
+  std::sort(pairs.begin(), pairs.end(),
+            [](const PatchPair& x, const PatchPair& y) { return std::pair(x.a, x.b) < std::pair(y.a, y.b); });
+  std::vector<PatchPair> merged;
+  for (const PatchPair& p : pairs) {
+    if (!merged.empty() && merged.back().a == p.a && merged.back().b == p.b) {
+      merged.back().votes += p.votes;
+      merged.back().against += p.against;
+    } else {
+      merged.push_back(p);
+    }
+  }
+  return merged;
+}
+
+// Step 3: which patches to turn (1 at a patch's root).
+std::vector<std::uint8_t> patches_to_turn(const std::vector<PatchPair>& pairs, const std::vector<std::uint32_t>& size) {
+  constexpr int min_votes = 8;
+  std::vector<std::uint8_t> turn(size.size(), 0);
+  for (std::size_t step = 0; step < pairs.size(); ++step) {
+    std::map<std::uint32_t, std::array<int, 2>> tally;  // patch -> votes, against
+    for (const PatchPair& p : pairs) {
+      const int against = turn[p.a] != turn[p.b] ? p.votes - p.against : p.against;
+      for (const std::uint32_t patch : {p.a, p.b}) {
+        tally[patch][0] += p.votes;
+        tally[patch][1] += against;
+      }
+    }
+    auto worst = tally.end();
+    int worst_net = 0;
+    for (auto t = tally.begin(); t != tally.end(); ++t) {
+      const auto [votes, against] = t->second;
+      if (votes < min_votes || 5 * against < 4 * votes) continue;
+      const int net = 2 * against - votes;
+      if (net > worst_net || (worst != tally.end() && net == worst_net && size[t->first] < size[worst->first])) {
+        worst = t;
+        worst_net = net;
+      }
+    }
+    if (worst == tally.end()) break;
+    turn[worst->first] ^= 1;
+  }
+  return turn;
+}
+
+template <int D>
+std::size_t turn_crease_patches(const TangentPlanes<D>& planes, const Graph& g, std::span<const float> misfit,
+                                OrientedNormals<D>& result) {
+  Patches patches = find_patches<D>(planes, g, misfit);
+  if (!patches.any_crease) return 0;
+  const std::vector<PatchPair> pairs = crease_votes<D>(planes, g, misfit, patches, result.flipped);
+  const auto n = static_cast<std::uint32_t>(planes.normals.size());
+  std::vector<std::uint32_t> size(n, 0);
+  for (std::uint32_t v = 0; v < n; ++v) ++size[patches.root(v)];
+  const std::vector<std::uint8_t> turn = patches_to_turn(pairs, size);
+  const auto turned = static_cast<std::size_t>(std::count(turn.begin(), turn.end(), 1));
+  for (std::uint32_t v = 0; v < n && turned > 0; ++v)
+    if (turn[patches.root(v)]) {
+      result.normals[v] = -result.normals[v];
+      result.flipped[v] ^= 1;
+    }
+  return turned;
 }
 
 template <int D>
@@ -152,6 +300,8 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
       }
     result.vote_flips += turned;
   }
+  if (!options.sheet_misfit.empty())
+    result.crease_patches_turned = turn_crease_patches<D>(planes, g, options.sheet_misfit, result);
   if (options.sign_by_extremes) result.components_turned = turn_components_outward<D>(planes, result);
   if (guide.data() != planes.normals.data())  // the signs found with the guide, on the planes' own normals
     for (std::size_t i = 0; i < n; ++i) result.normals[i] = result.flipped[i] ? Vec<D>(-planes.normals[i]) : planes.normals[i];

@@ -42,6 +42,19 @@
 // neighbourhoods spanning both sheets, such edges cannot be told: this
 // needs local_quadrics.h's origins.)
 //
+// Sharp creases (the refined method). Across a crease sharper than a
+// right angle (a cone's rim, a wedge) outward normals point more than 90
+// degrees apart, and "agrees with its parent" is wrong for every tree edge
+// that crosses it: one face comes out inside out. Geometry tells: across a
+// crease the surface lies beyond both planes (convex) or beyond neither
+// (concave), so outward normals satisfy (d . n_i)(d . n_j) < 0 for
+// d = o_j - o_i. One edge can be fooled (a wavy surface sampled coarsely),
+// so after the walk the faces are found as patches (pieces joined by
+// nearly parallel, well-fitted planes) and every graph edge across a
+// crease between two patches votes; a patch that at least 8 votes, four
+// in five of them, say is inside out relative to its neighbours is turned
+// round (orientation.cpp, turn_crease_patches).
+//
 // An addition to Hoppe's method: a few rounds of a local vote afterwards. A
 // normal that points against the sum of its graph neighbours' normals is
 // turned round. On clean data nothing changes; with noise about half the
@@ -86,6 +99,7 @@ struct OrientedNormals {
   std::size_t vote_flips = 0;         ///< of which changed by the vote
   std::size_t components_turned = 0;  ///< components turned round by sign_by_extremes
   std::size_t sheet_edges = 0;        ///< tree edges between facing sheets (walked reversed)
+  std::size_t crease_patches_turned = 0;  ///< faces turned round across a sharp crease (see above)
   double seconds_mst = 0.0;
 
   [[nodiscard]] std::size_t component_count() const { return graph.components.sizes.size(); }
