@@ -224,8 +224,10 @@ void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   line << " (";
   for (std::size_t c = 0; c < shown.size() && c < 8; ++c) line << (c ? ", " : "") << shown[c];
   if (shown.size() > 8) line << ", ...";
-  line << " points), graph of " << plural(g.edge_count, "edge") << ", " << plural(oriented.flip_count, "flip")
-       << " (" << format_seconds(g.seconds_emst + g.seconds_graph + oriented.seconds_mst) << ")";
+  line << " points), graph of " << plural(g.edge_count, "edge") << ", " << plural(oriented.flip_count, "flip");
+  if (oriented.crease_patches_turned > 0)
+    line << ", " << plural(oriented.crease_patches_turned, "face") << " turned across a sharp crease";
+  line << " (" << format_seconds(g.seconds_emst + g.seconds_graph + oriented.seconds_mst) << ")";
   summary.say(line.str());
   Json& s = summary.stats()["orientation"];
   s["components"] = oriented.component_count();

@@ -99,7 +99,7 @@ void Summary::write_stats(const std::filesystem::path& path) const {
 
 std::string plural(std::size_t n, const std::string& word) {
   if (n == 1) return "1 " + word;
-  if (word == "vertex") return std::to_string(n) + " vertices";
+  if (word.ends_with("vertex")) return std::to_string(n) + " " + word.substr(0, word.size() - 2) + "ices";
   return std::to_string(n) + " " + word + "s";
 }
 

@@ -38,7 +38,7 @@ print("| %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %d |" % (
     sys.argv[2], sys.argv[3], s["seconds_total"], planes,
     total("orientation", ["seconds_emst", "seconds_graph", "seconds_mst"]),
     total("signed_distance", ["seconds"]), total("contouring", ["seconds"]), total("refinement", ["seconds"]),
-    s["memory"]["peak_mib"], s["mesh"]["faces"]))
+    s["memory"]["peak_mib_total"], s["mesh"]["faces"]))
 EOF
   done
 done

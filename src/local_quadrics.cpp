@@ -5,6 +5,7 @@
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -225,9 +226,31 @@ Foot foot_on(const Quadric& q, const Vec3& p, const Vec3& side) {
 // of at least `min_points` with an empty band wider than `gap` times the
 // whole range between them. Returns the height in the middle of the band,
 // or NaN when there is no such band. Sorts `heights`.
+// Whether heights could hold an empty band wider than `gap` times their
+// range, by counting them in bins: such a band covers some run of bins
+// whole, and a neighbourhood on one sheet (nearly all of them) has no run
+// of empty bins that long. Saves sorting every neighbourhood.
+bool may_have_band(std::span<const double> heights, double gap) {
+  constexpr std::size_t bins = 16;
+  const auto [low, high] = std::minmax_element(heights.begin(), heights.end());
+  const double range = *high - *low;
+  if (!(range > 0.0)) return false;
+  std::array<std::uint8_t, bins> filled{};
+  for (const double h : heights)
+    filled[std::min(bins - 1, static_cast<std::size_t>((h - *low) / range * static_cast<double>(bins)))] = 1;
+  // Whole bins inside any wider band, less one for rounding at bin edges.
+  const int run_needed = static_cast<int>(std::floor(gap * static_cast<double>(bins))) - 2;
+  int run = 0;
+  for (const std::uint8_t f : filled) {
+    run = f ? 0 : run + 1;
+    if (run >= std::max(1, run_needed)) return true;
+  }
+  return false;
+}
+
 double sheet_cut(std::span<double> heights, const LocalQuadricOptions& options) {
   constexpr double none_found = std::numeric_limits<double>::quiet_NaN();
-  if (heights.empty()) return none_found;
+  if (heights.empty() || !may_have_band(heights, options.sheet_gap)) return none_found;
   std::sort(heights.begin(), heights.end());
   const auto m = static_cast<std::size_t>(std::max(1, options.min_sheet_points));
   const double range = heights.back() - heights.front();

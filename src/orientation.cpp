@@ -92,7 +92,6 @@ struct PatchPair {
 
 struct Patches {
   std::vector<std::uint32_t> parent;  // union-find: root(v) is v's patch
-  bool any_crease = false;            // any graph edge between planes more than 45 degrees apart
   std::uint32_t root(std::uint32_t v) {
     while (parent[v] != v) v = parent[v] = parent[parent[v]];
     return v;
@@ -101,6 +100,21 @@ struct Patches {
 
 constexpr double patch_parallel = 0.9063077870366499;  // cos 25 degrees
 constexpr double patch_crease = 0.7071067811865476;    // cos 45 degrees
+
+// Whether any graph edge joins planes more than 45 degrees apart (most
+// clouds of smooth surfaces have none, and skip the rest).
+template <int D>
+bool has_crease_edge(const TangentPlanes<D>& planes, const Graph& g) {
+  const auto n = static_cast<std::int64_t>(planes.normals.size());
+  int found = 0;
+#pragma omp parallel for schedule(static) reduction(max : found)
+  for (std::int64_t s = 0; s < n; ++s) {
+    const auto v = static_cast<std::uint32_t>(s);
+    for (const std::uint32_t u : g.neighbors(v))
+      if (std::abs(planes.normals[v].dot(planes.normals[u])) < patch_crease) found = 1;
+  }
+  return found != 0;
+}
 
 template <int D>
 Patches find_patches(const TangentPlanes<D>& planes, const Graph& g, std::span<const float> misfit) {
@@ -115,7 +129,6 @@ Patches find_patches(const TangentPlanes<D>& planes, const Graph& g, std::span<c
   for (std::uint32_t v = 0; v < n; ++v)
     for (const std::uint32_t u : g.neighbors(v)) {
       const double c = std::abs(planes.normals[v].dot(planes.normals[u]));
-      p.any_crease = p.any_crease || c < patch_crease;
       if (u < v || c < patch_parallel || !fitted(v) || !fitted(u)) continue;
       const std::uint32_t a = p.root(v), b = p.root(u);
       if (a != b) p.parent[std::max(a, b)] = std::min(a, b);
@@ -184,8 +197,8 @@ std::vector<std::uint8_t> patches_to_turn(const std::vector<PatchPair>& pairs, c
 template <int D>
 std::size_t turn_crease_patches(const TangentPlanes<D>& planes, const Graph& g, std::span<const float> misfit,
                                 OrientedNormals<D>& result) {
+  if (!has_crease_edge<D>(planes, g)) return 0;
   Patches patches = find_patches<D>(planes, g, misfit);
-  if (!patches.any_crease) return 0;
   const std::vector<PatchPair> pairs = crease_votes<D>(planes, g, misfit, patches, result.flipped);
   const auto n = static_cast<std::uint32_t>(planes.normals.size());
   std::vector<std::uint32_t> size(n, 0);

@@ -72,19 +72,27 @@ Projected project_vertices(const Mesh& mesh, const RefinementInput& in, double m
   out.covered.assign(n, 1);
   std::size_t unmoved = 0;
   const auto count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : unmoved)
-  for (std::int64_t s = 0; s < count; ++s) {
-    const auto v = static_cast<std::size_t>(s);
-    const Vec3& p = mesh.vertices[v];
-    const std::uint32_t i = in.distance->plane_for(p);
-    const SurfacePoint q = in.blend > 1 ? blended_projection(in, i, p) : project_onto_quadric(in.origins[i], in.normals[i], in.curvature[i], p);
-    const bool trusted = max_move <= 0.0 || (q.point - p).norm() <= max_move;
-    out.point[v] = trusted ? q.point : p;
-    out.normal[v] = in.oriented[i].dot(in.normals[i]) < 0.0 ? Vec3(-q.normal) : q.normal;
-    out.plane[v] = i;
-    if (!in.spacing.empty())
-      out.covered[v] = (p - in.origins[i]).norm() <= static_cast<double>(in.spacing[i]) ? 1 : 0;
-    unmoved += trusted ? 0 : 1;
+#pragma omp parallel reduction(+ : unmoved)
+  {
+    // The walk emits neighbouring vertices one after another: the previous
+    // vertex's plane bounds the search for the next (the answer is the same).
+    std::uint32_t hint = SignedDistance<3>::no_hint;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::int64_t s = 0; s < count; ++s) {
+      const auto v = static_cast<std::size_t>(s);
+      const Vec3& p = mesh.vertices[v];
+      const std::uint32_t i = in.distance->plane_for(p, hint);
+      hint = i;
+      const SurfacePoint q = in.blend > 1 ? blended_projection(in, i, p)
+                                          : project_onto_quadric(in.origins[i], in.normals[i], in.curvature[i], p);
+      const bool trusted = max_move <= 0.0 || (q.point - p).norm() <= max_move;
+      out.point[v] = trusted ? q.point : p;
+      out.normal[v] = in.oriented[i].dot(in.normals[i]) < 0.0 ? Vec3(-q.normal) : q.normal;
+      out.plane[v] = i;
+      if (!in.spacing.empty())
+        out.covered[v] = (p - in.origins[i]).norm() <= static_cast<double>(in.spacing[i]) ? 1 : 0;
+      unmoved += trusted ? 0 : 1;
+    }
   }
   out.unmoved = unmoved;
   return out;
@@ -504,10 +512,15 @@ struct Slivers {
 };
 
 Slivers flip_slivers(Triangles& tris, const std::vector<Vec3>& x) {
+  std::vector<std::uint8_t> longest(tris.size());
+  const auto count = static_cast<std::int64_t>(tris.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t t = 0; t < count; ++t)
+    longest[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(sliver_edge(x, tris[static_cast<std::size_t>(t)]));
   std::vector<std::uint32_t> slivers;
   std::unordered_map<std::uint64_t, std::uint32_t> sliver_of;  // a sliver's longest edge -> the sliver
   for (std::uint32_t t = 0; t < tris.size(); ++t) {
-    const std::size_t e = sliver_edge(x, tris[t]);
+    const std::size_t e = longest[t];
     if (e == 3) continue;
     slivers.push_back(t);
     sliver_of.emplace(edge_key(tris[t][e], tris[t][(e + 1) % 3]), t);
@@ -742,6 +755,11 @@ Fragments find_fragments(const Mesh& mesh, const std::vector<std::array<std::uin
       const std::uint32_t a = find_root(parent, t[0]), b = find_root(parent, t[e]);
       if (a != b) parent[std::max(a, b)] = std::min(a, b);
     }
+  Fragments f;
+  f.keep_triangle.assign(mesh.triangles.size(), 1);
+  std::size_t roots = 0;
+  for (std::uint32_t v = 0; v < n && roots < 2; ++v) roots += parent[v] == v ? 1u : 0u;
+  if (roots < 2) return f;  // one component (or none): nothing to compare
   // Per component (by root): triangles, and votes for its piece.
   std::unordered_map<std::uint32_t, std::size_t> triangles;
   std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::size_t>> votes;
@@ -765,8 +783,6 @@ Fragments find_fragments(const Mesh& mesh, const std::vector<std::array<std::uin
     piece_of[root] = piece;
     largest[piece] = std::max(largest[piece], count);
   }
-  Fragments f;
-  f.keep_triangle.resize(mesh.triangles.size(), 1);
   for (const auto& [root, count] : triangles)
     if (static_cast<double>(count) < fraction * static_cast<double>(largest[piece_of[root]])) {
       ++f.dropped;
