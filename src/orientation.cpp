@@ -22,16 +22,43 @@ struct Offer {
   bool outward = true;
 };
 
+// The normals the walk is guided by (OrientationOptions::guide): the
+// planes' own, or the single-precision ones given.
 template <int D>
-std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const OrientedNormals<D>& result, int axis,
-                                double sign) {
+class Guide {
+ public:
+  Guide(std::span<const Vec<D>> own, std::span<const Eigen::Vector3f> given) : own_(own), given_(given) {}
+  [[nodiscard]] Vec<D> operator[](std::size_t i) const {
+    if constexpr (D == 3) {
+      if (!given_.empty()) return given_[i].cast<double>();
+    }
+    return own_[i];
+  }
+  [[nodiscard]] std::size_t size() const { return given_.empty() ? own_.size() : given_.size(); }
+  [[nodiscard]] bool is_own() const { return given_.empty(); }
+
+ private:
+  std::span<const Vec<D>> own_;
+  std::span<const Eigen::Vector3f> given_;
+};
+
+// The normals the walk works with: the guide's, each turned where flipped
+// says (not copied: result.normals is written once, at the end).
+template <int D, typename Normals>
+Vec<D> signed_normal(const Normals& guide, const std::vector<std::uint8_t>& flipped, std::size_t i) {
+  return flipped[i] ? Vec<D>(-guide[i]) : Vec<D>(guide[i]);
+}
+
+template <int D>
+std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const Guide<D>& guide,
+                                const OrientedNormals<D>& result, int axis, double sign) {
   const std::vector<std::uint32_t>& label = result.graph.components.label;
   std::vector<double> top(result.graph.components.sizes.size(), -std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < label.size(); ++i) top[label[i]] = std::max(top[label[i]], sign * planes.origins[i][axis]);
   std::vector<Offer> offer(top.size());
   for (std::size_t i = 0; i < label.size(); ++i) {
     if (sign * planes.origins[i][axis] < top[label[i]] - 2.0 * static_cast<double>(planes.radius[i])) continue;
-    const double along = sign * result.normals[i][axis];
+    const double along = sign * signed_normal<D>(guide, result.flipped, i)[axis];
     if (std::abs(along) > offer[label[i]].alignment) offer[label[i]] = {std::abs(along), along > 0.0};
   }
   return offer;
@@ -206,23 +233,21 @@ std::size_t turn_crease_patches(const TangentPlanes<D>& planes, const Graph& g, 
   const std::vector<std::uint8_t> turn = patches_to_turn(pairs, size);
   const auto turned = static_cast<std::size_t>(std::count(turn.begin(), turn.end(), 1));
   for (std::uint32_t v = 0; v < n && turned > 0; ++v)
-    if (turn[patches.root(v)]) {
-      result.normals[v] = -result.normals[v];
-      result.flipped[v] ^= 1;
-    }
+    if (turn[patches.root(v)]) result.flipped[v] ^= 1;
   return turned;
 }
 
 template <int D>
-std::size_t turn_components_outward(const TangentPlanes<D>& planes, OrientedNormals<D>& result) {
+std::size_t turn_components_outward(const TangentPlanes<D>& planes, const Guide<D>& guide,
+                                    OrientedNormals<D>& result) {
   constexpr double well_aligned = 0.9063077870366499;  // cos 25 degrees
-  std::vector<Offer> best = offers_along<D>(planes, result, D - 1, 1.0);  // up: Hoppe's direction
+  std::vector<Offer> best = offers_along<D>(planes, guide, result, D - 1, 1.0);  // up: Hoppe's direction
   std::vector<bool> decided(best.size());
   for (std::size_t c = 0; c < best.size(); ++c) decided[c] = best[c].alignment >= well_aligned;
   for (int axis = D - 1; axis >= 0; --axis)
     for (const double sign : {1.0, -1.0}) {
       if (axis == D - 1 && sign > 0.0) continue;
-      const std::vector<Offer> offer = offers_along<D>(planes, result, axis, sign);
+      const std::vector<Offer> offer = offers_along<D>(planes, guide, result, axis, sign);
       for (std::size_t c = 0; c < best.size(); ++c)
         if (!decided[c] && offer[c].alignment > best[c].alignment) best[c] = offer[c];
     }
@@ -231,10 +256,7 @@ std::size_t turn_components_outward(const TangentPlanes<D>& planes, OrientedNorm
   if (turned == 0) return 0;
   const std::vector<std::uint32_t>& label = result.graph.components.label;
   for (std::size_t i = 0; i < label.size(); ++i)
-    if (!best[label[i]].outward) {
-      result.normals[i] = -result.normals[i];
-      result.flipped[i] ^= 1;
-    }
+    if (!best[label[i]].outward) result.flipped[i] ^= 1;
   return turned;
 }
 
@@ -261,17 +283,17 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
     if (r == UINT32_MAX || planes.origins[i][D - 1] > planes.origins[r][D - 1]) r = i;
   }
   const Graph& g = result.graph.graph;
-  std::span<const Vec<D>> guide(planes.normals);
-  if constexpr (D == 3) {
-    if (!options.guide.empty()) guide = options.guide;
-  }
+  std::span<const Eigen::Vector3f> given;
+  if constexpr (D == 3) given = options.guide;
+  const Guide<D> guide(planes.normals, given);
   if (guide.size() != n) throw InvalidInputError("orientation: the guide normals are not one per plane");
   result.tree = prim_minimum_spanning_forest(g, roots, [&](std::uint32_t v, std::uint64_t e) {
-    return orientation_cost<D>(guide[v], guide[g.targets[e]]);
+    const double cost = orientation_cost<D>(guide[v], guide[g.targets[e]]);
+    return guide.is_own() ? cost : std::max(0.0, cost);  // (single-precision normals are unit to 1e-7 only)
   });
 
-  result.normals.assign(guide.begin(), guide.end());
   result.flipped.assign(n, 0);
+  auto normal = [&](std::size_t i) { return signed_normal<D>(guide, result.flipped, i); };
   // Across an edge between facing sheets the normals must disagree.
   auto reversed = [&](std::uint32_t a, std::uint32_t b) {
     return !options.sheet_misfit.empty() && joins_facing_sheets<D>(planes, options.sheet_misfit, a, b);
@@ -280,12 +302,9 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
     const std::uint32_t p = result.tree.parent[v];
     const bool across = p != SpanningForest::no_parent && reversed(v, p);
     result.sheet_edges += across ? 1u : 0u;
-    const bool flip = p == SpanningForest::no_parent ? result.normals[v][D - 1] < 0.0
-                                                     : (result.normals[v].dot(result.normals[p]) < 0.0) != across;
-    if (flip) {
-      result.normals[v] = -result.normals[v];
-      result.flipped[v] = 1;
-    }
+    const bool flip = p == SpanningForest::no_parent ? normal(v)[D - 1] < 0.0
+                                                     : (normal(v).dot(normal(p)) < 0.0) != across;
+    if (flip) result.flipped[v] = 1;
   }
 
   // Clean-up vote: the tree decides each sign through one edge, and where
@@ -301,23 +320,20 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
       const auto v = static_cast<std::uint32_t>(s);
       double agreement = 0.0;
       for (const std::uint32_t u : g.neighbors(v))
-        agreement += (reversed(v, u) ? -1.0 : 1.0) * result.normals[v].dot(result.normals[u]);
+        agreement += (reversed(v, u) ? -1.0 : 1.0) * normal(v).dot(normal(u));
       turn[v] = agreement < 0.0 ? 1 : 0;
       turned += turn[v];
     }
     if (turned == 0) break;
-    for (std::size_t v = 0; v < n; ++v)
-      if (turn[v]) {
-        result.normals[v] = -result.normals[v];
-        result.flipped[v] ^= 1;
-      }
+    for (std::size_t v = 0; v < n; ++v) result.flipped[v] ^= turn[v];
     result.vote_flips += turned;
   }
   if (!options.sheet_misfit.empty())
     result.crease_patches_turned = turn_crease_patches<D>(planes, g, options.sheet_misfit, result);
-  if (options.sign_by_extremes) result.components_turned = turn_components_outward<D>(planes, result);
-  if (guide.data() != planes.normals.data())  // the signs found with the guide, on the planes' own normals
-    for (std::size_t i = 0; i < n; ++i) result.normals[i] = result.flipped[i] ? Vec<D>(-planes.normals[i]) : planes.normals[i];
+  if (options.sign_by_extremes) result.components_turned = turn_components_outward<D>(planes, guide, result);
+  // The signs found (with the guide, where there is one), on the planes' own normals.
+  result.normals.resize(n);
+  for (std::size_t i = 0; i < n; ++i) result.normals[i] = signed_normal<D>(planes.normals, result.flipped, i);
   result.flip_count = static_cast<std::size_t>(std::count(result.flipped.begin(), result.flipped.end(), 1));
   result.seconds_mst = timer.lap();
   return result;

@@ -219,8 +219,11 @@ void fit_second_order(Reconstruction& r, const ReconstructionOptions& options) {
     r.quadrics->seconds += first;
   }
   r.planes.origins = std::move(r.quadrics->origins);
-  std::swap(r.planes.normals, r.quadrics->normals);  // phase I's stay there, to guide phase II (orientation.h)
+  r.quadrics->guide.resize(r.planes.normals.size());  // phase I's normals guide phase II (orientation.h)
+  for (std::size_t i = 0; i < r.planes.normals.size(); ++i) r.quadrics->guide[i] = r.planes.normals[i].cast<float>();
+  r.planes.normals = std::move(r.quadrics->normals);
   r.quadrics->origins = {};
+  r.quadrics->normals = {};
   // The noise (phase III's delta is twice it) is now what the quadrics miss:
   // the curvature a plane cannot follow, or a second sheet, is no noise.
   r.planes.noise = r.quadrics->noise;
@@ -340,7 +343,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   if (options.method == Method::refined) orientation.sign_by_extremes = true;
   if (r.quadrics) {
     orientation.sheet_misfit = r.quadrics->residual;
-    orientation.guide = r.quadrics->normals;
+    orientation.guide = r.quadrics->guide;
   }
   const SignedDistanceOptions distance = phase_3_options(options.method, options.distance, r.quadrics);
   FirstWave wave;  // phase III's values at the first wave's corners, computed beside phase II
@@ -350,7 +353,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
     RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
     r.planes.neighbors = {};  // the graph's source, no longer needed
     orient_with_first_wave(r, std::move(graph), cell, orientation, distance, wave, seconds_known);
-    if (r.quadrics) r.quadrics->normals = {};  // (the guide)
+    if (r.quadrics) r.quadrics->guide = {};
     if (!options.keep_graph) {
       r.oriented->graph.graph = {};
       r.oriented->graph.emst = {};

@@ -67,7 +67,10 @@ struct Curvature {
 
 struct LocalQuadrics {
   std::vector<Vec3> origins;         ///< s_i: x_i moved onto its quadric (replaces the centroid)
-  std::vector<Vec3> normals;         ///< unit normal at s_i, on the same side as phase I's n_i (the guide of phase II)
+  std::vector<Vec3> normals;         ///< unit normal at s_i, on the same side as phase I's n_i
+  /// Phase I's PCA normals in single precision, phase II's guide
+  /// (orientation.h; filled and released by reconstruct()).
+  std::vector<Eigen::Vector3f> guide;
   std::vector<Curvature> curvature;  ///< at s_i, in tangent_basis(normals[i])
   std::vector<float> residual;       ///< RMS distance of the fitted samples to their quadric
   /// 1 where a neighbour's normal is more than crease_angle_degrees

@@ -85,8 +85,10 @@ struct OrientationOptions {
   /// faces meet at right angles, where "agrees with its parent" is a coin
   /// toss, but the PCA planes of the neighbourhoods astride the edge turn
   /// from one face to the other in steps. The signs found are then given to
-  /// planes.normals. Referenced, not copied. (3D only.)
-  std::span<const Vec3> guide;
+  /// planes.normals. Single precision: a direction is all it is asked for,
+  /// and it is held beside everything else during phase II. Referenced, not
+  /// copied. (3D only.)
+  std::span<const Eigen::Vector3f> guide;
 };
 
 template <int D>
