@@ -117,6 +117,7 @@ TEST(Refinement, BoxEdgesAndCornersAreSharp) {
     EXPECT_TRUE(t.watertight());
     EXPECT_EQ(t.euler_characteristic, 2);
     EXPECT_EQ(t.degenerate_triangles, 0u);
+    EXPECT_GT(t.signed_volume, 0.0) << seed << ": its top is a corner, yet it faces out";
     EXPECT_GT(r.refinement->crease_vertices, 500u);
     const MeshDistance to_mesh(mesh);
     const MeshDistance to_contour(r.contour.mesh);
