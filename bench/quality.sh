@@ -74,7 +74,7 @@ print("| %s | %.3g | %.3g | %d | %s | %d |" % (sys.argv[1], d["chamfer"], d["hau
   echo "Written by \`bench/quality.sh\` on $(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD)$(git diff --quiet || echo ' with local changes'),"
   echo "$(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo)."
   echo "Chamfer and Hausdorff-95 are relative to the true surface's bounding-box diagonal (\`metrics.py\`);"
-  echo "every program at its defaults (Open3D: k = 30, depth 8; CGAL: k = 18, its default spacing)."
+  echo "every program at its defaults (Open3D: k = 30, depth 8; CGAL: k = 24 for the jet normals and the MST orientation, Poisson at the average spacing)."
   echo
 } > "$output.tmp"
 for name in $clouds; do

@@ -58,6 +58,10 @@ namespace {
 constexpr double bytes_per_point_planes = 170.0, bytes_per_neighbour_planes = 4.0;
 constexpr double bytes_per_point_graph = 210.0, bytes_per_neighbour_graph = 8.0;
 constexpr double bytes_per_point_held = 190.0, bytes_per_cube = 250.0;
+// The refined method: the fits' curvature (12 bytes), misfit (4), crease
+// flags (1) and single-precision guide normals (12) during phase II, where
+// a million points peak at 390 MB; 40 rounds that up.
+constexpr double bytes_per_point_refined = 40.0;
 
 std::string megabytes_or_gigabytes(double bytes) {
   std::ostringstream out;
@@ -231,19 +235,19 @@ void fit_second_order(Reconstruction& r, const ReconstructionOptions& options) {
 
 }  // namespace
 
-double estimated_bytes_planes_and_graph(std::size_t points, int k) {
+double estimated_bytes_planes_and_graph(std::size_t points, int k, Method method) {
   const auto n = static_cast<double>(points);
   const double per_point = std::max(bytes_per_point_planes + bytes_per_neighbour_planes * k,
                                     bytes_per_point_graph + bytes_per_neighbour_graph * k);
-  return n * per_point;
+  return n * (per_point + (method == Method::refined ? bytes_per_point_refined : 0.0));
 }
 
 double estimated_bytes_lattice(std::size_t points, double cubes) {
   return static_cast<double>(points) * bytes_per_point_held + cubes * bytes_per_cube;
 }
 
-void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit) {
-  check_memory(estimated_bytes_planes_and_graph(points, k), limit,
+void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit, Method method) {
+  check_memory(estimated_bytes_planes_and_graph(points, k, method), limit,
                "tangent planes and orientation of " + std::to_string(points) + " points at k = " + std::to_string(k),
                "lower --k or thin the cloud");
 }
@@ -297,7 +301,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   };
   check_coordinates<3>(cloud.positions);  // before the bounding box below
   const std::size_t limit = options.max_memory > 0 ? options.max_memory : default_memory_limit();
-  check_memory_planes_and_graph(cloud.size(), options.planes.k, limit);
+  check_memory_planes_and_graph(cloud.size(), options.planes.k, limit, options.method);
   Reconstruction r;
   r.offset = working_offset(cloud.positions);
   if (r.offset != Vec3::Zero())
@@ -326,7 +330,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
                  "use a larger --cell or a smaller --resolution");
   }
   if (!options.use_input_normals)  // phase I may have raised k
-    check_memory_planes_and_graph(r.order.size(), r.planes.k, limit);
+    check_memory_planes_and_graph(r.order.size(), r.planes.k, limit, options.method);
 
   if (options.use_input_normals) {
     for (Vec3& n : r.input_normals) {

@@ -432,8 +432,11 @@ TEST_F(CliErrors, CollinearPointsAreRefused) {
 
 TEST_F(CliErrors, MaxMemoryRefusesWithTheEstimateAndTheOption) {
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 20000, "s.ply"));
+  // 370 bytes a point at k = 20, and 40 more for the refined method's fits.
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "2M"}),
-                      {"20000 points at k = 20 would need about 7.4 MB", "2 MB allowed", "raise --max-memory"}));
+                      {"20000 points at k = 20 would need about 8.2 MB", "2 MB allowed", "raise --max-memory"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--method", "hoppe92", "--max-memory", "2M"}),
+                      {"20000 points at k = 20 would need about 7.4 MB"}));
   EXPECT_TRUE(refused(recon({"normals", "s.ply", "-o", "n.ply", "--max-memory", "2MB"}), {"7.4 MB", "lower --k"}));
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "1G", "--cell", "0.0001"}),
                       {"a lattice cell of 0.0001", "use a larger --cell"}));

@@ -142,8 +142,9 @@ struct Reconstruction {
 /// Throws ResourceLimitError "WHAT would need about X GB, more than the Y GB
 /// allowed (--max-memory...): REMEDY, or raise --max-memory" when bytes > limit.
 void check_memory(double bytes, std::size_t limit, std::string_view what, std::string_view remedy);
-/// check_memory for phases I-II of `points` points at k.
-void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit);
+/// check_memory for phases I-II of `points` points at k (the refined
+/// method also holds its fits' curvature, misfit and guide normals).
+void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit, Method method = Method::hoppe92);
 
 /// A lattice cell a run asks for: `cell` when given; the longest side of
 /// the data's bounding box (computed only then) over `resolution` when that
