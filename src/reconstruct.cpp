@@ -274,6 +274,25 @@ SignedDistanceOptions phase_3_options(Method method, const SignedDistanceOptions
 }
 }  // namespace
 
+RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistance<3>& f) {
+  if (!r.quadrics) throw InvalidInputError("refinement_input_of: the reconstruction has no second-order fits (hoppe92)");
+  RefinementInput input;
+  input.origins = r.planes.origins;
+  input.normals = r.planes.normals;
+  input.oriented = r.normals();
+  input.curvature = r.quadrics->curvature;
+  input.distance = &f;
+  input.spacing = r.planes.local_gap;
+  // Noisy data (the fits miss their samples by over a hundredth of the
+  // sampling density): blend the quadrics of 8 planes around each vertex.
+  if (r.planes.noise > 0.01 * r.planes.rho) {
+    input.blend = 8;
+    input.origin_tree = &r.origin_tree;
+  }
+  if (r.oriented) input.piece = r.oriented->graph.components.label;
+  return input;
+}
+
 SignedDistance<3> signed_distance_of(const Reconstruction& r) {
   SignedDistanceOptions given;
   given.delta = r.delta;
@@ -387,20 +406,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
                            : marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
   if (options.method == Method::refined) {
     starting("refinement");
-    RefinementInput input;
-    input.origins = r.planes.origins;
-    input.normals = r.planes.normals;
-    input.oriented = r.normals();
-    input.curvature = r.quadrics->curvature;
-    input.distance = &f;
-    input.spacing = r.planes.local_gap;
-    // Noisy data (the fits miss their samples by over a hundredth of the
-    // sampling density): blend the quadrics of 8 planes around each vertex.
-    if (r.planes.noise > 0.01 * r.planes.rho) {
-      input.blend = 8;
-      input.origin_tree = &r.origin_tree;
-    }
-    if (r.oriented) input.piece = r.oriented->graph.components.label;
+    const RefinementInput input = refinement_input_of(r, f);
     RefinementOptions refinement = options.refinement;
     if (refinement.max_move <= 0.0) refinement.max_move = cell;
     r.refinement = refine_mesh(r.contour.mesh, input, refinement);

@@ -45,6 +45,19 @@ std::size_t pick_patch(const std::vector<double>& sums, Rng& rng) {
   return std::min(static_cast<std::size_t>(after - sums.begin()), sums.size() - 1);
 }
 
+// n points of a surface made of patches: each picks a patch by area and
+// has `draw(patch, rng, cloud)` add one point of it, with its normal.
+template <typename Draw>
+PointCloud sample_by_area(std::size_t n, std::uint64_t seed, const std::vector<double>& areas, Draw&& draw) {
+  Rng rng(seed);
+  const std::vector<double> sums = running_sums(areas);
+  PointCloud cloud;
+  cloud.positions.reserve(n);
+  cloud.normals.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) draw(pick_patch(sums, rng), rng, cloud);
+  return cloud;
+}
+
 class Sphere final : public Shape {
  public:
   Sphere(double r, Vec3 c) : r_(r), c_(std::move(c)) {}
@@ -220,19 +233,12 @@ class Union final : public Shape {
 class MachinedPart final : public Shape {
  public:
   PointCloud sample(std::size_t n, std::uint64_t seed) const override {
-    Rng rng(seed);
-    const std::vector<double> sums = running_sums(patch_areas());
-    PointCloud cloud;
-    cloud.positions.reserve(n);
-    cloud.normals.reserve(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t patch = pick_patch(sums, rng);
+    return sample_by_area(n, seed, patch_areas(), [this](std::size_t patch, Rng& rng, PointCloud& cloud) {
       if (patch < 6)
         sample_face(static_cast<int>(patch), rng, cloud);
       else
         sample_wall(patch - 6, rng, cloud);
-    }
-    return cloud;
+    });
   }
   double distance(const Vec3& p) const override {
     double d = std::numeric_limits<double>::infinity();
@@ -389,13 +395,7 @@ class SolidOfRevolution final : public Shape {
   SolidOfRevolution(std::vector<Vec2> profile, const Eigen::Matrix3d& rotation, Vec3 origin)
       : profile_(std::move(profile)), rotation_(rotation), origin_(std::move(origin)) {}
   PointCloud sample(std::size_t n, std::uint64_t seed) const override {
-    Rng rng(seed);
-    const std::vector<double> sums = running_sums(band_areas());
-    PointCloud cloud;
-    cloud.positions.reserve(n);
-    cloud.normals.reserve(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t s = pick_patch(sums, rng);
+    return sample_by_area(n, seed, band_areas(), [this](std::size_t s, Rng& rng, PointCloud& cloud) {
       const Vec2 a = profile_[s], b = profile_[s + 1];
       const Vec2 m = a + band_parameter(a.x(), b.x(), uniform(rng)) * (b - a);
       const Vec2 direction = (b - a).normalized();
@@ -404,8 +404,7 @@ class SolidOfRevolution final : public Shape {
       const double c = std::cos(phi), sn = std::sin(phi);
       cloud.positions.push_back(origin_ + rotation_ * Vec3(m.x() * c, m.x() * sn, m.y()));
       cloud.normals.push_back(rotation_ * Vec3(outward.x() * c, outward.x() * sn, outward.y()));
-    }
-    return cloud;
+    });
   }
   double distance(const Vec3& p) const override {
     const Vec3 q = rotation_.transpose() * (p - origin_);

@@ -206,13 +206,7 @@ TEST(Refinement, FragmentsGoSmallObjectsStay) {
     contoured.vertices.push_back(at + corner);
   for (const std::array<std::uint32_t, 3> tri : {std::array<std::uint32_t, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}})
     contoured.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
-  RefinementInput input;
-  input.origins = r.planes.origins;
-  input.normals = r.planes.normals;
-  input.oriented = r.normals();
-  input.curvature = r.quadrics->curvature;
-  input.distance = &f;
-  input.piece = r.oriented->graph.components.label;
+  const RefinementInput input = refinement_input_of(r, f);
   RefinementOptions refine;
   refine.max_move = r.contour.cell;
   const Refinement dropped = refine_mesh(contoured, input, refine);

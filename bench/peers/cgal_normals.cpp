@@ -13,6 +13,7 @@
 // The input's own normals are ignored. Prints one `step <name> <seconds> s`
 // line per step. T limits TBB's threads (0: all cores); the orientation is
 // sequential whatever T says.
+#include "arguments.h"
 #include "ply_points.h"
 #include "steps.h"
 
@@ -42,30 +43,10 @@ using Entry = std::tuple<Point, Vector, std::size_t>;  // position, normal, inpu
 using PointMap = CGAL::Nth_of_tuple_property_map<0, Entry>;
 using NormalMap = CGAL::Nth_of_tuple_property_map<1, Entry>;
 
-struct Options {
-  std::string input, output;
-  unsigned k = 15;
-  unsigned threads = 0;
-};
+using Options = peers::Arguments;
 
 Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "-o" || arg == "--output") o.output = value();
-    else if (arg == "--k") o.k = static_cast<unsigned>(std::stoul(value()));
-    else if (arg == "--threads") o.threads = static_cast<unsigned>(std::stoul(value()));
-    else if (!arg.empty() && arg[0] != '-' && o.input.empty()) o.input = arg;
-    else throw std::runtime_error("unknown argument '" + arg + "'");
-  }
-  if (o.input.empty() || o.output.empty())
-    throw std::runtime_error("usage: cgal_normals IN.ply -o OUT.ply [--k K] [--threads T]");
-  if (o.k < 3) throw std::runtime_error("--k must be at least 3 (the point itself and two neighbours)");
-  return o;
+  return peers::parse_arguments(argc, argv, 15, 3, "cgal_normals IN.ply -o OUT.ply [--k K] [--threads T]");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 // K counts the point itself, as recon's --k does (CGAL is given K - 1).
 // Points left unoriented by mst_orient_normals are dropped, as the tutorial
 // does. Prints one `step <name> <seconds> s` line per step.
+#include "arguments.h"
 #include "ply_points.h"
 #include "steps.h"
 
@@ -44,30 +45,10 @@ using PointMap = CGAL::First_of_pair_property_map<Entry>;
 using NormalMap = CGAL::Second_of_pair_property_map<Entry>;
 using Polyhedron = CGAL::Polyhedron_3<Kernel>;
 
-struct Options {
-  std::string input, output;
-  unsigned k = 24;
-  unsigned threads = 0;
-};
+using Options = peers::Arguments;
 
 Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "-o" || arg == "--output") o.output = value();
-    else if (arg == "--k") o.k = static_cast<unsigned>(std::stoul(value()));
-    else if (arg == "--threads") o.threads = static_cast<unsigned>(std::stoul(value()));
-    else if (!arg.empty() && arg[0] != '-' && o.input.empty()) o.input = arg;
-    else throw std::runtime_error("unknown argument '" + arg + "'");
-  }
-  if (o.input.empty() || o.output.empty())
-    throw std::runtime_error("usage: cgal_poisson IN.ply -o MESH.ply [--k K] [--threads T]");
-  if (o.k < 7) throw std::runtime_error("--k must be at least 7");
-  return o;
+  return peers::parse_arguments(argc, argv, 24, 7, "cgal_poisson IN.ply -o MESH.ply [--k K] [--threads T]");
 }
 
 // Binary little-endian PLY: double vertices, int faces.

@@ -123,6 +123,10 @@ struct Reconstruction {
 /// and plane choice); it references r, which must outlive it.
 [[nodiscard]] SignedDistance<3> signed_distance_of(const Reconstruction& r);
 
+/// Phase V's input as reconstruct() gave it for `r` (refined; f from
+/// signed_distance_of): it references r and f, which must outlive it.
+[[nodiscard]] RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistance<3>& f);
+
 /// The translation reconstruct() applies before working: the centre of the
 /// bounding box when the cloud lies farther from the origin than its own
 /// diagonal, zero otherwise (results of data near the origin are then
