@@ -311,8 +311,10 @@ void report_refinement(const Refinement& r, Summary& summary) {
   line << "phase V   refinement: vertices moved " << format_length(moved) << " on average, "
        << plural(r.crease_vertices, "crease vertex") << " added, " << r.brought_back
        << " brought back onto a crease, " << plural(r.corner_vertices, "corner") << ", "
-       << plural(r.trimmed, "triangle") << " past open boundaries cut off, " << plural(r.fragments, "fragment") << " dropped (" << plural(r.fragment_triangles, "triangle")
-       << ") (" << format_seconds(r.seconds) << ")";
+       << plural(r.trimmed, "triangle") << " past open boundaries cut off, ";
+  if (r.stray_triangles > 0) line << plural(r.stray_triangles, "triangle") << " beyond the data's reach dropped, ";
+  line << plural(r.fragments, "fragment") << " dropped (" << plural(r.fragment_triangles, "triangle") << ") ("
+       << format_seconds(r.seconds) << ")";
   summary.say(line.str());
   Json& s = summary.stats()["refinement"];
   s["mean_displacement"] = moved;
@@ -321,6 +323,7 @@ void report_refinement(const Refinement& r, Summary& summary) {
   s["corner_vertices"] = r.corner_vertices;
   s["unmoved_vertices"] = r.unmoved;
   s["trimmed_triangles"] = r.trimmed;
+  s["stray_triangles"] = r.stray_triangles;
   s["fragments"] = r.fragments;
   s["fragment_triangles"] = r.fragment_triangles;
   s["seconds"] = r.seconds;

@@ -290,6 +290,9 @@ RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistanc
     input.origin_tree = &r.origin_tree;
   }
   if (r.oriented) input.piece = r.oriented->graph.components.label;
+  input.sample_tree = &r.planes.point_tree;
+  input.local_rho = r.planes.local_rho;
+  input.delta = r.delta;
   return input;
 }
 

@@ -732,6 +732,41 @@ std::size_t trim_boundaries(Builder& b, const Projected& pr) {
   return peeled;
 }
 
+// Step 4, triangles beyond f's reach. f is defined only within about
+// 1.5 rho_i + delta of a sample, and a mesh on the surface lies within a
+// cell of it; where sheets lie closer than a cell the lattice cannot
+// follow them, and the zero set drawn between the planes of both can run
+// off into empty space (a fin). A triangle whose three vertices are all
+// farther than in.reach * rho_i + delta from every sample is dropped.
+// (Vertices that near their plane's own origin are not searched.)
+std::size_t drop_strays(Builder& b, const Projected& pr, const RefinementInput& in) {
+  const std::size_t n = b.mesh.vertices.size();
+  std::vector<std::uint8_t> far(n, 0);
+  const auto count = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (std::int64_t s = 0; s < count; ++s) {
+    const auto v = static_cast<std::size_t>(s);
+    const std::uint32_t own = b.planes[v][0];
+    if (own == none) continue;  // a corner: where its planes meet
+    const std::uint32_t plane = pr.plane[own];
+    const double reach = in.reach * static_cast<double>(in.local_rho[plane]) + in.delta;
+    const Vec3& p = b.mesh.vertices[v];
+    if ((p - in.origins[plane]).squaredNorm() <= reach * reach) continue;
+    far[v] = in.sample_tree->any_within(p, reach * reach) ? 0 : 1;
+  }
+  std::vector<std::uint8_t> keep(b.mesh.triangles.size(), 1);
+  std::size_t dropped = 0;
+  for (std::size_t t = 0; t < keep.size(); ++t) {
+    const auto& tri = b.mesh.triangles[t];
+    if (far[tri[0]] && far[tri[1]] && far[tri[2]]) {
+      keep[t] = 0;
+      ++dropped;
+    }
+  }
+  if (dropped > 0) compact(b, keep);
+  return dropped;
+}
+
 // Step 4: components (through shared vertices), the piece of data each is
 // drawn from (the most common piece among its vertices' planes), and which
 // to keep.
@@ -856,6 +891,7 @@ Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, cons
   sharpen(b, pr, contoured, input, cos_crease);
   Refinement result;
   result.trimmed = trim_boundaries(b, pr);
+  if (input.sample_tree != nullptr) result.stray_triangles = drop_strays(b, pr, input);
   result.crease_vertices = b.creases;
   result.brought_back = brought_back;
   result.corner_vertices = b.corners;

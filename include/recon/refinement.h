@@ -32,7 +32,9 @@
 //      on past an open edge; triangles whose vertices all lie farther than
 //      the local spacing from the samples are peeled off, from the boundary
 //      inwards only (closed surfaces lose nothing, no hole is made inside).
-//      Fragments are dropped: a mesh component smaller than
+//      Triangles far beyond f's reach (all three vertices farther than
+//      5 rho_i + delta from every sample: fins drawn where two sheets lie
+//      closer than a cell) are dropped. Fragments are dropped: a mesh component smaller than
 //      fragment_fraction of the largest component drawn from the same piece
 //      of data (phase II's components). Every piece keeps its largest
 //      component, so a separate object is never dropped however small: only
@@ -76,6 +78,17 @@ struct RefinementInput {
   /// origins around it and the points averaged (1: its plane's alone).
   int blend = 1;
   const KdTree<3>* origin_tree = nullptr;    ///< over `origins`; needed when blend > 1
+  /// The samples: a triangle whose three vertices all lie farther than
+  /// reach * rho_i + delta (rho_i of each vertex's plane) from every sample
+  /// is no part of the surface but a fin drawn where two sheets lie closer
+  /// than a cell (step 4). f itself reaches about 1.5 rho_i + delta past
+  /// the data; 5 leaves every mesh of the real scans tried as it was (at 1.5
+  /// and 3 the sparse distcap and oni lost triangles of their surface).
+  /// Null: not looked for.
+  const KdTree<3>* sample_tree = nullptr;
+  std::span<const float> local_rho;          ///< per plane, phase I's rho_i (with sample_tree)
+  double delta = 0.0;
+  double reach = 5.0;
 };
 
 struct Refinement {
@@ -88,6 +101,7 @@ struct Refinement {
   std::size_t corner_vertices = 0;    ///< vertices added at corners
   std::size_t unmoved = 0;            ///< vertices whose projection moved them further than max_move
   std::size_t trimmed = 0;            ///< triangles cut off past open boundaries
+  std::size_t stray_triangles = 0;    ///< triangles dropped beyond f's reach from every sample (step 4)
   std::size_t fragments = 0;          ///< components dropped (see above)
   std::size_t fragment_triangles = 0; ///< their triangles
   double seconds = 0.0;
