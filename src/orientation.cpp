@@ -191,11 +191,14 @@ std::vector<PatchPair> crease_votes(const TangentPlanes<D>& planes, const Graph&
   return merged;
 }
 
-// Step 3: which patches to turn (1 at a patch's root).
+// Step 3: which patches to turn (1 at a patch's root). Each round tallies
+// every pair again; a few dozen turns at most are expected (one per face
+// the walk got wrong), so the rounds stop at 64.
 std::vector<std::uint8_t> patches_to_turn(const std::vector<PatchPair>& pairs, const std::vector<std::uint32_t>& size) {
   constexpr int min_votes = 8;
+  constexpr std::size_t max_turns = 64;
   std::vector<std::uint8_t> turn(size.size(), 0);
-  for (std::size_t step = 0; step < pairs.size(); ++step) {
+  for (std::size_t step = 0; step < std::min(pairs.size(), max_turns); ++step) {
     std::map<std::uint32_t, std::array<int, 2>> tally;  // patch -> votes, against
     for (const PatchPair& p : pairs) {
       const int against = turn[p.a] != turn[p.b] ? p.votes - p.against : p.against;
