@@ -258,7 +258,7 @@ TEST(Refinement, SheetsCloserThanACellDrawNoFins) {
     for (int i = 0; i < 40000; ++i) cloud.positions.push_back(turn * Vec3(u(rng), u(rng), i % 2 ? gap : 0.0));
     const Reconstruction r = run(cloud, Method::refined);
     ASSERT_TRUE(r.refinement.has_value());
-    const double rho = *std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end());
+    const auto rho = static_cast<double>(*std::max_element(r.planes.local_rho.begin(), r.planes.local_rho.end()));
     const double bound = RefinementInput{}.reach * rho + r.delta + 2.0 * r.contour.cell;
     double worst = 0.0;
     for (const Vec3& v : r.mesh().vertices) {
