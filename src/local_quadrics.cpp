@@ -285,6 +285,22 @@ double cut_over(std::span<const Vec3> x, Row row, const Vec3& o, const Vec3& n, 
   return sheet_cut(heights, options);
 }
 
+// Two parallel sheets closer than `separation` (the lattice could not
+// follow them apart) stay one surface between them: the other side's
+// samples, fitted with a plane parallel to this sheet's and nearer than
+// that. (The other side of a crease is no parallel sheet and is split off.)
+bool too_close_to_split(std::span<const Vec3> x, Row row, const Vec3& o, const Vec3& n, double cut, bool above,
+                        const PlaneFit<3>& sheet, double separation) {
+  if (!(separation > 0.0)) return false;
+  std::vector<std::uint32_t> other;
+  for (const std::uint32_t j : row)
+    if (((x[j] - o).dot(n) > cut) != above) other.push_back(j);
+  if (other.size() < 3) return false;
+  const PlaneFit<3> far = fit_plane<3>(x, other);
+  return std::abs(far.normal.dot(sheet.normal)) > 0.9 &&
+         std::abs((far.centroid - sheet.centroid).dot(sheet.normal)) < separation;
+}
+
 SheetFit fit_own_sheet(const TangentPlanes<3>& planes, std::size_t i, const Quadric& whole,
                        const LocalQuadricOptions& options, std::vector<double>& heights,
                        std::vector<std::uint32_t>& kept) {
@@ -316,6 +332,7 @@ SheetFit fit_own_sheet(const TangentPlanes<3>& planes, std::size_t i, const Quad
   if (kept.size() < 6) return fit;
   PlaneFit<3> sheet = fit_plane<3>(x, kept);
   if (!(sheet.eigenvalues[1] > 1e-6 * sheet.eigenvalues[2]) || std::abs(sheet.normal.dot(n)) < 0.9) return fit;
+  if (too_close_to_split(x, row, o, n, cut, above, sheet, options.min_sheet_separation)) return fit;
   if (sheet.normal.dot(planes.normals[i]) < 0.0) sheet.normal = -sheet.normal;
   const Quadric part = fit_quadric(x, kept, sheet);
   if (part.flat || !(part.residual < 0.25 * whole.residual)) return fit;

@@ -209,8 +209,10 @@ void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, doubl
 // noise; the two sheets of a thin part look the same (a residual that does
 // not grow with the neighbourhood). When most neighbourhoods turn out to
 // span two sheets, the raise is undone and the fits are made at the k asked for.
-void fit_second_order(Reconstruction& r, const ReconstructionOptions& options) {
-  r.quadrics = fit_local_quadrics(r.planes, options.quadrics);
+void fit_second_order(Reconstruction& r, const ReconstructionOptions& options, double cell) {
+  LocalQuadricOptions fits = options.quadrics;
+  if (fits.min_sheet_separation <= 0.0) fits.min_sheet_separation = 1.5 * cell;
+  r.quadrics = fit_local_quadrics(r.planes, fits);
   if (r.planes.k > r.planes.k_requested && 4 * r.quadrics->split > r.planes.origins.size()) {
     TangentPlaneOptions asked = options.planes;
     asked.k = r.planes.k_requested;
@@ -219,7 +221,7 @@ void fit_second_order(Reconstruction& r, const ReconstructionOptions& options) {
     r.planes = estimate_tangent_planes<3>(std::move(r.planes.point_tree), asked);
     r.planes.seconds_knn_pca += seconds;
     const double first = r.quadrics->seconds;
-    r.quadrics = fit_local_quadrics(r.planes, options.quadrics);
+    r.quadrics = fit_local_quadrics(r.planes, fits);
     r.quadrics->seconds += first;
   }
   r.planes.origins = std::move(r.quadrics->origins);
@@ -339,7 +341,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   r.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
   r.planes.seconds_tree += seconds_tree;
   r.method = options.method;
-  if (options.method == Method::refined) fit_second_order(r, options);
+  if (options.method == Method::refined) fit_second_order(r, options, lattice_cell(r.points(), r.planes, options));
 
   // Refuse a lattice that would not fit before building anything large.
   const double cell = lattice_cell(r.points(), r.planes, options);

@@ -47,6 +47,10 @@ struct LocalQuadricOptions {
   double crease_ratio = 0.5;  ///< borrow a neighbour's fit when its residual is below this fraction of one's own
   double sheet_gap = 0.5;     ///< two sheets: an empty band of heights over this fraction of their whole range
   int min_sheet_points = 4;   ///< ... with at least this many samples on either side
+  /// ... unless the other side is a parallel sheet nearer than this: sheets
+  /// closer than the lattice can follow are fitted as one surface between
+  /// them. 0: always split (reconstruct() replaces 0 by 1.5 lattice cells).
+  double min_sheet_separation = 0.0;
   double sheet_residual = 0.1;  ///< or a fit residual over this fraction of the radius: tested for two sheets
   /// A fit whose residual exceeds this fraction of the neighbourhood radius
   /// describes no surface: phase I's plane is kept, which passes through no
