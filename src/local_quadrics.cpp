@@ -222,10 +222,6 @@ Foot foot_on(const Quadric& q, const Vec3& p, const Vec3& side) {
   return foot;
 }
 
-// Two sheets: heights over a neighbourhood's plane that fall in two groups
-// of at least `min_points` with an empty band wider than `gap` times the
-// whole range between them. Returns the height in the middle of the band,
-// or NaN when there is no such band. Sorts `heights`.
 // Whether heights could hold an empty band wider than `gap` times their
 // range, by counting them in bins: such a band covers some run of bins
 // whole, and a neighbourhood on one sheet (nearly all of them) has no run
@@ -248,6 +244,10 @@ bool may_have_band(std::span<const double> heights, double gap) {
   return false;
 }
 
+// Two sheets: heights over a neighbourhood's plane that fall in two groups
+// of at least `min_points` with an empty band wider than `gap` times the
+// whole range between them. Returns the height in the middle of the band,
+// or NaN when there is no such band. Sorts `heights`.
 double sheet_cut(std::span<double> heights, const LocalQuadricOptions& options) {
   constexpr double none_found = std::numeric_limits<double>::quiet_NaN();
   if (heights.empty() || !may_have_band(heights, options.sheet_gap)) return none_found;

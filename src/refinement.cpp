@@ -486,7 +486,7 @@ void weld_coincident(Builder& b, std::size_t projected) {
 // with the triangle (b, a, d) across it: (c, a, d) and (c, d, b) split that
 // triangle at c instead, unless c and d are joined already. Where the
 // triangle across is a sliver too (several crease vertices in a row), no
-// flip helps: the sliver's shortest edge is collapsed instead. Both repeat
+// flip helps: one of the sliver's edges is collapsed instead. Both repeat
 // until no sliver is left (a few passes at most).
 using Triangles = std::vector<std::array<std::uint32_t, 3>>;
 
