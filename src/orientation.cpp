@@ -14,6 +14,11 @@
 namespace recon {
 namespace {
 
+constexpr double cos_25_degrees = 0.9063077870366499;  // "nearly parallel" planes
+constexpr double cos_45_degrees = 0.7071067811865476;  // planes across a crease
+constexpr double sin_30_degrees = 0.5;                 // a steep edge (facing sheets)
+constexpr double sin_10_degrees = 0.17364817766693033; // a steep edge across a wedge
+
 // sign_by_extremes (see the header). The offer of one direction, per
 // component: the sample within two neighbourhood radii of the extreme whose
 // normal is best aligned with the direction, and whether it points along it.
@@ -64,26 +69,11 @@ std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const Guide<D>& 
   return offer;
 }
 
-// Whether the edge (i, j) joins two facing sheets (see the header): the
-// planes nearly parallel, the edge steep to both, and the planes apart by
-// more than their fits' misfit (noise tilts short edges between neighbours
-// on one sheet, by no more than that).
-template <int D>
-bool joins_facing_sheets(const TangentPlanes<D>& planes, std::span<const float> misfit, std::uint32_t i,
-                         std::uint32_t j) {
-  constexpr double parallel = 0.9063077870366499;  // cos 25 degrees
-  const Vec<D>&n_i = planes.normals[i], &n_j = planes.normals[j];
-  if (std::abs(n_i.dot(n_j)) < parallel) return false;
-  const Vec<D> d = planes.origins[j] - planes.origins[i];
-  const double half = 0.25 * d.squaredNorm();  // sin^2 30 degrees
-  const double at_i = d.dot(n_i), at_j = d.dot(n_j);
-  const double apart = 3.0 * (static_cast<double>(misfit[i]) + static_cast<double>(misfit[j]));
-  return at_i * at_i > half && at_j * at_j > half && std::min(std::abs(at_i), std::abs(at_j)) > apart;
-}
-
-// The convexity rule alone (see the header): +1 where the edge (i, j)
-// leaves both planes at more than the angle whose sine is `steep` and says
-// their normals point the same way, -1 where it says opposite ways, 0
+// The convexity rule (see the header): +1 where the edge (i, j) leaves
+// both planes at more than the angle whose sine is `steep`, its ends apart
+// from the planes by more than three times their fits' misfit (noise tilts
+// short edges between neighbours on one sheet, by no more than that), and
+// says their normals point the same way; -1 where it says opposite ways; 0
 // where the edge is not that steep.
 template <int D>
 int convexity_sign(const TangentPlanes<D>& planes, std::span<const float> misfit, std::uint32_t i, std::uint32_t j,
@@ -94,6 +84,15 @@ int convexity_sign(const TangentPlanes<D>& planes, std::span<const float> misfit
   const double apart = 3.0 * (static_cast<double>(misfit[i]) + static_cast<double>(misfit[j]));
   if (at_i * at_i <= half || at_j * at_j <= half || std::min(std::abs(at_i), std::abs(at_j)) <= apart) return 0;
   return at_i * at_j < 0.0 ? 1 : -1;
+}
+
+// Whether the edge (i, j) joins two facing sheets (see the header): the
+// planes nearly parallel and the edge steep to both (more than 30 degrees).
+template <int D>
+bool joins_facing_sheets(const TangentPlanes<D>& planes, std::span<const float> misfit, std::uint32_t i,
+                         std::uint32_t j) {
+  return std::abs(planes.normals[i].dot(planes.normals[j])) >= cos_25_degrees &&
+         convexity_sign<D>(planes, misfit, i, j, sin_30_degrees) != 0;
 }
 
 // Sharp creases (see the header), in three steps.
@@ -125,9 +124,6 @@ struct Patches {
   }
 };
 
-constexpr double patch_parallel = 0.9063077870366499;  // cos 25 degrees
-constexpr double patch_crease = 0.7071067811865476;    // cos 45 degrees
-
 // Whether any graph edge joins planes more than 45 degrees apart (most
 // clouds of smooth surfaces have none, and skip the rest).
 template <int D>
@@ -138,7 +134,7 @@ bool has_crease_edge(const TangentPlanes<D>& planes, const Graph& g) {
   for (std::int64_t s = 0; s < n; ++s) {
     const auto v = static_cast<std::uint32_t>(s);
     for (const std::uint32_t u : g.neighbors(v))
-      if (std::abs(planes.normals[v].dot(planes.normals[u])) < patch_crease) found = 1;
+      if (std::abs(planes.normals[v].dot(planes.normals[u])) < cos_45_degrees) found = 1;
   }
   return found != 0;
 }
@@ -156,7 +152,7 @@ Patches find_patches(const TangentPlanes<D>& planes, const Graph& g, std::span<c
   for (std::uint32_t v = 0; v < n; ++v)
     for (const std::uint32_t u : g.neighbors(v)) {
       const double c = std::abs(planes.normals[v].dot(planes.normals[u]));
-      if (u < v || c < patch_parallel || !fitted(v) || !fitted(u)) continue;
+      if (u < v || c < cos_25_degrees || !fitted(v) || !fitted(u)) continue;
       const std::uint32_t a = p.root(v), b = p.root(u);
       if (a != b) p.parent[std::max(a, b)] = std::min(a, b);
     }
@@ -166,13 +162,12 @@ Patches find_patches(const TangentPlanes<D>& planes, const Graph& g, std::span<c
 template <int D>
 std::vector<PatchPair> crease_votes(const TangentPlanes<D>& planes, const Graph& g, std::span<const float> misfit,
                                     Patches& patches, const std::vector<std::uint8_t>& flipped) {
-  constexpr double slope = 0.17364817766693033;  // sin 10 degrees
   std::vector<PatchPair> pairs;
   for (std::uint32_t v = 0; v < flipped.size(); ++v)
     for (const std::uint32_t u : g.neighbors(v)) {
-      if (u < v || std::abs(planes.normals[v].dot(planes.normals[u])) >= patch_crease) continue;
+      if (u < v || std::abs(planes.normals[v].dot(planes.normals[u])) >= cos_45_degrees) continue;
       const std::uint32_t a = patches.root(v), b = patches.root(u);
-      const int rule = a == b ? 0 : convexity_sign<D>(planes, misfit, v, u, slope);
+      const int rule = a == b ? 0 : convexity_sign<D>(planes, misfit, v, u, sin_10_degrees);
       if (rule == 0) continue;
       const bool consistent = (rule < 0) == (flipped[v] != flipped[u]);
       pairs.push_back({std::min(a, b), std::max(a, b), 1, consistent ? 0 : 1});
@@ -243,7 +238,7 @@ std::size_t turn_crease_patches(const TangentPlanes<D>& planes, const Graph& g, 
 template <int D>
 std::size_t turn_components_outward(const TangentPlanes<D>& planes, const Guide<D>& guide,
                                     OrientedNormals<D>& result) {
-  constexpr double well_aligned = 0.9063077870366499;  // cos 25 degrees
+  constexpr double well_aligned = cos_25_degrees;
   std::vector<Offer> best = offers_along<D>(planes, guide, result, D - 1, 1.0);  // up: Hoppe's direction
   std::vector<bool> decided(best.size());
   for (std::size_t c = 0; c < best.size(); ++c) decided[c] = best[c].alignment >= well_aligned;
