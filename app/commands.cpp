@@ -1,4 +1,5 @@
 #include "commands.h"
+#include "command_parts.h"
 
 #include "curves.h"
 #include "progress.h"
@@ -26,13 +27,6 @@
 #include <sstream>
 
 namespace recon::cli {
-namespace {
-
-// Options every command that reads a cloud shares.
-struct InputOptions {
-  std::filesystem::path path;
-  std::string format;
-};
 
 void add_input(CLI::App& app, InputOptions& in) {
   app.add_option("input", in.path, "Point cloud (.ply .xyz .txt .pts .obj .off .pcd)")->required();
@@ -68,11 +62,13 @@ PointCloud read_input(const InputOptions& in, Summary& summary) {
   return cloud;
 }
 
+namespace {
 bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
   std::error_code ec;
   if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
   return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
 }
+}  // namespace
 
 // Checks made before any work, so that a run that cannot write its results
 // fails at once: outputs must not be the input or each other, and their
@@ -102,14 +98,19 @@ void add_report_option(CLI::App& app, std::filesystem::path& report) {
                  "Also write an interactive HTML report of every phase (one self-contained file, opens offline)");
 }
 
-// Writes the report of a finished run. The statistics embedded are the
-// --stats JSON as it will be written, so the page and the file agree.
-void write_run_report(const std::filesystem::path& path, const ReportInput& input, const std::filesystem::path& source,
-                      Summary& summary) {
-  Timer timer;
+ReportOptions run_report_options(const std::filesystem::path& source, Summary& summary) {
   ReportOptions options;
   options.title = source.filename().string();
   options.stats_json = summary.stats().dump(0);
+  return options;
+}
+
+namespace {
+// Writes the report of a finished run.
+void write_run_report(const std::filesystem::path& path, const ReportInput& input, const std::filesystem::path& source,
+                      Summary& summary) {
+  Timer timer;
+  const ReportOptions options = run_report_options(source, summary);
   const ReportLayers layers = make_report_layers(input, options);
   write_report(path, layers, options);
   summary.say("wrote     " + path.string() + " (report: " + std::to_string(layers.points.size() / 3) + " of " +
@@ -123,14 +124,6 @@ io::PointFormat writable_point_format(const std::filesystem::path& path) {
     throw InvalidInputError(path.string() + ": oriented clouds are written as .ply or .xyz");
   return format;
 }
-
-// Options of phases I and II, and the memory limit.
-struct PhaseOptions {
-  int k = TangentPlaneOptions{}.k;
-  std::optional<double> rho;
-  CLI::Option* k_option = nullptr;  // to tell a given k from the default
-  std::size_t max_memory = 0;       // bytes; 0: default_memory_limit()
-};
 
 // "800M", "2G", "1.5 GB", "3000000000": bytes (K, M, G, T are powers of 1000,
 // as in the messages; a trailing 'B' or 'iB' is allowed: KiB, MiB... powers of 1024).
@@ -159,6 +152,7 @@ std::string parse_size(const std::string& text, std::size_t& bytes) {
   }
   return "unknown size unit in '" + text + "' (use K, M, G or T)";
 }
+}  // namespace
 
 void add_phase_options(CLI::App& app, PhaseOptions& p) {
   p.k_option = app.add_option("-k,--k", p.k,
@@ -214,6 +208,8 @@ void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary&
   s["seconds_knn_pca"] = planes.seconds_knn_pca;
   s["seconds_spacing"] = planes.seconds_spacing;
 }
+
+namespace {
 
 void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   const auto& g = oriented.graph;

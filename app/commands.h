@@ -19,5 +19,6 @@ Command add_info(CLI::App& app, const GlobalOptions& global);
 Command add_normals(CLI::App& app, const GlobalOptions& global);
 Command add_reconstruct(CLI::App& app, const GlobalOptions& global);
 Command add_generate(CLI::App& app, const GlobalOptions& global);
+Command add_lab(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace recon::cli

@@ -104,6 +104,10 @@ int main(int argc, char** argv) {
   add("generate",
       "Write a point sample of a known shape (sphere, torus, ellipsoid, box, two, terrain, part, handle, conics)",
       recon::cli::add_generate);
+  add("lab",
+      "Run every alternative of phases I-II (searches, priority queues, MST algorithms, graphs) on one cloud, "
+      "timed, counted and checked against each other",
+      recon::cli::add_lab);
 
   try {
     app.parse(argc, argv);

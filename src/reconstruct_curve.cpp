@@ -17,7 +17,8 @@ CurveReconstruction reconstruct_curve(std::span<const Vec2> points, const CurveR
   CurveReconstruction r;
   r.planes = estimate_tangent_planes<2>(points, options.planes);
   const double cell = curve_lattice_cell(points, r.planes.rho, options);
-  r.oriented = orient_normals<2>(r.planes, options.orientation);
+  r.oriented = orient_normals<2>(r.planes, build_orientation_graph<2>(r.planes, options.graph, options.orientation.graph),
+                                 options.orientation);
 
   Timer timer;
   r.origin_tree = r.planes.point_tree.refit(r.planes.origins);

@@ -259,7 +259,7 @@ using CliReport = CliTest;
 TEST_F(CliHelp, ProgramListsSubcommandsAndGlobalOptions) {
   const RunResult run = recon({"--help"});
   ASSERT_TRUE(succeeded(run));
-  for (const char* part : {"info", "normals", "reconstruct", "generate", "--quiet", "--threads"})
+  for (const char* part : {"info", "normals", "reconstruct", "generate", "lab", "--quiet", "--threads"})
     EXPECT_NE(run.out.find(part), std::string::npos) << "help lacks " << part << describe(run);
   EXPECT_TRUE(entries().empty());
 }
@@ -274,6 +274,8 @@ TEST_F(CliHelp, EachSubcommandListsItsOptions) {
       {"generate",
        {"shape", "--output", "--points", "--seed", "--noise", "--with-normals", "--truth", "--truth-points", "sphere",
         "torus", "two", "part", "handle", "conics"}},
+      {"lab", {"input", "--format", "--k", "--stats", "--report", "--max-complete", "--max-brute-force",
+               "--max-list-heap"}},
   };
   for (const auto& [command, options] : expected) {
     const RunResult run = recon({command, "--help"});
@@ -1090,6 +1092,52 @@ TEST_F(CliGenerate, BadTruthOptionsAreRefusedBeforeWriting) {
   EXPECT_TRUE(refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "nowhere/gt.ply"}),
                       {"nowhere"}));
   EXPECT_TRUE(entries().empty());
+}
+
+// ---------------------------------------------------------------- lab
+
+using CliLab = CliTest;
+
+// The alternatives lab on the course's conics, with their true normals:
+// the table, the skipped runs, and the JSON, one entry per run.
+TEST_F(CliLab, PrintsTheTableAndWritesEveryRunAsJson) {
+  const RunResult made = recon({"--quiet", "generate", "conics", "-n", "2500", "--with-normals", "-o", "c.ply"});
+  ASSERT_TRUE(succeeded(made));
+  const RunResult run = recon({"lab", "c.ply", "--stats", "lab.json", "--max-list-heap", "1000"});
+  ASSERT_TRUE(succeeded(run));
+  for (const char* part : {"truth     the input's own normals", "prim/fibonacci-heap", "prim/pairing-heap", "kruskal",
+                           "boruvka", "prim-array", "mutual-knn", "riemannian", "brute-force", "grid", "kd-tree",
+                           "skipped prim/list-heap: 2500 points is more than 1000"})
+    EXPECT_NE(run.out.find(part), std::string::npos) << part << describe(run);
+  // The graph rows: pieces found. The Riemannian graph keeps the five
+  // solids apart, the complete graph's tree joins them.
+  const auto riemannian = lines_starting_with(run.out, "graph   riemannian");
+  const auto complete = lines_starting_with(run.out, "graph   complete");
+  ASSERT_EQ(riemannian.size(), 1u) << describe(run);
+  ASSERT_EQ(complete.size(), 1u) << describe(run);
+  EXPECT_NE(riemannian[0].find("      5 "), std::string::npos) << riemannian[0];
+  EXPECT_NE(complete[0].find("      1 "), std::string::npos) << complete[0];
+
+  const std::string json = read_bytes(at("lab.json"));
+  std::size_t entries_found = 0;
+  for (std::size_t at = json.find("\"name\": "); at != std::string::npos; at = json.find("\"name\": ", at + 1))
+    ++entries_found;
+  EXPECT_EQ(entries_found, 17u) << json;
+  EXPECT_NE(json.find("\"runs\": ["), std::string::npos) << json;
+  for (const char* part : {"\"kind\": \"queue\"", "\"kind\": \"mst\"", "\"kind\": \"graph\"", "\"kind\": \"search\"",
+                           "\"graph\": \"riemannian\"", "\"tree_weight\": ", "\"seconds\": ", "\"decrease_keys\": ",
+                           "\"distance_evaluations\": ", "\"agree_truth\": ", "\"skipped\": \"the list heap: 2500"})
+    EXPECT_NE(json.find(part), std::string::npos) << part << json;
+  EXPECT_EQ(stat_count(json, "input", "points"), 2500);
+}
+
+TEST_F(CliLab, AnAlternativeThatDisagreesIsAnErrorNotARow) {
+  ASSERT_NO_FATAL_FAILURE(generate("torus", 600, "t.ply"));
+  for (const char* spoiled : {"kruskal", "grid", "prim/pairing-heap"})
+    EXPECT_TRUE(refused(recon({"lab", "t.ply", "--stats", "lab.json", "--test-spoil", spoiled}),
+                        {"lab: ", spoiled, "disagree"}));
+  // Nothing half-written: the statistics are not written.
+  EXPECT_EQ(entries(), std::vector<std::string>{"t.ply"});
 }
 
 // ---------------------------------------------------------------- real data

@@ -191,6 +191,26 @@ TEST(ReconstructCurve, TwoSeparateCirclesGiveTwoClosedCurves) {
   EXPECT_NEAR(areas[1], std::numbers::pi * r1 * r1, 0.03 * std::numbers::pi * r1 * r1);
 }
 
+// Phase II along each graph of orientation_graphs.h: the two circles stay
+// apart along every graph but the complete one, whose tree joins them; the
+// curves come out the same wherever the circles each get one orientation.
+TEST(ReconstructCurve, TheGraphPhaseTwoWalksIsTheCallersChoice) {
+  std::vector<Vec2> points = stratified(circle(Vec2(-1.0, 0.5), 1.0), 200, 7);
+  for (const Vec2& p : stratified(circle(Vec2(2.5, -0.5), 0.6), 120, 8)) points.push_back(p);
+  const CurveReconstruction reference = reconstruct_curve(points);
+  for (const OrientationGraph graph : all_orientation_graphs) {
+    CurveReconstructionOptions options;
+    options.graph = graph;
+    const CurveReconstruction r = reconstruct_curve(points, options);
+    EXPECT_EQ(r.oriented.component_count(), graph == OrientationGraph::complete ? 1u : 2u) << name_of(graph);
+    EXPECT_EQ(r.oriented.graph.graph.edge_count(),
+              build_orientation_graph<2>(r.planes, graph).graph.edge_count()) << name_of(graph);
+    EXPECT_EQ(r.contour.curves.polylines.size(), 2u) << name_of(graph);
+  }
+  // The default is the Riemannian graph, as before this choice existed.
+  EXPECT_EQ(reference.oriented.graph.graph.edge_count(), build_riemannian_graph<2>(reference.planes).graph.edge_count());
+}
+
 TEST(ReconstructCurve, OpenArcStaysOpen) {
   // Half a unit circle: the curve must stop near the ends of the data,
   // not close across the empty half.

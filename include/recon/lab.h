@@ -22,8 +22,10 @@
 // A disagreement is not a row: run_lab throws LabDisagreementError.
 // What would take too long is skipped, with the reason in the row
 // (the complete graph, brute force and the list heap are quadratic).
-// Times are wall-clock seconds of an uncounted run; the counts come from a
-// second, instrumented run (counting slows a queue down).
+// A queue's time is the wall-clock seconds of an uncounted run; its counts
+// come from a second, instrumented run (counting every key comparison slows
+// a queue down). The other runs count as they go (an addition per distance
+// or find, next to the work it counts).
 
 #include "recon/errors.h"
 #include "recon/operation_counts.h"
@@ -34,6 +36,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace recon {
@@ -95,10 +98,5 @@ struct LabResult {
 /// LabDisagreementError when two alternatives that must agree do not
 /// (the message names both and their figures).
 [[nodiscard]] LabResult run_lab(std::span<const Vec3> points, const LabOptions& options = {});
-
-/// The runs as a JSON object {"runs": [...]} (the --stats file), each entry
-/// with name, kind, seconds, and graph, tree_weight, counts and the graph
-/// figures where they apply; skipped runs carry "skipped": reason.
-[[nodiscard]] std::string lab_json(const LabResult& result);
 
 }  // namespace recon

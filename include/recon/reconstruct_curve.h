@@ -20,6 +20,7 @@
 
 #include "recon/marching_squares.h"
 #include "recon/orientation.h"
+#include "recon/orientation_graphs.h"
 #include "recon/signed_distance.h"
 #include "recon/tangent_planes.h"
 
@@ -45,6 +46,7 @@ inline constexpr double curve_max_slope = 2.0;
 struct CurveReconstructionOptions {
   TangentPlaneOptions planes{.k = curve_default_k, .adapt_k = true, .rho = std::nullopt, .tree = {}};  ///< phase I
   OrientationOptions orientation{};                   ///< phase II
+  OrientationGraph graph = OrientationGraph::riemannian;  ///< the graph phase II walks (orientation_graphs.h)
   SignedDistanceOptions distance{};                   ///< phase III: delta
   std::optional<double> cell;                         ///< phase IV square side; default rho / 2
   std::optional<int> resolution;                      ///< or: squares along the longest side of the bounding box

@@ -1,0 +1,57 @@
+#pragma once
+// Pieces the subcommands share (commands.cpp, lab.cpp): reading the input,
+// checking the outputs, the options of phases I and II, the report.
+
+#include "summary.h"
+
+#include "recon/point_cloud.h"
+#include "recon/report.h"
+#include "recon/resource_usage.h"
+#include "recon/tangent_planes.h"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace recon::cli {
+
+// Options every command that reads a cloud shares.
+struct InputOptions {
+  std::filesystem::path path;
+  std::string format;
+};
+void add_input(CLI::App& app, InputOptions& in);
+/// Reads the cloud, says so, and records it in the statistics.
+PointCloud read_input(const InputOptions& in, Summary& summary);
+
+/// Checks made before any work, so that a run that cannot write its results
+/// fails at once: outputs must not be the input or each other, and their
+/// folders must exist. Empty paths are skipped.
+void check_outputs(const std::filesystem::path& input, const std::vector<std::filesystem::path>& outputs);
+
+/// --report FILE.html.
+void add_report_option(CLI::App& app, std::filesystem::path& report);
+/// The report options of a run from `source`: its title and the --stats
+/// JSON as it will be written, so the page and the file agree.
+ReportOptions run_report_options(const std::filesystem::path& source, Summary& summary);
+
+/// Peak memory per step for --stats (resource_usage.h).
+void report_memory(StepPeaks& memory, Summary& summary);
+
+// Options of phases I and II, and the memory limit.
+struct PhaseOptions {
+  int k = TangentPlaneOptions{}.k;
+  std::optional<double> rho;
+  CLI::Option* k_option = nullptr;  // to tell a given k from the default
+  std::size_t max_memory = 0;       // bytes; 0: default_memory_limit()
+};
+void add_phase_options(CLI::App& app, PhaseOptions& p);
+TangentPlaneOptions phase_1_options(const PhaseOptions& p);
+
+/// Phase I's line and statistics.
+void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary& summary);
+
+}  // namespace recon::cli

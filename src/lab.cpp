@@ -1,0 +1,285 @@
+#include "recon/lab.h"
+
+#include "recon/boruvka.h"
+#include "recon/brute_force_search.h"
+#include "recon/complete_graph_mst.h"
+#include "recon/counting_queue.h"
+#include "recon/emst.h"
+#include "recon/fibonacci_heap.h"
+#include "recon/kruskal.h"
+#include "recon/list_heap.h"
+#include "recon/pairing_heap.h"
+#include "recon/timer.h"
+#include "recon/uniform_grid.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+
+namespace recon {
+namespace {
+
+constexpr std::array<std::string_view, 4> kind_names = {"search", "queue", "mst", "graph"};
+
+std::string count_text(std::size_t n) { return std::to_string(n); }
+
+LabRun skipped_run(std::string name, LabKind kind, std::string graph, std::string reason) {
+  LabRun run{.name = std::move(name), .kind = kind, .graph = std::move(graph)};
+  run.skipped = std::move(reason);
+  return run;
+}
+
+std::string too_many(std::size_t n, std::size_t limit, std::string_view what) {
+  return std::string(what) + ": " + count_text(n) + " points is more than " + count_text(limit) +
+         " (LabOptions); it would take too long";
+}
+
+// Two tree weights agree to rounding: sums of the same costs in another
+// order differ by a few units in the last place per term.
+bool same_weight(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(a)); }
+
+std::string weight_text(double w) {
+  std::ostringstream out;
+  out.precision(17);
+  out << w;
+  return out.str();
+}
+
+void check_weight(const LabRun& run, const LabRun& reference) {
+  if (!run.tree_weight || !reference.tree_weight || same_weight(*run.tree_weight, *reference.tree_weight)) return;
+  throw LabDisagreementError("lab: " + run.name + " and " + reference.name + " disagree on the " + run.graph +
+                             " graph: trees of weight " + weight_text(*run.tree_weight) + " and " +
+                             weight_text(*reference.tree_weight) + "; a minimum spanning forest has one weight");
+}
+
+// ---------------------------------------------------------------- searches
+
+// The neighbour distances of `table` against the kd-tree's: entry by entry.
+void check_search(const LabRun& run, const KnnTable& table, const KnnTable& reference) {
+  for (std::size_t e = 0; e < reference.entries.size(); ++e)
+    if (e >= table.entries.size() || table.entries[e].distance2 != reference.entries[e].distance2) {
+      const std::size_t k = static_cast<std::size_t>(reference.k);
+      throw LabDisagreementError("lab: the " + run.name + " search and the kd-tree disagree on point " +
+                                 count_text(e / k) + "'s neighbour " + count_text(e % k) + " (squared distance " +
+                                 (e < table.entries.size() ? weight_text(table.entries[e].distance2) : "missing") +
+                                 " against " + weight_text(reference.entries[e].distance2) + ")");
+    }
+}
+
+template <class Search>
+LabRun search_run(std::string name, Search&& search, const KnnTable* reference, const LabOptions& options) {
+  LabRun run{.name = std::move(name), .kind = LabKind::search};
+  Timer timer;
+  KnnTable table = search(run.counts);
+  run.seconds = timer.lap();
+  if (options.spoil == run.name && !table.entries.empty()) table.entries.back().distance2 *= 1.5;
+  if (reference) check_search(run, table, *reference);
+  return run;
+}
+
+void run_searches(std::span<const Vec3> points, int k, const LabOptions& options, LabResult& result) {
+  // The kd-tree first: it is the reference the others are held to.
+  KnnTable reference;
+  LabRun tree_run = search_run(
+      "kd-tree",
+      [&](OperationCounts& counts) {
+        const KdTree<3> tree(points);
+        reference = tree.all_knn(k, &counts);
+        return reference;
+      },
+      nullptr, options);
+  if (options.spoil == tree_run.name && !reference.entries.empty()) reference.entries.back().distance2 *= 1.5;
+  result.runs.push_back(std::move(tree_run));
+  result.runs.push_back(search_run(
+      "grid",
+      [&](OperationCounts& counts) { return UniformGrid<3>(points).all_knn(k, &counts); }, &reference, options));
+  if (points.size() > options.max_points_brute_force) {
+    result.runs.push_back(skipped_run("brute-force", LabKind::search, "",
+                                      too_many(points.size(), options.max_points_brute_force, "brute force")));
+  } else {
+    result.runs.push_back(search_run(
+        "brute-force", [&](OperationCounts& counts) { return brute_force_all_knn<3>(points, k, &counts); },
+        &reference, options));
+  }
+}
+
+// ------------------------------------------------------------------ queues
+
+// The Riemannian graph with its costs 1 - |n_i . n_j| stored, so that
+// every algorithm reads the same numbers.
+Graph weighted_graph(const Graph& graph, std::span<const Vec3> normals) {
+  Graph g = graph;
+  g.weights.resize(g.targets.size());
+  for (std::uint32_t v = 0; v < g.vertex_count(); ++v)
+    for (std::uint64_t e = g.offsets[v]; e < g.offsets[v + 1]; ++e)
+      g.weights[e] = std::max(0.0, orientation_cost<3>(normals[v], normals[g.targets[e]]));
+  return g;
+}
+
+double stored_weight(const Graph& g, std::uint64_t e) { return g.weights[e]; }
+
+// Prim on the queue Heap: timed plain, counted in a second run.
+template <template <class> class Heap>
+LabRun queue_run(std::string name, const Graph& g, const SpanningForest& reference, const LabOptions& options) {
+  LabRun run{.name = "prim/" + std::move(name), .kind = LabKind::queue, .graph = "riemannian"};
+  const auto weight = [&](std::uint32_t, std::uint64_t e) { return stored_weight(g, e); };
+  Timer timer;
+  SpanningForest forest = prim_minimum_spanning_forest<Heap<double>>(g, {}, weight);
+  run.seconds = timer.lap();
+  run.counts = prim_minimum_spanning_forest_counted<CountingQueue<Heap>>(g, {}, weight).counts;
+  if (options.spoil == run.name && !forest.order.empty()) forest.parent[forest.order.back()] = SpanningForest::no_parent;
+  run.tree_weight = forest.total_weight;
+  if (!reference.parent.empty() && forest.parent != reference.parent)
+    throw LabDisagreementError("lab: " + run.name + " and prim/binary-heap disagree: Prim grew different trees on "
+                               "them, but the queues order equal keys alike, so the trees must be the same");
+  return run;
+}
+
+void run_queues(const Graph& g, const LabOptions& options, LabResult& result) {
+  const SpanningForest reference = prim_minimum_spanning_forest<IndexedBinaryHeap<double>>(
+      g, {}, [&](std::uint32_t, std::uint64_t e) { return stored_weight(g, e); });
+  result.runs.push_back(queue_run<IndexedBinaryHeap>("binary-heap", g, reference, options));
+  result.runs.push_back(queue_run<FibonacciHeap>("fibonacci-heap", g, reference, options));
+  result.runs.push_back(queue_run<PairingHeap>("pairing-heap", g, reference, options));
+  const std::size_t n = g.vertex_count();
+  if (n > options.max_points_list_heap) {
+    result.runs.push_back(skipped_run("prim/list-heap", LabKind::queue, "riemannian",
+                                      too_many(n, options.max_points_list_heap, "the list heap")));
+  } else {
+    result.runs.push_back(queue_run<ListHeap>("list-heap", g, reference, options));
+  }
+}
+
+// ------------------------------------------------------------- MST on a graph
+
+LabRun edges_run(std::string name, std::string graph, MinimumSpanningEdges tree, double seconds,
+                 const LabOptions& options) {
+  LabRun run{.name = std::move(name), .kind = LabKind::mst, .graph = std::move(graph)};
+  run.seconds = seconds;
+  run.counts = tree.counts;
+  if (options.spoil == run.name && !tree.edges.empty()) tree.total_weight -= tree.edges.back().weight;
+  run.tree_weight = tree.total_weight;
+  return run;
+}
+
+void run_msts(const Graph& g, const LabOptions& options, LabResult& result) {
+  const std::size_t first = result.runs.size();
+  {
+    LabRun prim{.name = "prim", .kind = LabKind::mst, .graph = "riemannian"};
+    Timer timer;
+    const SpanningForest forest = prim_minimum_spanning_forest(g);
+    prim.seconds = timer.lap();
+    prim.tree_weight = forest.total_weight;
+    if (options.spoil == prim.name) *prim.tree_weight *= 1.5;
+    result.runs.push_back(std::move(prim));
+  }
+  Timer timer;
+  MinimumSpanningEdges kruskal = kruskal_minimum_spanning_forest(g);
+  result.runs.push_back(edges_run("kruskal", "riemannian", std::move(kruskal), timer.lap(), options));
+  MinimumSpanningEdges boruvka = boruvka_minimum_spanning_forest(g);
+  result.runs.push_back(edges_run("boruvka", "riemannian", std::move(boruvka), timer.lap(), options));
+  for (std::size_t r = first + 1; r < result.runs.size(); ++r) check_weight(result.runs[r], result.runs[first]);
+}
+
+// The Euclidean MST two ways: Prim's array version on the complete graph,
+// and Borůvka with kd-tree queries (phase II's).
+void run_euclidean_msts(std::span<const Vec3> points, const LabOptions& options, LabResult& result) {
+  const std::string graph = "complete-euclidean";
+  Timer timer;
+  const KdTree<3> tree(points);
+  const std::vector<Edge> emst = euclidean_minimum_spanning_tree<3>(tree, points);
+  MinimumSpanningEdges boruvka{.edges = emst};
+  for (const Edge& e : emst) boruvka.total_weight += e.weight;
+  result.runs.push_back(edges_run("boruvka-kdtree", graph, std::move(boruvka), timer.lap(), options));
+  if (points.size() > options.max_points_complete) {
+    result.runs.push_back(skipped_run("prim-array", LabKind::mst, graph,
+                                      too_many(points.size(), options.max_points_complete, "the complete graph")));
+    return;
+  }
+  timer.lap();
+  MinimumSpanningEdges dense = complete_graph_minimum_spanning_tree<3>(points);
+  result.runs.push_back(edges_run("prim-array", graph, std::move(dense), timer.lap(), options));
+  check_weight(result.runs.back(), result.runs[result.runs.size() - 2]);
+}
+
+// ------------------------------------------------------------------ graphs
+
+double share_agreeing(std::span<const Vec3> a, std::span<const Vec3> b) {
+  if (a.empty()) return 0.0;
+  std::size_t agree = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) agree += a[i].dot(b[i]) > 0.0 ? 1u : 0u;
+  return static_cast<double>(agree) / static_cast<double>(a.size());
+}
+
+LabRun graph_run(OrientationGraph kind, const TangentPlanes<3>& planes, const LabOptions& options,
+                 OrientedNormals<3>& oriented) {
+  LabRun run{.name = std::string(name_of(kind)), .kind = LabKind::graph, .graph = std::string(name_of(kind))};
+  Timer timer;
+  RiemannianGraph<3> graph = build_orientation_graph<3>(planes, kind, {}, &run.counts);
+  oriented = orient_normals<3>(planes, std::move(graph), OrientationOptions{});
+  run.seconds = timer.lap();
+  run.tree_weight = oriented.tree.total_weight;
+  run.edges = oriented.graph.graph.edge_count();
+  run.components = oriented.component_count();
+  run.flips = oriented.flip_count;
+  if (!options.true_normals.empty()) run.agree_truth = share_agreeing(oriented.normals, options.true_normals);
+  return run;
+}
+
+void run_graphs(const TangentPlanes<3>& planes, const LabOptions& options, LabResult& result) {
+  const std::size_t n = planes.origins.size();
+  // The default run first: the others are compared with it.
+  LabRun riemannian = graph_run(OrientationGraph::riemannian, planes, options, result.default_orientation);
+  riemannian.agree_default = 1.0;
+  for (const OrientationGraph kind : all_orientation_graphs) {
+    if (kind == OrientationGraph::riemannian) {
+      result.runs.push_back(riemannian);
+      if (options.keep_graphs) result.graphs.push_back({kind, result.default_orientation});
+      continue;
+    }
+    if (kind == OrientationGraph::complete && n > options.max_points_complete) {
+      result.runs.push_back(skipped_run(std::string(name_of(kind)), LabKind::graph, std::string(name_of(kind)),
+                                        too_many(n, options.max_points_complete, "the complete graph")));
+      continue;
+    }
+    OrientedNormals<3> oriented;
+    LabRun run = graph_run(kind, planes, options, oriented);
+    run.agree_default = share_agreeing(oriented.normals, result.default_orientation.normals);
+    result.runs.push_back(std::move(run));
+    if (options.keep_graphs) result.graphs.push_back({kind, std::move(oriented)});
+  }
+}
+
+// Reached only when no check threw: a spoiled run that nothing caught.
+void check_spoil_caught(const LabResult& result, const LabOptions& options) {
+  if (options.spoil.empty()) return;
+  for (const LabRun& run : result.runs)
+    if (run.name == options.spoil && run.skipped.empty())
+      throw LabDisagreementError("lab: the run '" + options.spoil + "' was spoiled and no check caught it");
+  throw InvalidInputError("lab: no run named '" + options.spoil + "' ran (the test hook spoils one)");
+}
+
+}  // namespace
+
+std::string_view name_of(LabKind kind) { return kind_names[static_cast<std::size_t>(kind)]; }
+
+LabResult run_lab(std::span<const Vec3> points, const LabOptions& options) {
+  if (!options.true_normals.empty() && options.true_normals.size() != points.size())
+    throw InvalidInputError("lab: " + count_text(options.true_normals.size()) + " true normals for " +
+                            count_text(points.size()) + " points");
+  LabResult result;
+  Timer timer;
+  result.planes = estimate_tangent_planes<3>(points, options.planes);
+  result.seconds_planes = timer.lap();
+  run_searches(points, result.planes.k, options, result);
+  run_graphs(result.planes, options, result);
+  const Graph g = weighted_graph(result.default_orientation.graph.graph, result.planes.normals);
+  run_queues(g, options, result);
+  run_msts(g, options, result);
+  run_euclidean_msts(points, options, result);
+  check_spoil_caught(result, options);
+  return result;
+}
+
+}  // namespace recon
