@@ -61,19 +61,14 @@ void add_kdtree(const KdTree<3>& tree, const Vec3& centre, int max_depth, Report
   }
 }
 
-void add_graph(const ReportInput& in, const ReportOptions& options, ReportLayers& layers) {
-  const OrientedNormals<3>& o = *in.oriented;
-  const Graph& g = o.graph.graph;
-  const std::size_t n = in.points.size();
-  if (g.vertex_count() != n || o.tree.parent.size() != n || o.flipped.size() != n) return;  // graph released
-  layers.has_graph = true;
-  const auto p = [&](std::size_t i) -> Vec3 { return in.points[i] + in.offset - layers.centre; };
-
-  layers.graph_edges_total = g.edge_count();
-  // The edges of every sv-th vertex (its whole row: about k edges), an edge
-  // between two such vertices once. sv is at least the points' stride, so
-  // that the edges drawn start at drawn points, and grows from the average
-  // row until the edges fit the budget, in multiples of the points' stride.
+// A graph's edges as layer 4 draws them: those of every sv-th vertex (its
+// whole row: about k edges), an edge between two such vertices once. sv is
+// at least the points' stride, so that the edges drawn start at drawn
+// points, and grows from the average row until the edges fit the budget, in
+// multiples of the points' stride. Point i is drawn at points[i] + shift.
+void draw_edges(const Graph& g, std::span<const Vec3> points, const Vec3& shift, std::size_t point_stride,
+                std::size_t max_edges, ReportGraph& out) {
+  const std::size_t n = points.size();
   const auto drawn = [&](std::size_t sv, auto&& edge) {
     std::size_t count = 0;
     for (std::size_t i = 0; i < n; i += sv)
@@ -84,26 +79,59 @@ void add_graph(const ReportInput& in, const ReportOptions& options, ReportLayers
         }
     return count;
   };
+  out.edges_total = g.edge_count();
   const std::size_t row = n > 0 ? std::max<std::size_t>(1, 2 * g.edge_count() / n) : 1;
-  const std::size_t ps = layers.point_stride;
+  const std::size_t ps = point_stride;
   const auto multiple = [ps](std::size_t s) { return (s + ps - 1) / ps * ps; };
   // At stride 1 every edge is drawn once; beyond, a drawn vertex brings
   // about its whole row.
-  std::size_t sv = g.edge_count() <= options.max_edges ? ps : multiple(std::max(ps, stride_for(n, options.max_edges / row)));
-  while (sv <= n && drawn(sv, [](std::size_t, std::size_t) {}) > options.max_edges) sv = multiple(sv + std::max<std::size_t>(1, sv / 8));
-  layers.graph_vertex_stride = sv;
-  drawn(sv, [&](std::size_t i, std::size_t j) { push_segment(layers.graph_segments, p(i), p(j)); });
+  std::size_t sv = g.edge_count() <= max_edges ? ps : multiple(std::max(ps, stride_for(n, max_edges / row)));
+  while (sv <= n && drawn(sv, [](std::size_t, std::size_t) {}) > max_edges) sv = multiple(sv + std::max<std::size_t>(1, sv / 8));
+  out.vertex_stride = sv;
+  drawn(sv, [&](std::size_t i, std::size_t j) { push_segment(out.segments, points[i] + shift, points[j] + shift); });
+}
 
+// The spanning tree: the edge from each drawn point to its parent, marked
+// where the orientation turned across it, and the flips of the whole tree.
+void draw_tree(const OrientedNormals<3>& o, std::span<const Vec3> points, const Vec3& shift, std::size_t point_stride,
+               ReportGraph& out) {
   const auto& parent = o.tree.parent;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
     if (parent[i] == SpanningForest::no_parent) continue;
-    ++layers.tree_edges_total;
+    ++out.tree_edges_total;
     const bool flip = o.flipped[i] != o.flipped[parent[i]];
-    layers.tree_flips_total += flip ? 1 : 0;
-    if (i % layers.point_stride != 0) continue;
-    push_segment(layers.tree_segments, p(i), p(parent[i]));
-    layers.tree_flip.push_back(flip ? 1 : 0);
+    out.tree_flips_total += flip ? 1 : 0;
+    if (i % point_stride != 0) continue;
+    push_segment(out.tree_segments, points[i] + shift, points[parent[i]] + shift);
+    out.tree_flip.push_back(flip ? 1 : 0);
   }
+}
+
+// Precondition: o's graph, tree and signs have one entry per point.
+ReportGraph draw_graph(const OrientedNormals<3>& o, std::span<const Vec3> points, const Vec3& shift,
+                       std::size_t point_stride, std::size_t max_edges) {
+  ReportGraph out;
+  draw_edges(o.graph.graph, points, shift, point_stride, max_edges, out);
+  draw_tree(o, points, shift, point_stride, out);
+  return out;
+}
+
+bool has_whole_graph(const OrientedNormals<3>& o, std::size_t n) {
+  return o.graph.graph.vertex_count() == n && o.tree.parent.size() == n && o.flipped.size() == n;
+}
+
+void add_graph(const ReportInput& in, const ReportOptions& options, ReportLayers& layers) {
+  if (!has_whole_graph(*in.oriented, in.points.size())) return;  // graph released
+  layers.has_graph = true;
+  const Vec3 shift = in.offset - layers.centre;
+  ReportGraph g = draw_graph(*in.oriented, in.points, shift, layers.point_stride, options.max_edges);
+  layers.graph_edges_total = g.edges_total;
+  layers.graph_vertex_stride = g.vertex_stride;
+  layers.graph_segments = std::move(g.segments);
+  layers.tree_edges_total = g.tree_edges_total;
+  layers.tree_segments = std::move(g.tree_segments);
+  layers.tree_flip = std::move(g.tree_flip);
+  layers.tree_flips_total = g.tree_flips_total;
 }
 
 void add_corners(const MarchingCubesResult& c, const ReportInput& in, const ReportOptions& options,
@@ -232,7 +260,7 @@ void add_refinement(const Mesh& refined, const Mesh& contoured, std::size_t budg
   std::vector<float> sorted = layers.refined_distance;
   const std::size_t at = std::min(sorted.size() - 1, sorted.size() * 98 / 100);
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(at), sorted.end());
-  layers.distance_scale = sorted[at];
+  layers.distance_scale = static_cast<double>(sorted[at]);
 }
 
 void extend(Box<3>& box, const std::vector<float>& xyz) {
@@ -283,6 +311,16 @@ class JsonWriter {
   }
   void close() {
     out_ += '}';
+    first_ = false;
+  }
+  // A list; its elements are opened with an empty key.
+  void open_list(std::string_view key) {
+    this->key(key);
+    out_ += '[';
+    first_ = true;
+  }
+  void close_list() {
+    out_ += ']';
     first_ = false;
   }
   void number(std::string_view k, double v) {
@@ -387,7 +425,58 @@ void add_surfaces(const ReportInput& in, const ReportOptions& options, ReportLay
   if (in.refinement != nullptr) add_refinement(in.refinement->mesh, contoured, options.max_triangles, options, layers);
 }
 
+// ---- the lab panel
+
+// As name_of in orientation_graphs.h, whose definition this library does
+// not link (the lab's sources are not part of it).
+std::string_view graph_name(OrientationGraph kind) {
+  switch (kind) {
+    case OrientationGraph::complete: return "complete";
+    case OrientationGraph::emst: return "emst";
+    case OrientationGraph::knn: return "knn";
+    case OrientationGraph::mutual_knn: return "mutual-knn";
+    case OrientationGraph::riemannian: return "riemannian";
+  }
+  return "unknown";
+}
+
+void check_lab_graph(const LabGraph& g, std::size_t n) {
+  const OrientedNormals<3>& o = g.oriented;
+  if (has_whole_graph(o, n) && o.graph.components.label.size() == n) return;
+  throw InvalidInputError("report: the lab's " + std::string(graph_name(g.kind)) + " graph has " +
+                          std::to_string(o.graph.graph.vertex_count()) + " vertices, " +
+                          std::to_string(o.tree.parent.size()) + " tree entries, " + std::to_string(o.flipped.size()) +
+                          " signs and " + std::to_string(o.graph.components.label.size()) +
+                          " component labels; the report has " + std::to_string(n) + " points");
+}
+
+ReportLabGraph lab_graph(const LabGraph& g, std::span<const Vec3> points, const Vec3& shift,
+                         const ReportLayers& layers, const ReportOptions& options) {
+  const OrientedNormals<3>& o = g.oriented;
+  ReportLabGraph out;
+  out.name = graph_name(g.kind);
+  out.drawn = draw_graph(o, points, shift, layers.point_stride, options.max_edges);
+  out.component_count = o.graph.components.sizes.size();
+  for (std::size_t i = 0; i < points.size(); i += layers.point_stride)
+    out.component.push_back(o.graph.components.label[i]);
+  out.flips = static_cast<std::size_t>(std::count(o.flipped.begin(), o.flipped.end(), std::uint8_t{1}));
+  return out;
+}
+
 }  // namespace
+
+ReportLab make_report_lab(std::span<const LabGraph> graphs, std::string runs_json, std::span<const Vec3> points,
+                          Vec3 offset, const ReportLayers& layers, const ReportOptions& options) {
+  const std::size_t n = points.size();
+  if (n != layers.points_total)
+    throw InvalidInputError("report: the lab has " + std::to_string(n) + " points but the layers were made from " +
+                            std::to_string(layers.points_total));
+  for (const LabGraph& g : graphs) check_lab_graph(g, n);
+  ReportLab lab;
+  lab.runs_json = runs_json.empty() ? std::string("{}") : std::move(runs_json);
+  for (const LabGraph& g : graphs) lab.graphs.push_back(lab_graph(g, points, offset - layers.centre, layers, options));
+  return lab;
+}
 
 ReportInput report_input(const Reconstruction& r) {
   ReportInput in;
@@ -440,17 +529,9 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
   return layers;
 }
 
-std::string report_html(const ReportLayers& layers, const ReportOptions& options) {
-  std::string data;
-  JsonWriter w(data);
-  w.open("");
-  w.string("title", options.title);
-  w.vec("centre", layers.centre);
-  w.number("diagonal", layers.diagonal);
-  w.number("rho", layers.rho);
-  write_drawn_box(w, layers.drawn_box);
-  w.raw("stats", options.stats_json.empty() ? std::string_view("{}") : std::string_view(options.stats_json));
+namespace {
 
+void write_points(JsonWriter& w, const ReportLayers& layers) {
   w.open("points");
   w.count("total", layers.points_total);
   w.count("stride", layers.point_stride);
@@ -472,48 +553,102 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
   w.array("boxes", layers.kdtree_boxes);
   w.array("level", layers.kdtree_level);
   w.close();
+}
 
-  if (layers.has_graph) {
-    w.open("graph");
-    w.count("edges_total", layers.graph_edges_total);
-    w.count("vertex_stride", layers.graph_vertex_stride);
-    w.count("drawn", layers.graph_segments.size() / 6);
-    w.count("tree_drawn", layers.tree_flip.size());
-    w.array("segments", layers.graph_segments);
-    w.count("tree_total", layers.tree_edges_total);
-    w.count("flips_total", layers.tree_flips_total);
-    w.array("tree_segments", layers.tree_segments);
-    w.array("tree_flip", layers.tree_flip);
-    w.close();
-  }
-  if (layers.has_corners) {
-    w.open("corners");
-    w.count("total", layers.corners_total);
-    w.count("undefined_total", layers.undefined_corners_total);
-    w.count("stride", layers.corner_stride);
-    w.count("drawn", layers.corner_values.size());
-    w.number("cell", layers.cell);
-    w.array("position", layers.corners);
-    w.array("value", layers.corner_values);
-    w.close();
-  }
+void write_graph(JsonWriter& w, const ReportLayers& layers) {
+  w.open("graph");
+  w.count("edges_total", layers.graph_edges_total);
+  w.count("vertex_stride", layers.graph_vertex_stride);
+  w.count("drawn", layers.graph_segments.size() / 6);
+  w.count("tree_drawn", layers.tree_flip.size());
+  w.array("segments", layers.graph_segments);
+  w.count("tree_total", layers.tree_edges_total);
+  w.count("flips_total", layers.tree_flips_total);
+  w.array("tree_segments", layers.tree_segments);
+  w.array("tree_flip", layers.tree_flip);
+  w.close();
+}
+
+void write_corners(JsonWriter& w, const ReportLayers& layers) {
+  w.open("corners");
+  w.count("total", layers.corners_total);
+  w.count("undefined_total", layers.undefined_corners_total);
+  w.count("stride", layers.corner_stride);
+  w.count("drawn", layers.corner_values.size());
+  w.number("cell", layers.cell);
+  w.array("position", layers.corners);
+  w.array("value", layers.corner_values);
+  w.close();
+}
+
+void write_refinement(JsonWriter& w, const ReportLayers& layers) {
+  w.open("refinement");
+  write_mesh(w, layers.refined);
+  w.open("distance");
+  w.array("value", layers.refined_distance);
+  w.number("mean", layers.distance_mean);
+  w.number("max", layers.distance_max);
+  w.number("scale", layers.distance_scale);
+  w.close();
+  w.close();
+}
+
+// A lab graph: the keys of layer 4's (write_graph), its pieces and flips.
+void write_lab_graph(JsonWriter& w, const ReportLabGraph& g) {
+  w.open("");
+  w.string("name", g.name);
+  w.count("components", g.component_count);
+  w.count("flips", g.flips);
+  w.array("component", g.component);
+  w.count("edges_total", g.drawn.edges_total);
+  w.count("vertex_stride", g.drawn.vertex_stride);
+  w.count("drawn", g.drawn.segments.size() / 6);
+  w.count("tree_drawn", g.drawn.tree_flip.size());
+  w.array("segments", g.drawn.segments);
+  w.count("tree_total", g.drawn.tree_edges_total);
+  w.count("flips_total", g.drawn.tree_flips_total);
+  w.array("tree_segments", g.drawn.tree_segments);
+  w.array("tree_flip", g.drawn.tree_flip);
+  w.close();
+}
+
+void write_lab(JsonWriter& w, const ReportLab& lab) {
+  w.open("lab");
+  w.raw("stats", lab.runs_json.empty() ? std::string_view("{}") : std::string_view(lab.runs_json));
+  w.open_list("graphs");
+  for (const ReportLabGraph& g : lab.graphs) write_lab_graph(w, g);
+  w.close_list();
+  w.close();
+}
+
+// The data block's JSON; its arrays are left in w.arrays(), in the order written.
+void write_data(JsonWriter& w, const ReportLayers& layers, const ReportOptions& options) {
+  w.open("");
+  w.string("title", options.title);
+  w.vec("centre", layers.centre);
+  w.number("diagonal", layers.diagonal);
+  w.number("rho", layers.rho);
+  write_drawn_box(w, layers.drawn_box);
+  w.raw("stats", options.stats_json.empty() ? std::string_view("{}") : std::string_view(options.stats_json));
+  write_points(w, layers);
+  if (layers.has_graph) write_graph(w, layers);
+  if (layers.has_corners) write_corners(w, layers);
   if (layers.has_mesh) {
     w.open("mesh");
     write_mesh(w, layers.mesh);
     w.close();
   }
-  if (layers.has_refinement) {
-    w.open("refinement");
-    write_mesh(w, layers.refined);
-    w.open("distance");
-    w.array("value", layers.refined_distance);
-    w.number("mean", layers.distance_mean);
-    w.number("max", layers.distance_max);
-    w.number("scale", layers.distance_scale);
-    w.close();
-    w.close();
-  }
+  if (layers.has_refinement) write_refinement(w, layers);
+  if (layers.lab) write_lab(w, *layers.lab);  // last: the other arrays keep their numbers
   w.close();
+}
+
+}  // namespace
+
+std::string report_html(const ReportLayers& layers, const ReportOptions& options) {
+  std::string data;
+  JsonWriter w(data);
+  write_data(w, layers, options);
 
   const ReportPage page = report_page();
   std::size_t size = page.head.size() + data.size() + page.tail.size() + 200;

@@ -1,5 +1,6 @@
 #include "recon/report.h"
 
+#include "hand_made_lab.h"
 #include "recon/errors.h"
 #include "recon/mesh.h"
 #include "recon/reconstruct.h"
@@ -476,6 +477,168 @@ TEST(ReportPage, WrittenWholeOrNotAtAll) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), std::filesystem::directory_iterator{}), 1)
       << "no temporary file left";
   std::filesystem::remove_all(folder);
+}
+
+// ---- the lab panel
+
+// A sphere beside a torus: the complete graph's tree joins them, the
+// Riemannian graph keeps them apart.
+const testing::HandMadeLab& sphere_and_torus_lab() {
+  static const testing::HandMadeLab lab = testing::hand_made_lab(make_sphere_and_torus()->sample(3000, 11));
+  return lab;
+}
+
+ReportInput lab_input(const testing::HandMadeLab& lab) {
+  ReportInput input;
+  input.points = lab.points;
+  input.planes = &lab.planes;
+  input.oriented = &lab.default_orientation;
+  input.normals = lab.default_orientation.normals;
+  return input;
+}
+
+ReportLayers layers_with_lab(const testing::HandMadeLab& lab, const ReportOptions& options = {}) {
+  const ReportInput input = lab_input(lab);
+  ReportLayers layers = make_report_layers(input, options);
+  layers.lab = make_report_lab(lab.graphs, lab.runs_json, input.points, input.offset, layers, options);
+  return layers;
+}
+
+// Within the budgets every edge is drawn once, every tree edge with its
+// flip, and every point with its piece.
+void expect_whole_graph(const ReportLabGraph& drawn, const OrientedNormals<3>& o, const ReportLayers& layers) {
+  const std::size_t n = o.normals.size();
+  EXPECT_EQ(drawn.drawn.edges_total, o.graph.graph.edge_count());
+  EXPECT_EQ(drawn.drawn.vertex_stride, 1u);
+  EXPECT_EQ(drawn.drawn.segments.size(), 6 * o.graph.graph.edge_count());
+  EXPECT_EQ(drawn.drawn.tree_edges_total, n - o.component_count()) << "a tree per piece";
+  ASSERT_EQ(drawn.drawn.tree_flip.size(), drawn.drawn.tree_edges_total);
+  EXPECT_EQ(drawn.drawn.tree_segments.size(), 6 * drawn.drawn.tree_flip.size());
+  std::size_t flips = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (o.tree.parent[i] != SpanningForest::no_parent) flips += o.flipped[i] != o.flipped[o.tree.parent[i]] ? 1U : 0U;
+  EXPECT_EQ(drawn.drawn.tree_flips_total, flips);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(drawn.drawn.tree_flip.begin(), drawn.drawn.tree_flip.end(), 1)), flips);
+  EXPECT_EQ(drawn.component_count, o.component_count());
+  EXPECT_EQ(drawn.component, o.graph.components.label);
+  EXPECT_EQ(drawn.flips, o.flip_count);
+  // The segments join the points as layer 1 draws them.
+  for (std::size_t e = 0; 6 * e < drawn.drawn.segments.size(); e += 97) {
+    const Vec3 a = at(drawn.drawn.segments, 2 * e), b = at(drawn.drawn.segments, 2 * e + 1);
+    const auto drawn_point = [&](const Vec3& p) {
+      for (std::size_t i = 0; i < n; ++i)
+        if ((at(layers.points, i) - p).norm() < 1e-9) return true;
+      return false;
+    };
+    EXPECT_TRUE(drawn_point(a) && drawn_point(b)) << "segment " << e;
+  }
+}
+
+TEST(ReportLab, EachGraphWithItsSpanningTreeAndPieces) {
+  const testing::HandMadeLab& lab = sphere_and_torus_lab();
+  const ReportLayers layers = layers_with_lab(lab);
+  ASSERT_TRUE(layers.lab);
+  ASSERT_EQ(layers.lab->graphs.size(), 5u);
+  const std::string names[] = {"complete", "emst", "knn", "mutual-knn", "riemannian"};
+  for (std::size_t g = 0; g < 5; ++g) {
+    SCOPED_TRACE(names[g]);
+    EXPECT_EQ(layers.lab->graphs[g].name, names[g]);
+    expect_whole_graph(layers.lab->graphs[g], lab.graphs[g].oriented, layers);
+  }
+  // What the panel is for: the complete graph's tree joins the two
+  // objects, the Riemannian graph keeps them apart.
+  EXPECT_EQ(layers.lab->graphs[0].component_count, 1u);
+  EXPECT_EQ(layers.lab->graphs[0].drawn.edges_total, lab.points.size() - 1) << "a tree";
+  EXPECT_EQ(layers.lab->graphs[4].component_count, 2u);
+  EXPECT_EQ(layers.lab->runs_json, lab.runs_json);
+}
+
+TEST(ReportLab, GraphsDrawnWithinTheBudgetsOfLayers1And4) {
+  const testing::HandMadeLab& lab = sphere_and_torus_lab();
+  ReportOptions options;
+  options.max_points = 500;
+  options.max_edges = 2000;
+  const ReportLayers layers = layers_with_lab(lab, options);
+  const std::size_t drawn_points = layers.points.size() / 3;
+  ASSERT_GT(layers.point_stride, 1u);
+  for (std::size_t g = 0; g < 5; ++g) {
+    const ReportLabGraph& drawn = layers.lab->graphs[g];
+    const OrientedNormals<3>& o = lab.graphs[g].oriented;
+    SCOPED_TRACE(drawn.name);
+    EXPECT_EQ(drawn.drawn.edges_total, o.graph.graph.edge_count());
+    EXPECT_LE(drawn.drawn.segments.size() / 6, 2000u);
+    EXPECT_EQ(drawn.drawn.vertex_stride % layers.point_stride, 0u) << "the edges start at drawn points";
+    ASSERT_EQ(drawn.component.size(), drawn_points) << "a piece per drawn point";
+    std::size_t with_parent = 0;
+    for (std::size_t j = 0; j < drawn_points; ++j) {
+      const std::size_t i = j * layers.point_stride;
+      EXPECT_EQ(drawn.component[j], o.graph.components.label[i]);
+      with_parent += o.tree.parent[i] != SpanningForest::no_parent ? 1U : 0U;
+    }
+    EXPECT_EQ(drawn.drawn.tree_flip.size(), with_parent) << "one tree edge per drawn point that has a parent";
+    EXPECT_EQ(drawn.drawn.tree_edges_total, o.normals.size() - o.component_count());
+  }
+}
+
+// The number the JSON gives `key` after position `from`.
+std::size_t number_after(std::string_view json, std::size_t from, std::string_view key) {
+  const std::string quoted = "\"" + std::string(key) + "\":";
+  const auto at = json.find(quoted, from);
+  if (at == std::string_view::npos) return std::numeric_limits<std::size_t>::max();
+  return static_cast<std::size_t>(std::stoull(std::string(json.substr(at + quoted.size(), 20))));
+}
+
+TEST(ReportLabPage, LabPartWithTheRunsAndEachGraphsArrays) {
+  const testing::HandMadeLab& lab = sphere_and_torus_lab();
+  const ReportLayers layers = layers_with_lab(lab);
+  const std::string html = report_html(layers);
+  const std::string_view json = element(html, "recon-data");
+  // The runs as lab_json wrote them, then the graphs in order.
+  const auto lab_at = json.find("\"lab\":{\"stats\":" + lab.runs_json + ",\"graphs\":[{\"name\":\"complete\"");
+  ASSERT_NE(lab_at, std::string_view::npos);
+  EXPECT_LT(json.find("\"points\":{"), lab_at);
+  std::size_t from = json.find("\"graphs\":[", lab_at);  // past the runs, which name the graphs too
+  for (const ReportLabGraph& g : layers.lab->graphs) {
+    from = json.find("{\"name\":\"" + g.name + "\"", from);
+    ASSERT_NE(from, std::string_view::npos) << g.name;
+    SCOPED_TRACE(g.name);
+    EXPECT_EQ(number_after(json, from, "components"), g.component_count);
+    EXPECT_EQ(number_after(json, from, "flips"), g.flips);
+    EXPECT_EQ(number_after(json, from, "edges_total"), g.drawn.edges_total);
+    EXPECT_EQ(number_after(json, from, "drawn"), g.drawn.segments.size() / 6);
+    EXPECT_EQ(number_after(json, from, "tree_drawn"), g.drawn.tree_flip.size());
+    EXPECT_EQ(number_after(json, from, "tree_total"), g.drawn.tree_edges_total);
+    EXPECT_EQ(number_after(json, from, "flips_total"), g.drawn.tree_flips_total);
+    const auto segments = decode<float>(html, static_cast<int>(number_after(json, from, "segments")));
+    EXPECT_EQ(segments, g.drawn.segments);
+    EXPECT_EQ(segments.size() / 6, number_after(json, from, "drawn")) << "a segment per edge drawn";
+    EXPECT_EQ(decode<std::uint32_t>(html, static_cast<int>(number_after(json, from, "component"))), g.component);
+    EXPECT_EQ(decode<std::uint8_t>(html, static_cast<int>(number_after(json, from, "tree_flip"))), g.drawn.tree_flip);
+  }
+}
+
+TEST(ReportLabPage, WithoutALabPartThePageHasNoLabKey) {
+  const testing::HandMadeLab& lab = sphere_and_torus_lab();
+  const ReportLayers layers = make_report_layers(lab_input(lab));
+  EXPECT_FALSE(layers.lab);
+  const std::string html = report_html(layers);
+  EXPECT_EQ(element(html, "recon-data").find("\"lab\""), std::string_view::npos);
+  // An empty lab part still has a panel, with no runs and no graphs.
+  ReportLayers empty = layers;
+  empty.lab = make_report_lab({}, "", lab.points, Vec3::Zero(), layers);
+  EXPECT_NE(element(report_html(empty), "recon-data").find("\"lab\":{\"stats\":{},\"graphs\":[]}"),
+            std::string_view::npos);
+}
+
+TEST(ReportLab, RefusesGraphsOfOtherPoints) {
+  const testing::HandMadeLab& lab = sphere_and_torus_lab();
+  const ReportInput input = lab_input(lab);
+  const ReportLayers layers = make_report_layers(input);
+  EXPECT_THROW((void)make_report_lab(lab.graphs, lab.runs_json, input.points.subspan(1), input.offset, layers),
+               InvalidInputError);
+  std::vector<LabGraph> released(lab.graphs.begin(), lab.graphs.begin() + 1);
+  released[0].oriented.graph.graph = Graph{};
+  EXPECT_THROW((void)make_report_lab(released, lab.runs_json, input.points, input.offset, layers), InvalidInputError);
 }
 
 }  // namespace

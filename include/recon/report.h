@@ -23,6 +23,26 @@
 //      vertex's distance to the 1992 surface of layer 7, with its boundary
 //      edges.
 //
+// The lab panel (`recon lab INPUT --report FILE.html`, lab.h). A report
+// may carry the alternatives lab's results (ReportLayers::lab); the page
+// then has a "Lab" panel beside the layers, and without them it is exactly
+// as above. The panel shows
+//   a. the times of the runs as bars, one per run that ran, grouped by kind
+//      (search, queue, mst, graph), each group on its own scale (linear, or
+//      logarithmic on demand); a run that was skipped is listed with why;
+//   b. per kind, a table of what each run counted (pushes, pops, ...; a
+//      counter no run of the kind used is left out), its tree's weight, and
+//      for the graph runs their edges, pieces, flips and how far they agree
+//      with the default run and with the truth;
+//   c. each orientation graph the lab kept as a layer of its own, drawn as
+//      layer 4 draws the Riemannian graph (the edges, the spanning tree, the
+//      tree edges where the orientation turned), with the points coloured by
+//      that graph's components (off at first): the complete graph's tree
+//      runs between separate objects, and where the sampling is uneven the
+//      mutual k-NN graph falls apart into pieces.
+// The runs are the lab's own JSON (lab_json) as it was written; the graphs
+// are drawn within the same budgets as layers 1 and 4.
+//
 // Large runs stay viewable: each layer draws at most a budget of elements
 // (ReportOptions) and beyond it a regular subsample (every s-th point, edge
 // source, corner or triangle), which the page states. Per-point arrays are
@@ -33,6 +53,7 @@
 // report's size whatever the size of the run: a 1M-point torus gives 66 MB,
 // two meshes of about a million triangles each.
 
+#include "recon/lab.h"
 #include "recon/marching_cubes.h"
 #include "recon/orientation.h"
 #include "recon/refinement.h"
@@ -40,6 +61,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -89,6 +111,33 @@ struct ReportMesh {
   std::size_t boundary_edges_total = 0;
   std::size_t boundary_stride = 1;
   std::vector<float> boundary_segments;    ///< every boundary_stride-th boundary edge (of the whole mesh), 6 each
+};
+
+/// A graph and its minimum spanning tree as drawn (layer 4, and each graph
+/// of the lab panel): six floats per segment, relative to the layers' centre.
+struct ReportGraph {
+  std::size_t edges_total = 0;
+  std::size_t vertex_stride = 1;           ///< edges of every vertex_stride-th vertex are drawn
+  std::vector<float> segments;
+  std::size_t tree_edges_total = 0;
+  std::vector<float> tree_segments;        ///< each drawn point (layer 1's) to its parent
+  std::vector<std::uint8_t> tree_flip;     ///< per tree segment: orientation reversed across it
+  std::size_t tree_flips_total = 0;        ///< over the whole tree
+};
+
+/// One orientation graph of the lab (lab.h's LabGraph) as drawn.
+struct ReportLabGraph {
+  std::string name;                        ///< "complete", "emst", "knn", "mutual-knn", "riemannian"
+  ReportGraph drawn;
+  std::size_t component_count = 0;         ///< the pieces the graph falls into
+  std::vector<std::uint32_t> component;    ///< per drawn point (layer 1's): its piece
+  std::size_t flips = 0;                   ///< normals reversed from the PCA ones, over all points
+};
+
+/// The lab panel's data (see above).
+struct ReportLab {
+  std::string runs_json = "{}";            ///< lab_json's text: {"runs": [...]}
+  std::vector<ReportLabGraph> graphs;      ///< in the order given to make_report_lab
 };
 
 /// The layers as drawn: float positions relative to `centre`, three floats
@@ -156,11 +205,29 @@ struct ReportLayers {
   /// The bounding box of everything drawn, relative to `centre` (the page's
   /// first view frames it).
   Box<3> drawn_box;
+
+  /// The lab panel (see above); absent: no panel.
+  std::optional<ReportLab> lab;
 };
 
 /// Throws InvalidInputError when input.planes is null or the spans' sizes
 /// disagree.
 [[nodiscard]] ReportLayers make_report_layers(const ReportInput& input, const ReportOptions& options = {});
+
+/// The lab panel's data for a report whose layers were made from the same
+/// points (ReportInput::points and offset): `graphs` as run_lab keeps them
+/// (LabResult::graphs, with keep_graphs), `runs_json` as lab_json writes
+/// them. Each graph is drawn as layer 4 is, within options.max_edges, and
+/// its components are given for the points layer 1 draws. So `recon lab`
+/// makes its report as
+///   ReportLayers layers = make_report_layers(input, options);  // planes, default_orientation
+///   layers.lab = make_report_lab(result.graphs, lab_json(result), input.points, input.offset, layers, options);
+/// Throws InvalidInputError when the points are not as many as the layers
+/// were made from, or a graph's vertices, tree, signs or component labels
+/// are not one per point.
+[[nodiscard]] ReportLab make_report_lab(std::span<const LabGraph> graphs, std::string runs_json,
+                                        std::span<const Vec3> points, Vec3 offset, const ReportLayers& layers,
+                                        const ReportOptions& options = {});
 
 /// The whole page: the viewer (HTML, CSS, bundled JavaScript) and the data.
 [[nodiscard]] std::string report_html(const ReportLayers& layers, const ReportOptions& options = {});

@@ -1,7 +1,9 @@
 // The report's viewer: reads the data block recon wrote into the page
-// (src/report.cpp) and draws each phase as a layer with three.js. Bundled
-// with three.js into one script by web/report/build.mjs at build time, so
-// the page needs nothing from the network.
+// (src/report.cpp) and draws each phase as a layer with three.js; with the
+// alternatives lab's data, its panel too (lab.js) and a layer per
+// orientation graph. Bundled with three.js into one script by
+// web/report/build.mjs at build time, so the page needs nothing from the
+// network.
 //
 // The JSON block holds the figures; each array is base64 text in its own
 // element, little-endian; positions are float32 relative to data.centre.
@@ -12,6 +14,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { boundingSphere, clipPlanes, frameSphere } from './framing.js';
+import { labPanel } from './lab.js';
 
 const timings = { start: performance.now() };  // script start and first frame (the load test prints both)
 const data = JSON.parse(document.getElementById('recon-data').textContent);
@@ -179,11 +182,12 @@ const subsample = (drawn, total, what, stride) =>
     `${count(drawn)} of ${count(total)} ${what} drawn (${every(stride)})`;
 
 // A layer's geometry is built the first time it is shown, so that a large
-// report opens as fast as its default layers allow.
+// report opens as fast as its default layers allow. Its toggle goes into
+// the element `container` (the layers' section, or the lab panel's).
 const layers = [];
-function addLayer(id, label, build, note, legend, visible) {
+function addLayer(id, label, build, note, legend, visible, container = 'layers') {
   layers.push({ id, label, build, available: build !== null, visible: false, object: null, note, legend,
-    defaultVisible: visible && build !== null });
+    defaultVisible: visible && build !== null, container });
 }
 function layerObject(layer) {
   if (layer.object === null) {
@@ -257,8 +261,10 @@ addLayer('pca', '3. Tangent planes (unoriented normals)', () => {
 false);
 
 // 4. Riemannian graph and spanning tree
-const G = data.graph;
-addLayer('graph', '4. Riemannian graph and spanning tree', G ? () => {
+// A graph as drawn (layer 4's, or one of the lab's: the same keys): its
+// edges faint, its spanning tree over them, the tree edges where the
+// orientation turned in red.
+function graphGroup(G) {
   const group = new THREE.Group();
   group.add(lineSegments(f32(G.segments), colours.graph, 0.4));
   const tree = f32(G.tree_segments), flip = u8(G.tree_flip);
@@ -267,13 +273,17 @@ addLayer('graph', '4. Riemannian graph and spanning tree', G ? () => {
   group.add(lineSegments(new Float32Array(kept), colours.tree));
   group.add(lineSegments(new Float32Array(flipped), colours.flip));
   return group;
-} : null, G ? (G.vertex_stride === 1 ? `all ${count(G.edges_total)} graph edges; ` :
+}
+const graphNote = (G) => (G.vertex_stride === 1 ? `all ${count(G.edges_total)} graph edges; ` :
   `${count(G.drawn)} of ${count(G.edges_total)} graph edges drawn (those of ${every(G.vertex_stride)} point); `) +
   'the tree edge of each drawn point; ' +
-  `orientation reversed across ${count(G.flips_total)} of ${count(G.tree_total)} tree edges` :
-  'not available: phase II was skipped (the input normals were used)',
-`<span class="swatch" style="background:${css(colours.graph)}"></span>graph <span class="swatch" style="background:${css(colours.tree)}"></span>spanning tree <span class="swatch" style="background:${css(colours.flip)}"></span>flip`,
-false);
+  `orientation reversed across ${count(G.flips_total)} of ${count(G.tree_total)} tree edges`;
+const graphLegend = `<span class="swatch" style="background:${css(colours.graph)}"></span>graph ` +
+  `<span class="swatch" style="background:${css(colours.tree)}"></span>spanning tree ` +
+  `<span class="swatch" style="background:${css(colours.flip)}"></span>flip`;
+const G = data.graph;
+addLayer('graph', '4. Riemannian graph and spanning tree', G ? () => graphGroup(G) : null,
+  G ? graphNote(G) : 'not available: phase II was skipped (the input normals were used)', graphLegend, false);
 
 // 5. oriented normals, coloured by direction
 addLayer('normals', '5. Oriented normals', () => {
@@ -382,6 +392,22 @@ R ? `distance to the 1992 surface: 0 <span class="ramp" style="background:${ramp
   (C?.cell > 0 ? ` (${formatNumber(distanceScale / C.cell)} cell)` : '') + `<br>${insideAndBoundary}` : null,
 true);
 
+// The lab's orientation graphs (data.lab.graphs), a layer each: the graph
+// as layer 4 draws it, and layer 1's points coloured by the piece of this
+// graph they lie in.
+const lab = data.lab;
+for (const L of lab?.graphs ?? []) {
+  addLayer(`lab-${L.name}`, `${L.name} graph`, () => {
+    const group = graphGroup(L);
+    const component = u32(L.component);
+    const c = new Float32Array(3 * component.length);
+    for (let i = 0; i < component.length; ++i) palette[component[i] % palette.length].toArray(c, 3 * i);
+    group.add(points(f32(P.position), c, 3));
+    return group;
+  }, `${count(L.components)} piece${L.components === 1 ? '' : 's'}; ${count(L.flips)} normals flipped; ${graphNote(L)}`,
+  `${graphLegend}<br>points coloured by piece`, false, 'lab-layers');
+}
+
 // ---- the panel
 
 function setVisible(id, on) {
@@ -394,7 +420,10 @@ function setVisible(id, on) {
   return true;
 }
 
-const layerSection = document.getElementById('layers');
+if (lab) {
+  labPanel(lab, document.getElementById('lab'));
+  document.body.classList.add('has-lab');
+}
 for (const layer of layers) {
   const div = document.createElement('div');
   div.className = 'layer';
@@ -402,7 +431,7 @@ for (const layer of layers) {
     ` <label for="layer-${layer.id}">${layer.label}</label>` +
     `<div class="note" id="note-${layer.id}">${layer.note}</div>` +
     (layer.legend && layer.available ? `<div class="legend">${layer.legend}</div>` : '');
-  layerSection.appendChild(div);
+  document.getElementById(layer.container).appendChild(div);
   div.querySelector('input').addEventListener('change', (e) => setVisible(layer.id, e.target.checked));
   if (layer.id === 'kdtree') {
     const slider = document.createElement('div');
@@ -424,7 +453,10 @@ function valueCell(path, value) {
   td.className = 'value';
   td.dataset.key = path;
   td.dataset.value = JSON.stringify(value);
-  td.textContent = Array.isArray(value) ? value.map(formatNumber).join(' × ') :
+  // A list of numbers is a size (the lattice's); a list of objects (the
+  // lab's runs) is counted here and shown by its own panel.
+  const objects = Array.isArray(value) && value.some((v) => v !== null && typeof v === 'object');
+  td.textContent = objects ? `${value.length} entries` : Array.isArray(value) ? value.map(formatNumber).join(' × ') :
     typeof value === 'boolean' ? (value ? 'yes' : 'no') : formatNumber(value);
   return td;
 }
@@ -485,6 +517,13 @@ window.reconReport = {
   timings,
   layers: layers.map(({ id, label, available }) => ({ id, label, available })),
   visible: (id) => layers.find((l) => l.id === id)?.visible ?? false,
+  // The line segments a layer draws now (0 when it is hidden or not built).
+  segments(id) {
+    const layer = layers.find((l) => l.id === id);
+    let n = 0;
+    if (layer?.visible) layer.object.traverse((o) => { if (o.isLineSegments) n += o.geometry.getAttribute('position').count / 2; });
+    return n;
+  },
   setVisible,
   setKdDepth,
   resetView,

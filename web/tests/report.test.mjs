@@ -1,11 +1,14 @@
 // Browser tests of the reconstruction report (recon reconstruct/normals
 // --report), in Debian's Chromium driven headless by playwright-core. Run by
 // CTest (tests/CMakeLists.txt) as
-//   RECON_CLI=build/release/app/recon node web/tests/report.test.mjs
-// Exits with 77 (CTest: skipped) when Chromium or the program is missing.
+//   RECON_CLI=build/release/app/recon RECON_LAB_PAGE=build/release/tests/recon_report_lab_page \
+//     node web/tests/report.test.mjs
+// Exits with 77 (CTest: skipped) when Chromium or the program is missing;
+// the lab panel's test is skipped without RECON_LAB_PAGE.
 //
 // Each test makes its own data with the program (recon generate), writes a
-// report and opens it from disk with the network disabled.
+// report and opens it from disk with the network disabled. The lab panel's
+// report is written by tests/report_lab_page.cpp, a lab made by hand.
 
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -17,6 +20,7 @@ import { pathToFileURL } from 'node:url';
 import { descendantsProcessorSeconds, machineSeconds } from './processor_time.mjs';
 
 const recon = process.env.RECON_CLI;
+const labPage = process.env.RECON_LAB_PAGE;
 const chromiumPath = process.env.RECON_CHROMIUM || '/usr/bin/chromium';
 if (!recon || !existsSync(recon) || !existsSync(chromiumPath)) {
   console.log(`SKIPPED: the report's browser tests need the program (RECON_CLI=${recon}) and Chromium ` +
@@ -211,6 +215,9 @@ test('a report of recon normals has layers 1 to 5, and the others are unavailabl
   run('normals', 'sphere.xyz', '-o', 'sphere_normals.ply', '--report', 'normals.html', '-q');
   const opened = await open('normals.html');
   await assertTogglesChangePicture(opened.page, ['points', 'kdtree', 'pca', 'graph', 'normals']);
+  // No lab data, no lab panel.
+  assert.equal(await opened.page.locator('#lab').isHidden(), true);
+  assert.equal(await opened.page.locator('#lab-chart, #lab-layers').count(), 0);
   assertOffline(opened);
   await opened.context.close();
 });
@@ -302,3 +309,107 @@ test('a 1M-point reconstruction gives a report that loads in under 5 s', async (
   }
   assert.ok(shown(), `shown after ${openings.map((o) => `${o.wall.toFixed(2)} s (processor ${o.processor.toFixed(2)} s)`).join(', ')}`);
 });
+
+// ---- the lab panel
+
+// The runs as the page has them (the lab's JSON) and the panel as drawn.
+const labRuns = (page) => page.evaluate(() => JSON.parse(document.getElementById('recon-data').textContent).lab);
+// A run's label: its name, and its graph where the runs of its kind ran on more than one.
+const label = (run, runs) => {
+  const graphs = new Set(runs.filter((r) => r.kind === run.kind).map((r) => r.graph ?? '')).size;
+  return run.graph && run.kind !== 'graph' && graphs > 1 ? `${run.name} (${run.graph})` : run.name;
+};
+const counters = ['pushes', 'pops', 'decrease_keys', 'comparisons', 'finds', 'unions', 'distance_evaluations', 'rounds'];
+
+async function assertTimingChart(page, runs) {
+  const bars = await page.evaluate(() => [...document.querySelectorAll('#lab-chart .lab-bar-row')].map((row) => ({
+    kind: row.closest('.lab-group').dataset.kind, run: row.dataset.run,
+    width: row.querySelector('.lab-bar').getBoundingClientRect().width,
+    track: row.querySelector('.lab-track').getBoundingClientRect().width,
+  })));
+  const ran = runs.filter((r) => !r.skipped);
+  assert.deepEqual(bars.map((b) => [b.kind, b.run]).sort(), ran.map((r) => [r.kind, label(r, runs)]).sort(), 'one bar per run that ran');
+  for (const kind of ['search', 'queue', 'mst', 'graph']) {
+    const group = bars.filter((b) => b.kind === kind), times = ran.filter((r) => r.kind === kind).map((r) => r.seconds);
+    const slowest = group[times.indexOf(Math.max(...times))];
+    assert.ok(Math.abs(slowest.width - slowest.track) < 1, `the slowest ${kind} run's bar is full length`);
+    for (const b of group) assert.ok(b.width > 0 && b.width <= b.track + 0.5, `${b.run}: bar ${b.width} of ${b.track}`);
+  }
+  const skipped = await page.locator('#lab-chart .lab-skipped').allTextContents();
+  assert.deepEqual(skipped, runs.filter((r) => r.skipped).map((r) => `${label(r, runs)}: skipped, ${r.skipped}`));
+  // The log scale lengthens the shortest bar of a group whose times lie far
+  // apart (the mst runs: the complete graph's O(n^2) Prim is the slowest).
+  const shortest = () => page.evaluate(() => Math.min(...[...document.querySelectorAll('.lab-group[data-kind=mst] .lab-bar')]
+    .map((bar) => bar.getBoundingClientRect().width)));
+  const linear = await shortest();
+  await page.locator('#lab-log').check();
+  const log = await shortest();
+  assert.ok(log > 2 * linear, `the shortest mst bar: ${linear} px linear, ${log} px on the log scale`);
+}
+
+// Each kind's table: a row per run that ran, a column per counter one of
+// them used, and the values of the lab's JSON.
+async function assertCountsTables(page, runs) {
+  const tables = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('#lab-tables table')].map((t) => [
+    t.dataset.kind, {
+      columns: [...t.querySelectorAll('th[data-key]')].map((th) => th.dataset.key),
+      rows: [...t.querySelectorAll('tr[data-run]')].map((tr) => ({
+        run: tr.dataset.run,
+        values: Object.fromEntries([...tr.querySelectorAll('td[data-key]')].map((td) => [td.dataset.key, JSON.parse(td.dataset.value)])),
+      })),
+    }])));
+  assert.deepEqual(tables.search.columns, ['distance_evaluations']);
+  assert.deepEqual(tables.queue.columns, ['pushes', 'pops', 'decrease_keys', 'comparisons', 'tree_weight']);
+  assert.deepEqual(tables.mst.columns, ['pushes', 'pops', 'decrease_keys', 'comparisons', 'finds', 'unions',
+    'distance_evaluations', 'rounds', 'tree_weight']);
+  assert.deepEqual(tables.graph.columns, ['pushes', 'pops', 'tree_weight', 'edges', 'components', 'flips',
+    'agree_default', 'agree_truth']);
+  for (const run of runs.filter((r) => !r.skipped)) {
+    const row = tables[run.kind].rows.find((r) => r.run === label(run, runs));
+    assert.ok(row, `a row for ${label(run, runs)}`);
+    for (const [key, value] of Object.entries(row.values)) {
+      const expected = counters.includes(key) ? run.counts?.[key] ?? 0 : run[key] ?? null;
+      assert.deepEqual(value, expected, `${label(run, runs)}: ${key}`);
+    }
+  }
+  assert.equal(tables.graph.rows.find((r) => r.run === 'riemannian').values.agree_default, 1);
+}
+
+test('a lab report has a Lab panel: a bar per run, the skipped runs, the counts and a layer per graph',
+  { skip: !labPage && 'RECON_LAB_PAGE (tests/report_lab_page.cpp) not given' }, async () => {
+    execFileSync(labPage, [join(work, 'lab.html')]);
+    const opened = await open('lab.html');
+    const { page } = opened;
+    const lab = await labRuns(page);
+    assert.equal(await page.locator('#lab').isVisible(), true);
+    await assertTimingChart(page, lab.stats.runs);
+    await assertCountsTables(page, lab.stats.runs);
+    // The statistics (here the lab's JSON too) count the runs rather than list them.
+    assert.equal(await page.locator('#statistics td[data-key="runs"]').textContent(), `${lab.stats.runs.length} entries`);
+
+    // A layer per graph, in the lab panel; each draws its edges and tree.
+    const ids = lab.graphs.map((g) => `lab-${g.name}`);
+    assert.deepEqual(ids, ['lab-complete', 'lab-emst', 'lab-knn', 'lab-mutual-knn', 'lab-riemannian']);
+    assert.equal(await page.locator('#lab-layers input[type=checkbox]').count(), ids.length);
+    for (const { id } of await page.evaluate(() => window.reconReport.layers)) await setLayer(page, id, false);
+    await snapshot(page, 'empty');
+    for (const [i, id] of ids.entries()) {
+      const g = lab.graphs[i];
+      assert.equal(await page.evaluate((id) => window.reconReport.segments(id), id), 0);
+      await setLayer(page, id, true);
+      await snapshot(page, id);
+      assert.ok(await difference(page, 'empty', id) > 0.002, `turning ${id} on changes the picture`);
+      assert.equal(await page.evaluate((id) => window.reconReport.segments(id), id), g.drawn + g.tree_drawn,
+        `${id} draws its ${g.drawn} edges and ${g.tree_drawn} tree edges`);
+      assert.match(await page.locator(`#note-${id}`).textContent(), new RegExp(`^${g.components} pieces?; `));
+      await setLayer(page, id, false);
+      await snapshot(page, `${id}-off`);
+      assert.equal(await difference(page, 'empty', `${id}-off`), 0, `turning ${id} off again empties the view`);
+    }
+    // The complete graph's tree joins the sphere and the torus; the
+    // Riemannian graph keeps them apart.
+    assert.equal(lab.graphs[0].components, 1);
+    assert.equal(lab.graphs[4].components, 2);
+    assertOffline(opened);
+    await opened.context.close();
+  });
