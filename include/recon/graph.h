@@ -83,6 +83,21 @@ struct Graph {
 /// out of range.
 [[nodiscard]] Graph with_edges(const Graph& graph, std::span<const Edge> edges);
 
+/// Every undirected edge once, as {u, v, weight(u, e)} with u < v and e its
+/// position in row u; in row order. Self-loops are left out. `weight(v, e)`
+/// is the weight of the edge at CSR position e of row v, as Prim takes it
+/// (minimum_spanning_tree.h).
+template <class Weight>
+[[nodiscard]] std::vector<Edge> edge_list(const Graph& graph, Weight&& weight) {
+  std::vector<Edge> edges;
+  edges.reserve(graph.edge_count());
+  const std::size_t n = graph.vertex_count();
+  for (std::uint32_t u = 0; u < n; ++u)
+    for (std::uint64_t e = graph.offsets[u]; e < graph.offsets[u + 1]; ++e)
+      if (u < graph.targets[e]) edges.push_back({u, graph.targets[e], static_cast<double>(weight(u, e))});
+  return edges;
+}
+
 /// Connected components: label per vertex, numbered 0.. in order of each
 /// component's smallest vertex.
 struct Components {
