@@ -47,29 +47,6 @@ Graph make_graph(std::size_t vertex_count, std::span<const Edge> edges) {
   return g;
 }
 
-UnionFind::UnionFind(std::size_t n) : parent_(n), size_(n, 1), sets_(n) {
-  std::iota(parent_.begin(), parent_.end(), 0u);
-}
-
-std::uint32_t UnionFind::find(std::uint32_t x) {
-  while (parent_[x] != x) {
-    parent_[x] = parent_[parent_[x]];
-    x = parent_[x];
-  }
-  return x;
-}
-
-bool UnionFind::unite(std::uint32_t a, std::uint32_t b) {
-  a = find(a);
-  b = find(b);
-  if (a == b) return false;
-  if (size_[a] < size_[b]) std::swap(a, b);
-  parent_[b] = a;
-  size_[a] += size_[b];
-  --sets_;
-  return true;
-}
-
 Graph with_edges(const Graph& graph, std::span<const Edge> edges) {
   const std::size_t n = graph.vertex_count();
   const bool weighted = !graph.weights.empty();

@@ -1,8 +1,12 @@
 #include "recon/minimum_spanning_tree.h"
 
+#include "recon/complete_graph_mst.h"
 #include "recon/emst.h"
+#include "recon/errors.h"
+#include "recon/kruskal.h"
 #include "recon/riemannian_graph.h"
 #include "recon/shapes.h"
+#include "random_graphs.h"
 
 #include <gtest/gtest.h>
 
@@ -13,37 +17,20 @@
 namespace recon {
 namespace {
 
-// Oracle: Kruskal's algorithm (sort all edges, keep those that join two sets).
-double kruskal_weight(std::size_t n, std::vector<Edge> edges, std::size_t* tree_edges = nullptr) {
-  std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.weight < b.weight; });
-  UnionFind sets(n);
-  double total = 0.0;
-  std::size_t count = 0;
-  for (const Edge& e : edges)
-    if (e.u != e.v && sets.unite(e.u, e.v)) {
-      total += e.weight;
-      ++count;
-    }
-  if (tree_edges) *tree_edges = count;
-  return total;
-}
+using testing::random_edges;
 
+// Oracle: Kruskal (kruskal.h, itself checked against every subset of tiny
+// graphs in kruskal_test.cpp).
 TEST(MinimumSpanningTree, PrimEqualsKruskalOnRandomGraphs) {
   for (std::uint32_t seed = 1; seed <= 20; ++seed) {
-    std::mt19937 rng(seed);
-    const std::size_t n = 2 + rng() % 300;
-    const std::size_t m = rng() % (4 * n);
-    std::vector<Edge> edges;
-    for (std::size_t e = 0; e < m; ++e)
-      edges.push_back({static_cast<std::uint32_t>(rng() % n), static_cast<std::uint32_t>(rng() % n),
-                       static_cast<double>(rng() % 50)});  // many ties, repeated edges, self-loops
+    const auto [n, edges] = random_edges(seed);  // many ties, repeated edges, self-loops, components
     const Graph g = make_graph(n, edges);
     const SpanningForest forest = prim_minimum_spanning_forest(g);
-    std::size_t tree_edges = 0;
-    EXPECT_DOUBLE_EQ(forest.total_weight, kruskal_weight(n, edges, &tree_edges));
+    const MinimumSpanningEdges kruskal = kruskal_minimum_spanning_forest(n, edges);
+    EXPECT_EQ(forest.total_weight, kruskal.total_weight);  // small whole numbers: exact
     // A forest: one root per component, every vertex once in the order,
     // parents before children, each tree edge a graph edge.
-    EXPECT_EQ(forest.roots.size(), n - tree_edges);
+    EXPECT_EQ(forest.roots.size(), n - kruskal.edges.size());
     EXPECT_EQ(forest.roots.size(), connected_components(g).sizes.size());
     ASSERT_EQ(forest.order.size(), n);
     std::vector<int> position(n, -1);
@@ -56,7 +43,66 @@ TEST(MinimumSpanningTree, PrimEqualsKruskalOnRandomGraphs) {
       const auto nb = g.neighbors(v);
       EXPECT_TRUE(std::find(nb.begin(), nb.end(), p) != nb.end());
     }
+    EXPECT_EQ(forest.counts, OperationCounts{});  // the default queue counts nothing
   }
+}
+
+// A queue with the binary heap's interface that counts what Prim asks of it
+// (as counting_queue.h's CountingQueue does, with comparisons too).
+class TallyingQueue {
+ public:
+  explicit TallyingQueue(std::size_t capacity) : heap_(capacity) {}
+  [[nodiscard]] bool empty() const { return heap_.empty(); }
+  [[nodiscard]] double top_key() const { return heap_.top_key(); }
+  void push(std::uint32_t item, double key) {
+    ++counts_.pushes;
+    heap_.push(item, key);
+  }
+  std::uint32_t pop() {
+    ++counts_.pops;
+    return heap_.pop();
+  }
+  void decrease_key(std::uint32_t item, double key) {
+    ++counts_.decrease_keys;
+    heap_.decrease_key(item, key);
+  }
+  [[nodiscard]] const OperationCounts& counts() const { return counts_; }
+
+ private:
+  IndexedBinaryHeap<double> heap_;
+  OperationCounts counts_;
+};
+
+// The queue is a template parameter: the default named, or another queue,
+// grows the very same forest.
+TEST(MinimumSpanningTree, OtherQueuesGrowTheSameForest) {
+  for (std::uint32_t seed = 1; seed <= 10; ++seed) {
+    const auto [n, edges] = random_edges(seed);
+    const Graph g = make_graph(n, edges);
+    const std::vector<std::uint32_t> roots = {static_cast<std::uint32_t>(n / 2)};
+    auto weight = [&g](std::uint32_t, std::uint64_t e) { return g.weights[e]; };
+    const SpanningForest expected = prim_minimum_spanning_forest(g, roots, weight);
+    const SpanningForest named = prim_minimum_spanning_forest<IndexedBinaryHeap<double>>(g, roots, weight);
+    const SpanningForest tallied = prim_minimum_spanning_forest<TallyingQueue>(g, roots, weight);
+    for (const SpanningForest* forest : {&named, &tallied}) {
+      EXPECT_EQ(forest->parent, expected.parent);
+      EXPECT_EQ(forest->order, expected.order);
+      EXPECT_EQ(forest->roots, expected.roots);
+      EXPECT_EQ(forest->total_weight, expected.total_weight);
+    }
+    EXPECT_EQ(named.counts, OperationCounts{});
+    // Every vertex enters the queue once and leaves it once.
+    EXPECT_EQ(tallied.counts.pushes, n);
+    EXPECT_EQ(tallied.counts.pops, n);
+    EXPECT_LE(tallied.counts.decrease_keys, 2 * g.edge_count());
+    // With the graph's stored weights.
+    const SpanningForest stored = prim_minimum_spanning_forest<TallyingQueue>(g, roots);
+    EXPECT_EQ(stored.parent, expected.parent);
+    EXPECT_EQ(stored.counts, tallied.counts);
+  }
+  Graph unweighted = make_graph(2, std::vector<Edge>{{0, 1, 1.0}});
+  unweighted.weights.clear();
+  EXPECT_THROW((void)prim_minimum_spanning_forest<TallyingQueue>(unweighted), InvalidInputError);
 }
 
 TEST(MinimumSpanningTree, GrowsFromTheGivenRoots) {
@@ -96,36 +142,10 @@ TEST(Graph, MergesRepeatedEdgesKeepingTheLightest) {
 }
 
 // Oracle for the EMST: Prim on the complete graph, O(n^2), with the same
-// (length, smaller end, larger end) edge order.
+// (length, smaller end, larger end) edge order (complete_graph_mst.h).
 template <int D>
 std::vector<Edge> brute_force_emst(const std::vector<Vec<D>>& pts) {
-  const std::size_t n = pts.size();
-  std::vector<double> best(n, std::numeric_limits<double>::infinity());
-  std::vector<std::uint32_t> from(n, 0);
-  std::vector<bool> done(n, false);
-  std::vector<Edge> edges;
-  best[0] = 0.0;
-  auto better = [](double d, std::uint32_t a, std::uint32_t b, double d2, std::uint32_t a2, std::uint32_t b2) {
-    const auto key = [](double dd, std::uint32_t x, std::uint32_t y) {
-      return std::tuple(dd, std::min(x, y), std::max(x, y));
-    };
-    return key(d, a, b) < key(d2, a2, b2);
-  };
-  for (std::size_t step = 0; step < n; ++step) {
-    std::uint32_t v = UINT32_MAX;
-    for (std::uint32_t i = 0; i < n; ++i)
-      if (!done[i] && (v == UINT32_MAX || better(best[i], i, from[i], best[v], v, from[v]))) v = i;
-    done[v] = true;
-    if (step > 0) edges.push_back({std::min(v, from[v]), std::max(v, from[v]), std::sqrt(best[v])});
-    for (std::uint32_t i = 0; i < n; ++i) {
-      const double d2 = (pts[i] - pts[v]).squaredNorm();
-      if (!done[i] && better(d2, i, v, best[i], i, from[i])) {
-        best[i] = d2;
-        from[i] = v;
-      }
-    }
-  }
-  return edges;
+  return complete_graph_minimum_spanning_tree<D>(pts).edges;
 }
 
 // The same edge set (endpoints and lengths), whatever the order.

@@ -1,6 +1,8 @@
 #pragma once
-// Undirected weighted graphs in compressed sparse row (CSR) form, and a
-// union-find for connected components.
+// Undirected weighted graphs in compressed sparse row (CSR) form, and their
+// connected components. (The union-find that used to live here has a header
+// of its own, union_find.h; it is included below so that code which found
+// UnionFind here still compiles.)
 //
 // CSR: the neighbours of vertex v are targets[offsets[v] .. offsets[v+1]),
 // with their edge weights at the same positions in `weights`, or no stored
@@ -10,6 +12,8 @@
 // target; other builders may choose another fixed order (the Riemannian
 // graph lists a vertex's nearest neighbours first).
 // Memory: 8 bytes per vertex + 4 bytes per directed edge (+ 8 with weights).
+
+#include "recon/union_find.h"
 
 #include <cstdint>
 #include <memory>
@@ -79,27 +83,20 @@ struct Graph {
 /// out of range.
 [[nodiscard]] Graph with_edges(const Graph& graph, std::span<const Edge> edges);
 
-/// Disjoint sets with path halving and union by size.
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n);
-  std::uint32_t find(std::uint32_t x);
-  /// The same without shortening paths: safe from many threads at once
-  /// while nothing is united.
-  [[nodiscard]] std::uint32_t root(std::uint32_t x) const {
-    while (parent_[x] != x) x = parent_[x];
-    return x;
-  }
-  /// Returns false when a and b were already in one set.
-  bool unite(std::uint32_t a, std::uint32_t b);
-  [[nodiscard]] std::size_t set_count() const { return sets_; }
-  [[nodiscard]] std::uint32_t set_size(std::uint32_t x) { return size_[find(x)]; }
-
- private:
-  std::vector<std::uint32_t> parent_;
-  std::vector<std::uint32_t> size_;
-  std::size_t sets_;
-};
+/// Every undirected edge once, as {u, v, weight(u, e)} with u < v and e its
+/// position in row u; in row order. Self-loops are left out. `weight(v, e)`
+/// is the weight of the edge at CSR position e of row v, as Prim takes it
+/// (minimum_spanning_tree.h).
+template <class Weight>
+[[nodiscard]] std::vector<Edge> edge_list(const Graph& graph, Weight&& weight) {
+  std::vector<Edge> edges;
+  edges.reserve(graph.edge_count());
+  const std::size_t n = graph.vertex_count();
+  for (std::uint32_t u = 0; u < n; ++u)
+    for (std::uint64_t e = graph.offsets[u]; e < graph.offsets[u + 1]; ++e)
+      if (u < graph.targets[e]) edges.push_back({u, graph.targets[e], static_cast<double>(weight(u, e))});
+  return edges;
+}
 
 /// Connected components: label per vertex, numbered 0.. in order of each
 /// component's smallest vertex.
