@@ -141,6 +141,7 @@ void write_lab_report(const std::filesystem::path& path, const PointCloud& cloud
   input.oriented = &result.default_orientation;
   input.normals = result.default_orientation.normals;
   ReportLayers layers = make_report_layers(input, options);
+  layers.lab = make_report_lab(result.graphs, summary.stats().dump(0), input.points, input.offset, layers, options);
   write_report(path, layers, options);
   summary.say("wrote     " + path.string() + " (report with the lab panel; " + format_seconds(timer.elapsed()) + ")");
 }

@@ -427,23 +427,10 @@ void add_surfaces(const ReportInput& in, const ReportOptions& options, ReportLay
 
 // ---- the lab panel
 
-// As name_of in orientation_graphs.h, whose definition this library does
-// not link (the lab's sources are not part of it).
-std::string_view graph_name(OrientationGraph kind) {
-  switch (kind) {
-    case OrientationGraph::complete: return "complete";
-    case OrientationGraph::emst: return "emst";
-    case OrientationGraph::knn: return "knn";
-    case OrientationGraph::mutual_knn: return "mutual-knn";
-    case OrientationGraph::riemannian: return "riemannian";
-  }
-  return "unknown";
-}
-
 void check_lab_graph(const LabGraph& g, std::size_t n) {
   const OrientedNormals<3>& o = g.oriented;
   if (has_whole_graph(o, n) && o.graph.components.label.size() == n) return;
-  throw InvalidInputError("report: the lab's " + std::string(graph_name(g.kind)) + " graph has " +
+  throw InvalidInputError("report: the lab's " + std::string(name_of(g.kind)) + " graph has " +
                           std::to_string(o.graph.graph.vertex_count()) + " vertices, " +
                           std::to_string(o.tree.parent.size()) + " tree entries, " + std::to_string(o.flipped.size()) +
                           " signs and " + std::to_string(o.graph.components.label.size()) +
@@ -454,7 +441,7 @@ ReportLabGraph lab_graph(const LabGraph& g, std::span<const Vec3> points, const 
                          const ReportLayers& layers, const ReportOptions& options) {
   const OrientedNormals<3>& o = g.oriented;
   ReportLabGraph out;
-  out.name = graph_name(g.kind);
+  out.name = name_of(g.kind);
   out.drawn = draw_graph(o, points, shift, layers.point_stride, options.max_edges);
   out.component_count = o.graph.components.sizes.size();
   for (std::size_t i = 0; i < points.size(); i += layers.point_stride)

@@ -4,13 +4,27 @@
 // serialisation; a few hundred points update in a few milliseconds).
 //
 // Protocol (all functions are C, called from playground.js):
-//   recon_run(xy, n, k, rho, delta, cell) runs phases I-IV on n points
-//     (xy: 2n doubles); rho, delta, cell <= 0 mean "estimate". Returns 0, or 1
-//     when the library refused the input (recon_error() says why).
+//   recon_run(xy, n, k, rho, delta, cell, graph, tree) runs phases I-IV on n
+//     points (xy: 2n doubles); rho, delta, cell <= 0 mean "estimate". graph
+//     is the graph phase II walks (an index into all_orientation_graphs:
+//     complete, emst, knn, mutual-knn, riemannian); tree the spanning-tree
+//     algorithm run on it (an index into `trees` below), whose tree the
+//     page draws and whose operation counts it shows. Returns 0, or 1 when
+//     the library refused the input (recon_error() says why).
+//     (Every minimum spanning tree of a graph weighs the same, and the
+//     queues order ties alike: phase II's walk follows Prim's tree on the
+//     binary heap whichever algorithm is chosen here, and the page compares
+//     their work.)
 //   recon_layer(id) / recon_layer_size(id): layer `id`'s doubles, laid out
 //     as described at `Layer` below, valid until the next recon_run.
 
+#include "recon/boruvka.h"
+#include "recon/counting_queue.h"
 #include "recon/errors.h"
+#include "recon/fibonacci_heap.h"
+#include "recon/kruskal.h"
+#include "recon/list_heap.h"
+#include "recon/pairing_heap.h"
 #include "recon/reconstruct_curve.h"
 #include "recon/timer.h"
 
@@ -32,7 +46,7 @@ using recon::Vec2;
 constexpr std::size_t normals = 0;      // per point: nx, ny (oriented)
 constexpr std::size_t kd_splits = 1;    // per inner kd-tree node: x0, y0, x1, y1 of its splitting segment, depth
 constexpr std::size_t graph_edges = 2;  // per Riemannian graph edge: i, j (point indices)
-constexpr std::size_t tree_edges = 3;   // per spanning tree edge: parent, child (point indices)
+constexpr std::size_t tree_edges = 3;   // per spanning tree edge of the chosen algorithm: its two ends (point indices)
 constexpr std::size_t squares = 4;      // per visited square: x, y (lower left corner), f at its centre (mean of the
                                         // corners), defined (0/1: 0 when a corner is undefined)
 constexpr std::size_t corners = 5;      // per evaluated corner: x, y, f, defined (0/1)
@@ -44,14 +58,62 @@ constexpr std::size_t layer_count = 9;
 // Entries of the stats layer.
 enum Stat : std::size_t {
   k_used, rho_used, delta_used, cell_used, components, seconds_planes, seconds_orientation, seconds_distance,
-  seconds_contour, seconds_total, undefined_squares, seam_squares, saddle_squares, stat_count
+  seconds_contour, seconds_total, undefined_squares, seam_squares, saddle_squares,
+  // the chosen spanning-tree algorithm on the chosen graph (costs 1 - |n_i . n_j|)
+  seconds_tree, tree_weight, pushes, pops, decrease_keys, comparisons, finds, unions, rounds, graph_edge_count,
+  stat_count
 };
+
+// The spanning-tree algorithms the page offers (ids shared with playground.js).
+enum Tree : int { prim_binary, prim_fibonacci, prim_pairing, prim_list, kruskal, boruvka, tree_count };
+
+// What the chosen algorithm did: its edges, time and counts.
+struct TreeRun {
+  std::vector<recon::Edge> edges;
+  double weight = 0.0, seconds = 0.0;
+  recon::OperationCounts counts;
+};
+
+template <template <class> class Heap>
+TreeRun prim_on(const recon::Graph& g) {
+  TreeRun run;
+  recon::Timer timer;
+  const recon::SpanningForest forest = recon::prim_minimum_spanning_forest<recon::CountingQueue<Heap>>(g);
+  run.seconds = timer.elapsed();
+  run.counts = forest.counts;
+  run.weight = forest.total_weight;
+  for (std::uint32_t v = 0; v < forest.parent.size(); ++v)
+    if (forest.parent[v] != recon::SpanningForest::no_parent) run.edges.push_back({forest.parent[v], v, 0.0});
+  return run;
+}
+
+TreeRun edges_of(recon::MinimumSpanningEdges tree, double seconds) {
+  return {std::move(tree.edges), tree.total_weight, seconds, tree.counts};
+}
+
+// The chosen algorithm on phase II's graph with its costs stored.
+TreeRun run_tree(const recon::CurveReconstruction& r, int tree) {
+  recon::Graph g = r.oriented.graph.graph;
+  g.weights.resize(g.targets.size());
+  for (std::uint32_t v = 0; v < g.vertex_count(); ++v)
+    for (std::uint64_t e = g.offsets[v]; e < g.offsets[v + 1]; ++e)
+      g.weights[e] = std::max(0.0, recon::orientation_cost<2>(r.planes.normals[v], r.planes.normals[g.targets[e]]));
+  recon::Timer timer;
+  switch (tree) {
+    case prim_fibonacci: return prim_on<recon::FibonacciHeap>(g);
+    case prim_pairing: return prim_on<recon::PairingHeap>(g);
+    case prim_list: return prim_on<recon::ListHeap>(g);
+    case kruskal: return edges_of(recon::kruskal_minimum_spanning_forest(g), timer.elapsed());
+    case boruvka: return edges_of(recon::boruvka_minimum_spanning_forest(g), timer.elapsed());
+    default: return prim_on<recon::IndexedBinaryHeap>(g);
+  }
+}
 
 std::array<std::vector<double>, layer_count> layers;
 std::string error_message;
 
 // Fills the layers, which recon_run has emptied.
-void fill_layers(const recon::CurveReconstruction& r, double seconds) {
+void fill_layers(const recon::CurveReconstruction& r, const TreeRun& tree, double seconds) {
   for (const Vec2& n : r.oriented.normals) layers[normals].insert(layers[normals].end(), {n.x(), n.y()});
 
   // A kd-tree node splits its box at the middle of the gap between its
@@ -76,10 +138,7 @@ void fill_layers(const recon::CurveReconstruction& r, double seconds) {
   for (std::uint32_t v = 0; v < graph.vertex_count(); ++v)
     for (const std::uint32_t u : graph.neighbors(v))
       if (v < u) layers[graph_edges].insert(layers[graph_edges].end(), {double(v), double(u)});
-  const recon::SpanningForest& forest = r.oriented.tree;
-  for (std::uint32_t v = 0; v < forest.parent.size(); ++v)
-    if (forest.parent[v] != recon::SpanningForest::no_parent)
-      layers[tree_edges].insert(layers[tree_edges].end(), {double(forest.parent[v]), double(v)});
+  for (const recon::Edge& e : tree.edges) layers[tree_edges].insert(layers[tree_edges].end(), {double(e.u), double(e.v)});
 
   const recon::MarchingSquaresResult& c = r.contour;
   auto corner_position = [&](std::int32_t i, std::int32_t j) {
@@ -133,13 +192,24 @@ void fill_layers(const recon::CurveReconstruction& r, double seconds) {
   s[undefined_squares] = static_cast<double>(c.undefined_squares);
   s[seam_squares] = static_cast<double>(c.seam_squares);
   s[saddle_squares] = static_cast<double>(c.saddle_squares);
+  s[seconds_tree] = tree.seconds;
+  s[tree_weight] = tree.weight;
+  s[pushes] = static_cast<double>(tree.counts.pushes);
+  s[pops] = static_cast<double>(tree.counts.pops);
+  s[decrease_keys] = static_cast<double>(tree.counts.decrease_keys);
+  s[comparisons] = static_cast<double>(tree.counts.comparisons);
+  s[finds] = static_cast<double>(tree.counts.finds);
+  s[unions] = static_cast<double>(tree.counts.unions);
+  s[rounds] = static_cast<double>(tree.counts.rounds);
+  s[graph_edge_count] = static_cast<double>(graph.edge_count());
 }
 
 }  // namespace
 
 extern "C" {
 
-EMSCRIPTEN_KEEPALIVE int recon_run(const double* xy, int n, int k, double rho, double delta, double cell) {
+EMSCRIPTEN_KEEPALIVE int recon_run(const double* xy, int n, int k, double rho, double delta, double cell, int graph,
+                                   int tree) {
   error_message.clear();
   for (auto& layer : layers) layer.clear();
   try {
@@ -154,8 +224,14 @@ EMSCRIPTEN_KEEPALIVE int recon_run(const double* xy, int n, int k, double rho, d
     if (delta > 0.0) options.distance.delta = delta;
     if (cell > 0.0) options.cell = cell;
     options.keep_corners = true;
+    if (graph < 0 || graph >= static_cast<int>(std::size(recon::all_orientation_graphs)) || tree < 0 ||
+        tree >= tree_count)
+      throw recon::InvalidInputError("playground: no graph " + std::to_string(graph) + " or tree " +
+                                     std::to_string(tree));
+    options.graph = recon::all_orientation_graphs[graph];
     const recon::CurveReconstruction r = recon::reconstruct_curve(points, options);
-    fill_layers(r, timer.elapsed());
+    const double seconds = timer.elapsed();
+    fill_layers(r, run_tree(r, tree), seconds);
     return 0;
   } catch (const std::exception& e) {
     error_message = e.what();

@@ -10,12 +10,20 @@
   const STAT = {
     k: 0, rho: 1, delta: 2, cell: 3, components: 4, secondsPlanes: 5, secondsOrientation: 6, secondsDistance: 7,
     secondsContour: 8, secondsTotal: 9, undefinedSquares: 10, seamSquares: 11, saddleSquares: 12,
+    secondsTree: 13, treeWeight: 14, pushes: 15, pops: 16, decreaseKeys: 17, comparisons: 18, finds: 19, unions: 20,
+    rounds: 21, graphEdges: 22,
   };
 
   const canvas = document.getElementById('view');
   const context = canvas.getContext('2d');
   const statusLine = document.getElementById('status');
   const timingLine = document.getElementById('timing');
+  const countsLine = document.getElementById('counts');
+  // Phase II's choices (ids as playground.cpp numbers them).
+  const graphChoice = document.getElementById('graph');
+  const treeChoice = document.getElementById('tree');
+  graphChoice.addEventListener('change', () => changed());
+  treeChoice.addEventListener('change', () => changed());
   const errorLine = document.getElementById('error');
 
   // The world shown: x in [-2, 2], y in [-1.5, 1.5] (y up), on the canvas's
@@ -189,7 +197,8 @@
       points.forEach(([x, y], i) => { flat[2 * i] = x; flat[2 * i + 1] = y; });
       module.HEAPF64.set(flat, memory / 8);
       const status = module._recon_run(memory, n, Number(sliders.k.value), Number(sliders.rho.value),
-                                       Number(sliders.delta.value), Number(sliders.cell.value));
+                                       Number(sliders.delta.value), Number(sliders.cell.value),
+                                       Number(graphChoice.value), Number(treeChoice.value));
       module._free(memory);
       if (status === 0) {
         result = {};
@@ -238,7 +247,18 @@
       ? '; phases I ' + (1e3 * s[STAT.secondsPlanes]).toFixed(1) + ', II ' + (1e3 * s[STAT.secondsOrientation]).toFixed(1) +
         ', III ' + (1e3 * s[STAT.secondsDistance]).toFixed(1) + ', IV ' + (1e3 * s[STAT.secondsContour]).toFixed(1) + ' ms'
       : '');
+    countsLine.textContent = s ? treeCounts(s) : '';
     errorLine.textContent = errorText;
+  }
+
+  // What the chosen spanning-tree algorithm did on the chosen graph.
+  function treeCounts(s) {
+    const parts = [['pushes', STAT.pushes], ['pops', STAT.pops], ['decrease-keys', STAT.decreaseKeys],
+      ['comparisons', STAT.comparisons], ['finds', STAT.finds], ['unions', STAT.unions], ['rounds', STAT.rounds]]
+      .filter(([, id]) => s[id] > 0).map(([name, id]) => s[id] + ' ' + name);
+    return treeChoice.selectedOptions[0].textContent + ' on the ' + graphChoice.selectedOptions[0].textContent +
+      ' graph (' + s[STAT.graphEdges] + ' edges): ' + (1e3 * s[STAT.secondsTree]).toFixed(2) + ' ms, tree weight ' +
+      format(s[STAT.treeWeight]) + (parts.length ? '; ' + parts.join(', ') : '');
   }
 
   // ------------------------------------------------------------ drawing
@@ -362,6 +382,16 @@
           rho: result ? result.stats[STAT.rho] : null,
           delta: result ? result.stats[STAT.delta] : null,
           cell: result ? result.stats[STAT.cell] : null,
+          graph: graphChoice.selectedOptions[0].textContent,
+          tree: treeChoice.selectedOptions[0].textContent,
+          components: result ? result.stats[STAT.components] : null,
+          graphEdges: result ? result.stats[STAT.graphEdges] : null,
+          treeEdges: result ? result.treeEdges.length / 2 : null,
+          treeWeight: result ? result.stats[STAT.treeWeight] : null,
+          counts: result ? { pushes: result.stats[STAT.pushes], pops: result.stats[STAT.pops],
+            decreaseKeys: result.stats[STAT.decreaseKeys], comparisons: result.stats[STAT.comparisons],
+            finds: result.stats[STAT.finds], unions: result.stats[STAT.unions], rounds: result.stats[STAT.rounds] } : null,
+          countsText: countsLine.textContent,
           lastUpdateMs,
           updateCount,
           pending: dirty,  // an update is scheduled for the next frame

@@ -107,6 +107,40 @@ test('shift-click removes a point and dragging moves one', async () => {
   assert.equal(s.curves, 1);
 });
 
+test('the graph and the spanning-tree algorithm are the student\'s choice', async () => {
+  // Two circles: every graph but the complete one keeps them apart.
+  await settled(() => page.click('button[data-preset="two-circles"]'));
+  const riemannian = await settled(() => page.selectOption('#graph', '4'));
+  assert.equal(riemannian.graph, 'Riemannian');
+  assert.equal(riemannian.components, 2);
+  const complete = await settled(() => page.selectOption('#graph', '0'));
+  assert.equal(complete.components, 1);
+  assert.equal(complete.graphEdges, complete.points - 1);  // the complete graph's Euclidean MST, a tree
+  const knn = await settled(() => page.selectOption('#graph', '2'));
+  const mutual = await settled(() => page.selectOption('#graph', '3'));
+  assert.ok(mutual.graphEdges < knn.graphEdges, `${mutual.graphEdges} vs ${knn.graphEdges}`);
+  await settled(() => page.selectOption('#graph', '4'));
+  // Every algorithm: a forest of the same weight, n - pieces edges, and the
+  // counts of its own kind of work shown beside the timing.
+  const runs = [];
+  for (const tree of ['0', '1', '2', '3', '4', '5']) runs.push(await settled(() => page.selectOption('#tree', tree)));
+  for (const r of runs) {
+    assert.ok(Math.abs(r.treeWeight - runs[0].treeWeight) <= 1e-9 * Math.max(1, runs[0].treeWeight), r.tree);
+    assert.equal(r.treeEdges, r.points - r.components, r.tree);
+    assert.ok(r.countsText.startsWith(r.tree + ' on the Riemannian graph'), r.countsText);
+  }
+  for (const r of runs.slice(0, 4)) {  // Prim, on each queue
+    assert.equal(r.counts.pops, r.points, r.tree);
+    assert.equal(r.counts.decreaseKeys, runs[0].counts.decreaseKeys, r.tree);
+    assert.ok(r.counts.comparisons > 0 && r.countsText.includes('decrease-keys'), r.countsText);
+  }
+  assert.ok(runs[3].counts.comparisons > runs[0].counts.comparisons, 'the list heap scans its list');
+  assert.equal(runs[4].counts.unions, runs[4].points - runs[4].components);  // Kruskal
+  assert.ok(runs[4].countsText.includes('finds'), runs[4].countsText);
+  assert.ok(runs[5].counts.rounds >= 1 && runs[5].countsText.includes('rounds'), runs[5].countsText);  // Borůvka
+  await settled(() => page.selectOption('#tree', '0'));
+});
+
 test('moving a slider changes the result', async () => {
   await settled(() => page.click('button[data-preset="noisy-ellipse"]'));
   const coarse_cell = 0.1;
