@@ -42,6 +42,37 @@ struct KnnCollector {
   }
 };
 
+// The k-NN search's visitor (see KdTree::descend): it offers every point
+// within the bound to the collector, under its input index.
+struct KnnVisitor {
+  KnnCollector collector;
+  const std::uint32_t* order;
+  [[nodiscard]] double bound() const { return collector.bound(); }
+  [[nodiscard]] static bool skip(std::uint32_t) { return false; }
+  void visit(std::uint32_t t, double d2) { collector.offer(order[t], d2); }
+  [[nodiscard]] static std::uint64_t distance_evaluations() { return 0; }
+};
+
+// The same search, counting the squared distances it computes (the lab's
+// figure). A separate type, so that the plain search compiles without the
+// count (descend asks for count_distances at compile time).
+struct CountingKnnVisitor : KnnVisitor {
+  std::uint64_t evaluations = 0;
+  void count_distances(std::uint32_t m) { evaluations += m; }
+  [[nodiscard]] std::uint64_t distance_evaluations() const { return evaluations; }
+};
+
+// A table of n rows of k for all_knn to fill, after checking 1 <= k <= n.
+KnnTable empty_knn_table(int k, std::size_t n) {
+  if (k < 1 || static_cast<std::size_t>(k) > n)
+    throw InvalidInputError("k = " + std::to_string(k) + " neighbours asked of a tree of " + std::to_string(n) +
+                            " points");
+  KnnTable table;
+  table.k = k;
+  table.entries.resize(n * static_cast<std::size_t>(k));
+  return table;
+}
+
 }  // namespace
 
 template <int D>
@@ -175,7 +206,8 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
 // `offsets` holds, per axis, the squared distance from q to the slab of the
 // current node, and `rd` their sum, a lower bound on the distance from q to
 // any point below the node. A Visitor provides bound() (prune subtrees
-// farther than that), skip(node) and visit(tree position, d2).
+// farther than that), skip(node) and visit(tree position, d2); a counting
+// visitor also count_distances(m), told of the m distances a leaf computes.
 template <int D>
 template <class Visitor>
 void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offsets, Visitor& visitor) const {
@@ -194,6 +226,8 @@ void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offs
     }
   }
   if (node.is_leaf()) {
+    if constexpr (requires { visitor.count_distances(std::uint32_t{}); })
+      visitor.count_distances(node.end - node.begin);
     for (auto t = node.begin; t < node.end; ++t) {
       const double d2 = (points_[t] - q).squaredNorm();
       if (d2 <= visitor.bound()) visitor.visit(t, d2);
@@ -255,13 +289,7 @@ void KdTree<D>::search(const Point& q, Visitor& visitor) const {
 
 template <int D>
 std::size_t KdTree<D>::knn(const Point& q, std::span<Neighbor> out, double within2) const {
-  struct Visitor {
-    KnnCollector collector;
-    const std::uint32_t* order;
-    [[nodiscard]] double bound() const { return collector.bound(); }
-    [[nodiscard]] static bool skip(std::uint32_t) { return false; }
-    void visit(std::uint32_t t, double d2) { collector.offer(order[t], d2); }
-  } visitor{KnnCollector{out, 0, within2}, order_.data()};
+  KnnVisitor visitor{KnnCollector{out, 0, within2}, order_.data()};
   if (out.empty()) return 0;
   search(q, visitor);
   return visitor.collector.count;
@@ -419,20 +447,34 @@ std::vector<std::uint32_t> KdTree<D>::renumber_by_leaf_order() {
 }
 
 template <int D>
-KnnTable KdTree<D>::all_knn(int k) const {
-  if (k < 1 || static_cast<std::size_t>(k) > size())
-    throw InvalidInputError("k = " + std::to_string(k) + " neighbours asked of a tree of " + std::to_string(size()) +
-                            " points");
-  KnnTable table;
-  table.k = k;
-  table.entries.resize(size() * static_cast<std::size_t>(k));
+template <class Visitor>
+std::uint64_t KdTree<D>::fill_knn_table(KnnTable& table) const {
   const auto n = static_cast<std::int64_t>(size());
-  const auto kk = static_cast<std::size_t>(k);
-#pragma omp parallel for schedule(dynamic, 4096)
+  const auto kk = static_cast<std::size_t>(table.k);
+  std::uint64_t evaluations = 0;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : evaluations)
   for (std::int64_t t = 0; t < n; ++t) {
     const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(t)]);
-    knn(points_[static_cast<std::size_t>(t)], std::span<Neighbor>(table.entries.data() + i * kk, kk));
+    const std::span<Neighbor> row(table.entries.data() + i * kk, kk);
+    Visitor visitor{KnnVisitor{KnnCollector{row, 0, infinity}, order_.data()}};
+    search(points_[static_cast<std::size_t>(t)], visitor);
+    evaluations += visitor.distance_evaluations();
   }
+  return evaluations;
+}
+
+template <int D>
+KnnTable KdTree<D>::all_knn(int k) const {
+  KnnTable table = empty_knn_table(k, size());
+  (void)fill_knn_table<KnnVisitor>(table);
+  return table;
+}
+
+template <int D>
+KnnTable KdTree<D>::all_knn(int k, OperationCounts* counts) const {
+  if (counts == nullptr) return all_knn(k);
+  KnnTable table = empty_knn_table(k, size());
+  counts->distance_evaluations += fill_knn_table<CountingKnnVisitor>(table);
   return table;
 }
 

@@ -188,6 +188,34 @@ TEST(KdTree, AllKnnRowsEqualSingleQueries) {
   }
 }
 
+// The lab's counted all_knn: the same table as the plain one, and a count
+// between k a point (every query looks at k points at least) and brute
+// force's n * n, added to what the counts already hold.
+TEST(KdTree, CountedAllKnnEqualsAllKnn) {
+  const auto pts = make_points<3>(10000, Layout::clustered, 11);
+  const KdTree<3> tree(pts);
+  OperationCounts counts;
+  counts.distance_evaluations = 7;
+  const KnnTable counted = tree.all_knn(10, &counts);
+  EXPECT_EQ(counted.k, 10);
+  EXPECT_EQ(counted.entries, tree.all_knn(10).entries);
+  EXPECT_EQ(tree.all_knn(10, nullptr).entries, counted.entries);
+  EXPECT_GE(counts.distance_evaluations, 7u + 10000u * 10u);
+  EXPECT_LT(counts.distance_evaluations, 10000u * 10000u / 10u);
+  OperationCounts again;
+  (void)tree.all_knn(10, &again);
+  EXPECT_EQ(again.distance_evaluations + 7u, counts.distance_evaluations);  // the same searches, whatever the threads
+  EXPECT_EQ(again.pushes + again.pops + again.comparisons, 0u);
+
+  const auto flat = make_points<2>(3000, Layout::duplicates, 12);
+  const KdTree<2> tree2d(flat, {4});
+  OperationCounts counts2d;
+  EXPECT_EQ(tree2d.all_knn(25, &counts2d).entries, tree2d.all_knn(25).entries);
+  EXPECT_GE(counts2d.distance_evaluations, 3000u * 25u);
+  EXPECT_THROW((void)tree.all_knn(0, &counts), InvalidInputError);
+  EXPECT_THROW((void)tree.all_knn(10001, &counts), InvalidInputError);
+}
+
 TEST(KdTree, IsBalancedAndCoversEveryPointOnce) {
   const auto pts = make_points<3>(10000, Layout::duplicates, 8);  // heavy duplicates
   const KdTree<3> tree(pts, {8});

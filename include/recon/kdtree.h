@@ -19,6 +19,7 @@
 // log2(n / leaf_size). Leaves hold up to `leaf_size` points (see bench/ for the
 // measurement behind the default).
 
+#include "recon/operation_counts.h"
 #include "recon/point_cloud.h"
 
 #include <cstdint>
@@ -146,6 +147,13 @@ class KdTree {
   /// computed in parallel, visiting the points in leaf order for locality.
   /// Precondition: 1 <= k <= size().
   [[nodiscard]] KnnTable all_knn(int k) const;
+  /// The same table, counted for the alternatives lab: adds to
+  /// counts->distance_evaluations one for every point of every leaf the
+  /// searches open (the squared distances to the query they compute; the
+  /// slab bounds that prune subtrees are not counted). counts == nullptr is
+  /// all_knn(k). The plain all_knn(k) counts nothing and is not slowed: the
+  /// counting is compiled into a separate instance of the search.
+  [[nodiscard]] KnnTable all_knn(int k, OperationCounts* counts) const;
 
   /// Renumbers the points by tree position: point t of points() becomes
   /// point t, so that queries return tree positions and order() is the
@@ -178,6 +186,10 @@ class KdTree {
  private:
   template <class Visitor>
   void search(const Point& q, Visitor& visitor) const;
+  // all_knn's loop with a k-NN visitor that counts or does not; returns
+  // the distances the searches computed (0 when not counted).
+  template <class Visitor>
+  std::uint64_t fill_knn_table(KnnTable& table) const;
   template <class Visitor>
   void descend(std::uint32_t id, const Point& q, double rd, Point& offsets, Visitor& visitor) const;
 
