@@ -2,6 +2,7 @@
 
 #include "recon/io/atomic_file.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -51,8 +52,12 @@ void Json::dump(std::string& out, int indent, int depth) const {
     if (!std::isfinite(*d)) {
       out += "null";
     } else {
+      // Whole numbers (counts) in full: to_chars's shortest form writes
+      // nine million as 9e+06.
       char buffer[32];
-      const auto result = std::to_chars(buffer, buffer + sizeof buffer, *d);
+      const bool whole = std::abs(*d) < 1e15 && *d == std::floor(*d);
+      const auto result = whole ? std::to_chars(buffer, buffer + sizeof buffer, static_cast<long long>(*d))
+                                : std::to_chars(buffer, buffer + sizeof buffer, *d);
       out.append(buffer, result.ptr);
     }
   } else if (const auto* b = std::get_if<bool>(&value_)) {
@@ -60,11 +65,16 @@ void Json::dump(std::string& out, int indent, int depth) const {
   } else if (const auto* s = std::get_if<std::string>(&value_)) {
     append_string(out, *s);
   } else if (const auto* a = std::get_if<Array>(&value_)) {
+    // Numbers and strings on one line; objects (the lab's runs) one a line.
+    const bool objects = std::any_of(a->begin(), a->end(),
+                                     [](const Json& j) { return std::holds_alternative<Object>(j.value_); });
     out += '[';
     for (std::size_t i = 0; i < a->size(); ++i) {
-      if (i) out += ", ";
-      (*a)[i].dump(out, 0, 0);
+      if (i) out += objects && indent > 0 ? "," : ", ";
+      if (objects) newline(depth + 1);
+      (*a)[i].dump(out, objects ? indent : 0, depth + 1);
     }
+    if (objects && !a->empty()) newline(depth);
     out += ']';
   } else {
     const auto& o = std::get<Object>(value_);

@@ -24,15 +24,23 @@ constexpr std::array<std::string_view, 4> kind_names = {"search", "queue", "mst"
 
 std::string count_text(std::size_t n) { return std::to_string(n); }
 
+LabRun make_run(std::string name, LabKind kind, std::string graph) {
+  LabRun run;
+  run.name = std::move(name);
+  run.kind = kind;
+  run.graph = std::move(graph);
+  return run;
+}
+
 LabRun skipped_run(std::string name, LabKind kind, std::string graph, std::string reason) {
-  LabRun run{.name = std::move(name), .kind = kind, .graph = std::move(graph)};
+  LabRun run = make_run(std::move(name), kind, std::move(graph));
   run.skipped = std::move(reason);
   return run;
 }
 
 std::string too_many(std::size_t n, std::size_t limit, std::string_view what) {
-  return std::string(what) + ": " + count_text(n) + " points is more than " + count_text(limit) +
-         " (LabOptions); it would take too long";
+  return count_text(n) + " points is more than " + count_text(limit) + " for " + std::string(what) +
+         "; it would take too long";
 }
 
 // Two tree weights agree to rounding: sums of the same costs in another
@@ -69,7 +77,7 @@ void check_search(const LabRun& run, const KnnTable& table, const KnnTable& refe
 
 template <class Search>
 LabRun search_run(std::string name, Search&& search, const KnnTable* reference, const LabOptions& options) {
-  LabRun run{.name = std::move(name), .kind = LabKind::search};
+  LabRun run = make_run(std::move(name), LabKind::search, "");
   Timer timer;
   KnnTable table = search(run.counts);
   run.seconds = timer.lap();
@@ -96,7 +104,7 @@ void run_searches(std::span<const Vec3> points, int k, const LabOptions& options
       [&](OperationCounts& counts) { return UniformGrid<3>(points).all_knn(k, &counts); }, &reference, options));
   if (points.size() > options.max_points_brute_force) {
     result.runs.push_back(skipped_run("brute-force", LabKind::search, "",
-                                      too_many(points.size(), options.max_points_brute_force, "brute force")));
+                                      too_many(points.size(), options.max_points_brute_force, "brute force (n^2 distances)")));
   } else {
     result.runs.push_back(search_run(
         "brute-force", [&](OperationCounts& counts) { return brute_force_all_knn<3>(points, k, &counts); },
@@ -122,7 +130,7 @@ double stored_weight(const Graph& g, std::uint64_t e) { return g.weights[e]; }
 // Prim on the queue Heap: timed plain, counted in a second run.
 template <template <class> class Heap>
 LabRun queue_run(std::string name, const Graph& g, const SpanningForest& reference, const LabOptions& options) {
-  LabRun run{.name = "prim/" + std::move(name), .kind = LabKind::queue, .graph = "riemannian"};
+  LabRun run = make_run("prim/" + std::move(name), LabKind::queue, "riemannian");
   const auto weight = [&](std::uint32_t, std::uint64_t e) { return stored_weight(g, e); };
   Timer timer;
   SpanningForest forest = prim_minimum_spanning_forest<Heap<double>>(g, {}, weight);
@@ -145,7 +153,7 @@ void run_queues(const Graph& g, const LabOptions& options, LabResult& result) {
   const std::size_t n = g.vertex_count();
   if (n > options.max_points_list_heap) {
     result.runs.push_back(skipped_run("prim/list-heap", LabKind::queue, "riemannian",
-                                      too_many(n, options.max_points_list_heap, "the list heap")));
+                                      too_many(n, options.max_points_list_heap, "the list heap (a scan per pop)")));
   } else {
     result.runs.push_back(queue_run<ListHeap>("list-heap", g, reference, options));
   }
@@ -155,7 +163,7 @@ void run_queues(const Graph& g, const LabOptions& options, LabResult& result) {
 
 LabRun edges_run(std::string name, std::string graph, MinimumSpanningEdges tree, double seconds,
                  const LabOptions& options) {
-  LabRun run{.name = std::move(name), .kind = LabKind::mst, .graph = std::move(graph)};
+  LabRun run = make_run(std::move(name), LabKind::mst, std::move(graph));
   run.seconds = seconds;
   run.counts = tree.counts;
   if (options.spoil == run.name && !tree.edges.empty()) tree.total_weight -= tree.edges.back().weight;
@@ -166,7 +174,7 @@ LabRun edges_run(std::string name, std::string graph, MinimumSpanningEdges tree,
 void run_msts(const Graph& g, const LabOptions& options, LabResult& result) {
   const std::size_t first = result.runs.size();
   {
-    LabRun prim{.name = "prim", .kind = LabKind::mst, .graph = "riemannian"};
+    LabRun prim = make_run("prim", LabKind::mst, "riemannian");
     Timer timer;
     const SpanningForest forest = prim_minimum_spanning_forest(g);
     prim.seconds = timer.lap();
@@ -189,12 +197,13 @@ void run_euclidean_msts(std::span<const Vec3> points, const LabOptions& options,
   Timer timer;
   const KdTree<3> tree(points);
   const std::vector<Edge> emst = euclidean_minimum_spanning_tree<3>(tree, points);
-  MinimumSpanningEdges boruvka{.edges = emst};
+  MinimumSpanningEdges boruvka;
+  boruvka.edges = emst;
   for (const Edge& e : emst) boruvka.total_weight += e.weight;
   result.runs.push_back(edges_run("boruvka-kdtree", graph, std::move(boruvka), timer.lap(), options));
   if (points.size() > options.max_points_complete) {
     result.runs.push_back(skipped_run("prim-array", LabKind::mst, graph,
-                                      too_many(points.size(), options.max_points_complete, "the complete graph")));
+                                      too_many(points.size(), options.max_points_complete, "the complete graph (n^2 / 2 distances)")));
     return;
   }
   timer.lap();
@@ -214,10 +223,10 @@ double share_agreeing(std::span<const Vec3> a, std::span<const Vec3> b) {
 
 LabRun graph_run(OrientationGraph kind, const TangentPlanes<3>& planes, const LabOptions& options,
                  OrientedNormals<3>& oriented) {
-  LabRun run{.name = std::string(name_of(kind)), .kind = LabKind::graph, .graph = std::string(name_of(kind))};
+  LabRun run = make_run(std::string(name_of(kind)), LabKind::graph, std::string(name_of(kind)));
   Timer timer;
   RiemannianGraph<3> graph = build_orientation_graph<3>(planes, kind, {}, &run.counts);
-  oriented = orient_normals<3>(planes, std::move(graph), OrientationOptions{});
+  oriented = orient_normals<3>(planes, std::move(graph), OrientationOptions{});  // the 1992 walk
   run.seconds = timer.lap();
   run.tree_weight = oriented.tree.total_weight;
   run.edges = oriented.graph.graph.edge_count();
@@ -240,7 +249,7 @@ void run_graphs(const TangentPlanes<3>& planes, const LabOptions& options, LabRe
     }
     if (kind == OrientationGraph::complete && n > options.max_points_complete) {
       result.runs.push_back(skipped_run(std::string(name_of(kind)), LabKind::graph, std::string(name_of(kind)),
-                                        too_many(n, options.max_points_complete, "the complete graph")));
+                                        too_many(n, options.max_points_complete, "the complete graph (n^2 / 2 distances)")));
       continue;
     }
     OrientedNormals<3> oriented;

@@ -21,7 +21,9 @@
 //                 fewer edges across thin gaps, and more pieces where the
 //                 sampling is uneven (a thin part breaks off).
 //   - riemannian: the EMST and the symmetric k-NN graph together, the
-//                 Riemannian graph of Hoppe's paper (today's default).
+//                 Riemannian graph of Hoppe's paper (today's default), less
+//                 the gaps between separate objects (riemannian_graph.h).
+//                 The two k-NN graphs above are the textbook ones: uncut.
 // Each is returned as a RiemannianGraph (its `graph` the edges, its
 // `components` their connected pieces) so that orient_normals walks it
 // unchanged. The k-NN edges come from phase I's neighbourhoods (the first k

@@ -113,7 +113,7 @@ std::array<std::vector<double>, layer_count> layers;
 std::string error_message;
 
 // Fills the layers, which recon_run has emptied.
-void fill_layers(const recon::CurveReconstruction& r, const TreeRun& tree, double seconds) {
+void fill_layers(const recon::CurveReconstruction& r, const TreeRun& chosen, double seconds) {
   for (const Vec2& n : r.oriented.normals) layers[normals].insert(layers[normals].end(), {n.x(), n.y()});
 
   // A kd-tree node splits its box at the middle of the gap between its
@@ -138,7 +138,7 @@ void fill_layers(const recon::CurveReconstruction& r, const TreeRun& tree, doubl
   for (std::uint32_t v = 0; v < graph.vertex_count(); ++v)
     for (const std::uint32_t u : graph.neighbors(v))
       if (v < u) layers[graph_edges].insert(layers[graph_edges].end(), {double(v), double(u)});
-  for (const recon::Edge& e : tree.edges) layers[tree_edges].insert(layers[tree_edges].end(), {double(e.u), double(e.v)});
+  for (const recon::Edge& e : chosen.edges) layers[tree_edges].insert(layers[tree_edges].end(), {double(e.u), double(e.v)});
 
   const recon::MarchingSquaresResult& c = r.contour;
   auto corner_position = [&](std::int32_t i, std::int32_t j) {
@@ -192,15 +192,15 @@ void fill_layers(const recon::CurveReconstruction& r, const TreeRun& tree, doubl
   s[undefined_squares] = static_cast<double>(c.undefined_squares);
   s[seam_squares] = static_cast<double>(c.seam_squares);
   s[saddle_squares] = static_cast<double>(c.saddle_squares);
-  s[seconds_tree] = tree.seconds;
-  s[tree_weight] = tree.weight;
-  s[pushes] = static_cast<double>(tree.counts.pushes);
-  s[pops] = static_cast<double>(tree.counts.pops);
-  s[decrease_keys] = static_cast<double>(tree.counts.decrease_keys);
-  s[comparisons] = static_cast<double>(tree.counts.comparisons);
-  s[finds] = static_cast<double>(tree.counts.finds);
-  s[unions] = static_cast<double>(tree.counts.unions);
-  s[rounds] = static_cast<double>(tree.counts.rounds);
+  s[seconds_tree] = chosen.seconds;
+  s[tree_weight] = chosen.weight;
+  s[pushes] = static_cast<double>(chosen.counts.pushes);
+  s[pops] = static_cast<double>(chosen.counts.pops);
+  s[decrease_keys] = static_cast<double>(chosen.counts.decrease_keys);
+  s[comparisons] = static_cast<double>(chosen.counts.comparisons);
+  s[finds] = static_cast<double>(chosen.counts.finds);
+  s[unions] = static_cast<double>(chosen.counts.unions);
+  s[rounds] = static_cast<double>(chosen.counts.rounds);
   s[graph_edge_count] = static_cast<double>(graph.edge_count());
 }
 
