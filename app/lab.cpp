@@ -52,7 +52,7 @@ std::string run_line(const LabRun& r) {
   char line[256];
   const std::string weight = r.tree_weight ? cell(*r.tree_weight, 10) : "-";
   const bool graph = r.kind == LabKind::graph;
-  std::snprintf(line, sizeof line, "%-7s %-20s %-19s %9s %17s %6s %8s %9s %9s", std::string(name_of(r.kind)).c_str(),
+  std::snprintf(line, sizeof line, "%-7s %-24s %-19s %9s %17s %6s %8s %9s %9s", std::string(name_of(r.kind)).c_str(),
                 r.name.c_str(), r.graph.c_str(), format_seconds(r.seconds).c_str(), weight.c_str(),
                 graph ? std::to_string(r.components).c_str() : "-", graph ? std::to_string(r.flips).c_str() : "-",
                 graph ? share_cell(r.agree_default).c_str() : "-", graph ? share_cell(r.agree_truth).c_str() : "-");
@@ -62,7 +62,7 @@ std::string run_line(const LabRun& r) {
 std::string counts_line(const LabRun& r) {
   const OperationCounts& c = r.counts;
   char line[256];
-  std::snprintf(line, sizeof line, "%-20s %10s %10s %10s %12s %10s %10s %13s %6s", r.name.c_str(),
+  std::snprintf(line, sizeof line, "%-24s %10s %10s %10s %12s %10s %10s %13s %6s", r.name.c_str(),
                 count_cell(c.pushes).c_str(), count_cell(c.pops).c_str(), count_cell(c.decrease_keys).c_str(),
                 count_cell(c.comparisons).c_str(), count_cell(c.finds).c_str(), count_cell(c.unions).c_str(),
                 count_cell(c.distance_evaluations).c_str(), count_cell(c.rounds).c_str());
@@ -71,11 +71,11 @@ std::string counts_line(const LabRun& r) {
 
 void print_tables(const LabResult& result, Summary& summary) {
   summary.say("");
-  summary.say("kind    run                  graph                  time       tree weight  pieces    flips   default     truth");
+  summary.say("kind    run                      graph                  time       tree weight  pieces    flips   default     truth");
   for (const LabRun& r : result.runs)
     if (r.skipped.empty()) summary.say(run_line(r));
   summary.say("");
-  summary.say("run                      pushes       pops  decr.-key  comparisons      finds     unions     distances rounds");
+  summary.say("run                          pushes       pops  decr.-key  comparisons      finds     unions     distances rounds");
   for (const LabRun& r : result.runs)
     if (r.skipped.empty() && r.counts != OperationCounts{}) summary.say(counts_line(r));
   for (const LabRun& r : result.runs)
@@ -131,12 +131,12 @@ void record(const LabResult& result, Summary& summary) {
 }
 
 // The report: layers 1 to 5 of the default run, and the lab panel.
-void write_lab_report(const std::filesystem::path& path, const PointCloud& cloud, const LabResult& result,
+void write_lab_report(const std::filesystem::path& path, const LabResult& result,
                       const std::filesystem::path& source, Summary& summary) {
   Timer timer;
   const ReportOptions options = run_report_options(source, summary);
   ReportInput input;
-  input.points = cloud.positions;
+  input.points = result.planes.point_tree.points();  // in the lab's (leaf) order
   input.planes = &result.planes;
   input.oriented = &result.default_orientation;
   input.normals = result.default_orientation.normals;
@@ -173,7 +173,7 @@ Command add_lab(CLI::App& app, const GlobalOptions& global) {
     print_tables(result, summary);
     record(result, summary);
     summary.stats()["seconds_total"] = total.elapsed();
-    if (!o->report.empty()) write_lab_report(o->report, cloud, result, o->in.path, summary);
+    if (!o->report.empty()) write_lab_report(o->report, result, o->in.path, summary);
     if (!o->stats.empty()) summary.write_stats(o->stats);
   };
 }

@@ -8,6 +8,7 @@
 #include "recon/fibonacci_heap.h"
 #include "recon/kruskal.h"
 #include "recon/list_heap.h"
+#include "recon/local_quadrics.h"
 #include "recon/pairing_heap.h"
 #include "recon/timer.h"
 #include "recon/uniform_grid.h"
@@ -221,7 +222,7 @@ double share_agreeing(std::span<const Vec3> a, std::span<const Vec3> b) {
   return static_cast<double>(agree) / static_cast<double>(a.size());
 }
 
-LabRun graph_run(OrientationGraph kind, const TangentPlanes<3>& planes, const LabOptions& options,
+LabRun graph_run(OrientationGraph kind, const TangentPlanes<3>& planes, std::span<const Vec3> truth,
                  OrientedNormals<3>& oriented) {
   LabRun run = make_run(std::string(name_of(kind)), LabKind::graph, std::string(name_of(kind)));
   Timer timer;
@@ -232,14 +233,44 @@ LabRun graph_run(OrientationGraph kind, const TangentPlanes<3>& planes, const La
   run.edges = oriented.graph.graph.edge_count();
   run.components = oriented.component_count();
   run.flips = oriented.flip_count;
-  if (!options.true_normals.empty()) run.agree_truth = share_agreeing(oriented.normals, options.true_normals);
+  if (!truth.empty()) run.agree_truth = share_agreeing(oriented.normals, truth);
   return run;
 }
 
-void run_graphs(const TangentPlanes<3>& planes, const LabOptions& options, LabResult& result) {
+// The Riemannian graph walked as the refined method walks it (orientation.h:
+// quadric fits, crease and facing-sheet rules, each piece's side at its
+// best extreme): the same graph, another walk, to tell the two apart.
+LabRun refined_walk_run(const TangentPlanes<3>& planes, std::span<const Vec3> truth, const LabResult& result) {
+  LabRun run = make_run("riemannian/refined-walk", LabKind::graph, "riemannian");
+  Timer timer;
+  LocalQuadricOptions fits;
+  fits.min_sheet_separation = 1.5 * planes.rho;  // as reconstruct() sets it, with its default cell rho
+  LocalQuadrics quadrics = fit_local_quadrics(planes, fits);
+  TangentPlanes<3> second_order = planes;
+  second_order.origins = std::move(quadrics.origins);
+  second_order.normals = std::move(quadrics.normals);
+  std::vector<Eigen::Vector3f> guide(planes.normals.size());
+  for (std::size_t i = 0; i < guide.size(); ++i) guide[i] = planes.normals[i].cast<float>();
+  OrientationOptions walk;
+  walk.sign_by_extremes = true;
+  walk.sheet_misfit = quadrics.residual;
+  walk.guide = guide;
+  const OrientedNormals<3> oriented = orient_normals<3>(second_order, walk);
+  run.seconds = timer.lap();
+  run.tree_weight = oriented.tree.total_weight;
+  run.edges = oriented.graph.graph.edge_count();
+  run.components = oriented.component_count();
+  run.flips = oriented.flip_count;
+  run.agree_default = share_agreeing(oriented.normals, result.default_orientation.normals);
+  if (!truth.empty()) run.agree_truth = share_agreeing(oriented.normals, truth);
+  return run;
+}
+
+void run_graphs(const TangentPlanes<3>& planes, std::span<const Vec3> truth, const LabOptions& options,
+                LabResult& result) {
   const std::size_t n = planes.origins.size();
   // The default run first: the others are compared with it.
-  LabRun riemannian = graph_run(OrientationGraph::riemannian, planes, options, result.default_orientation);
+  LabRun riemannian = graph_run(OrientationGraph::riemannian, planes, truth, result.default_orientation);
   riemannian.agree_default = 1.0;
   for (const OrientationGraph kind : all_orientation_graphs) {
     if (kind == OrientationGraph::riemannian) {
@@ -253,11 +284,12 @@ void run_graphs(const TangentPlanes<3>& planes, const LabOptions& options, LabRe
       continue;
     }
     OrientedNormals<3> oriented;
-    LabRun run = graph_run(kind, planes, options, oriented);
+    LabRun run = graph_run(kind, planes, truth, oriented);
     run.agree_default = share_agreeing(oriented.normals, result.default_orientation.normals);
     result.runs.push_back(std::move(run));
     if (options.keep_graphs) result.graphs.push_back({kind, std::move(oriented)});
   }
+  result.runs.push_back(refined_walk_run(planes, truth, result));
 }
 
 // Reached only when no check threw: a spoiled run that nothing caught.
@@ -279,10 +311,17 @@ LabResult run_lab(std::span<const Vec3> points, const LabOptions& options) {
                             count_text(points.size()) + " points");
   LabResult result;
   Timer timer;
-  result.planes = estimate_tangent_planes<3>(points, options.planes);
+  // Phase I as reconstruct() runs it, in the kd-tree's leaf order (the
+  // quadric fits of the refined walk need it).
+  KdTree<3> tree(points, options.planes.tree);
+  result.order = tree.renumber_by_leaf_order();
+  result.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
   result.seconds_planes = timer.lap();
+  std::vector<Vec3> truth;
+  for (const std::uint32_t i : options.true_normals.empty() ? std::span<const std::uint32_t>{} : result.order)
+    truth.push_back(options.true_normals[i]);
   run_searches(points, result.planes.k, options, result);
-  run_graphs(result.planes, options, result);
+  run_graphs(result.planes, truth, options, result);
   const Graph g = weighted_graph(result.default_orientation.graph.graph, result.planes.normals);
   run_queues(g, options, result);
   run_msts(g, options, result);

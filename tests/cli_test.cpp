@@ -1111,8 +1111,8 @@ TEST_F(CliLab, PrintsTheTableAndWritesEveryRunAsJson) {
     EXPECT_NE(run.out.find(part), std::string::npos) << part << describe(run);
   // The graph rows: pieces found. The Riemannian graph keeps the five
   // solids apart, the complete graph's tree joins them.
-  const auto riemannian = lines_starting_with(run.out, "graph   riemannian");
-  const auto complete = lines_starting_with(run.out, "graph   complete");
+  const auto riemannian = lines_starting_with(run.out, "graph   riemannian ");
+  const auto complete = lines_starting_with(run.out, "graph   complete ");
   ASSERT_EQ(riemannian.size(), 1u) << describe(run);
   ASSERT_EQ(complete.size(), 1u) << describe(run);
   EXPECT_NE(riemannian[0].find("      5 "), std::string::npos) << riemannian[0];
@@ -1122,7 +1122,7 @@ TEST_F(CliLab, PrintsTheTableAndWritesEveryRunAsJson) {
   std::size_t entries_found = 0;
   for (std::size_t at = json.find("\"name\": "); at != std::string::npos; at = json.find("\"name\": ", at + 1))
     ++entries_found;
-  EXPECT_EQ(entries_found, 17u) << json;
+  EXPECT_EQ(entries_found, 18u) << json;
   EXPECT_NE(json.find("\"runs\": ["), std::string::npos) << json;
   for (const char* part : {"\"kind\": \"queue\"", "\"kind\": \"mst\"", "\"kind\": \"graph\"", "\"kind\": \"search\"",
                            "\"graph\": \"riemannian\"", "\"tree_weight\": ", "\"seconds\": ", "\"decrease_keys\": ",

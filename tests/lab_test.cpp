@@ -43,7 +43,7 @@ TEST(Lab, RunsEveryAlternativeOnceWhenTheCloudIsSmall) {
   const LabResult& r = conics_lab();
   for (const char* name : {"kd-tree", "grid", "brute-force", "prim/binary-heap", "prim/fibonacci-heap",
                            "prim/pairing-heap", "prim/list-heap", "prim", "kruskal", "boruvka", "boruvka-kdtree",
-                           "prim-array", "complete", "emst", "knn", "mutual-knn", "riemannian"}) {
+                           "prim-array", "complete", "emst", "knn", "mutual-knn", "riemannian", "riemannian/refined-walk"}) {
     const LabRun* run = find_run(r, name);
     ASSERT_NE(run, nullptr) << name;
     EXPECT_TRUE(run->skipped.empty()) << name << ": " << run->skipped;
@@ -52,7 +52,7 @@ TEST(Lab, RunsEveryAlternativeOnceWhenTheCloudIsSmall) {
   EXPECT_EQ(count_kind(r, LabKind::search), 3u);
   EXPECT_EQ(count_kind(r, LabKind::queue), 4u);
   EXPECT_EQ(count_kind(r, LabKind::mst), 5u);
-  EXPECT_EQ(count_kind(r, LabKind::graph), 5u);
+  EXPECT_EQ(count_kind(r, LabKind::graph), 6u);
   EXPECT_EQ(r.graphs.size(), 5u);
 }
 
@@ -107,6 +107,12 @@ TEST(Lab, TheCompleteGraphJoinsTheConicsThatTheRiemannianGraphKeepsApart) {
   ASSERT_TRUE(find_run(r, "riemannian")->agree_truth.has_value());
   EXPECT_GT(*find_run(r, "riemannian")->agree_truth, 0.75);
   EXPECT_LT(*find_run(r, "complete")->agree_truth, *find_run(r, "riemannian")->agree_truth - 0.2);
+  // The same graph walked as the refined method walks it turns no face
+  // inside out: on the conics the walk, not the graph, was at fault
+  // (98.9 % of the normals on the true side at this density, 99.9 % at the
+  // course's 16,000 points, against 78 % and 77 % for the 1992 walk).
+  EXPECT_GT(*find_run(r, "riemannian/refined-walk")->agree_truth, 0.98);
+  EXPECT_EQ(find_run(r, "riemannian/refined-walk")->components, 5u);
   // The EMST alone, cut at the gaps, breaks solids apart too: nothing
   // bridges a cut inside a solid, where the k-NN edges do.
   EXPECT_GT(find_run(r, "emst")->components, 5u);

@@ -18,7 +18,10 @@
 //   - graph:  phase II (the 1992 walk with its neighbour vote) along each
 //     graph of orientation_graphs.h: its components, the normals it flips,
 //     the share that agrees with the default run (the Riemannian graph),
-//     and with the true side where the input's own normals give it.
+//     and with the true side where the input's own normals give it. One
+//     more run walks the Riemannian graph as the refined method does
+//     (quadric fits, crease and facing-sheet rules, orientation.h), so that
+//     what the graph decides and what the walk decides can be told apart.
 // A disagreement is not a row: run_lab throws LabDisagreementError.
 // What would take too long is skipped, with the reason in the row
 // (the complete graph, brute force and the list heap are quadratic).
@@ -52,7 +55,7 @@ enum class LabKind { search, queue, mst, graph };
 [[nodiscard]] std::string_view name_of(LabKind kind);
 
 struct LabRun {
-  std::string name;                   ///< "kd-tree", "prim/fibonacci-heap", "kruskal", "mutual-knn", ...
+  std::string name;                   ///< "kd-tree", "prim/fibonacci-heap", "kruskal", "mutual-knn", ... (unique)
   LabKind kind = LabKind::search;
   std::string graph;                  ///< the graph it ran on (queue, mst, graph runs); empty for searches
   std::string skipped;                ///< why it did not run; empty when it ran
@@ -72,7 +75,7 @@ struct LabOptions {
   /// Outward normals of the input (a generated shape's), one per point, or
   /// empty: the graph runs then also report agreement with them.
   std::span<const Vec3> true_normals;
-  std::size_t max_points_complete = 5'000;   ///< beyond: the complete graph is skipped (n^2 / 2 distances)
+  std::size_t max_points_complete = 20'000;  ///< beyond: the complete graph is skipped (n^2 / 2 distances)
   std::size_t max_points_brute_force = 20'000;  ///< beyond: brute-force search is skipped (n^2 distances)
   std::size_t max_points_list_heap = 100'000;   ///< beyond: the list heap is skipped (a scan per pop)
   bool keep_graphs = false;                  ///< keep every graph's orientation (the report draws them)
@@ -88,7 +91,12 @@ struct LabGraph {
 
 struct LabResult {
   std::vector<LabRun> runs;
-  TangentPlanes<3> planes;                ///< phase I, shared by every run
+  /// Phase I, shared by every graph, queue and mst run, in the kd-tree's
+  /// leaf order as reconstruct() works: plane i is that of input point
+  /// order[i] (planes.point_tree.points()[i]). The per-point arrays of
+  /// default_orientation and graphs are in this order too.
+  TangentPlanes<3> planes;
+  std::vector<std::uint32_t> order;
   OrientedNormals<3> default_orientation; ///< the Riemannian graph's (the default run)
   std::vector<LabGraph> graphs;           ///< with keep_graphs: every graph that ran, in all_orientation_graphs order
   double seconds_planes = 0.0;
