@@ -168,6 +168,9 @@ else
   echo "(recon_graph_bench not built: Boost.Graph missing)" >"$scratch/graph.md"
 fi
 
+# --- the lab's spanning trees: each queue under Prim, Kruskal, Borůvka --------
+nice "$build/bench/recon_mst_bench" --reps "$reps" >"$scratch/mst.md" 2>&1
+
 # --- pipeline --------------------------------------------------------------
 # shellcheck disable=SC2086  # word splitting of the arguments is wanted
 nice "$build/bench/recon_pipeline_bench" ${RECON_PIPELINE_ARGS:---points 100000 --points 1000000 --refine} \
@@ -217,6 +220,10 @@ PY
   echo
   cat "$scratch/graph.md"
   echo
+  echo "## The lab's spanning trees (recon_mst_bench: Riemannian graph of the torus, one thread)"
+  echo
+  cat "$scratch/mst.md"
+  echo
   echo "## Pipeline (recon_pipeline_bench)"
   echo
   cat "$scratch/pipeline.md"
@@ -237,6 +244,8 @@ PY
 cat "$scratch/header.md" "$scratch/kdtree.md"
 echo
 cat "$scratch/graph.md"
+echo
+cat "$scratch/mst.md"
 echo
 cat "$scratch/pipeline.md"
 echo
