@@ -9,6 +9,7 @@
 #include "recon/timer.h"
 
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -105,6 +106,7 @@ Json run_json(const LabRun& r) {
   j["kind"] = std::string(name_of(r.kind));
   if (!r.graph.empty()) j["graph"] = r.graph;
   if (!r.skipped.empty()) {
+    j["seconds"] = std::numeric_limits<double>::quiet_NaN();  // written as null: it did not run
     j["skipped"] = r.skipped;
     return j;
   }
