@@ -14,15 +14,6 @@ namespace {
 
 constexpr std::array<std::string_view, 5> names = {"complete", "emst", "knn", "mutual-knn", "riemannian"};
 
-template <int D>
-std::vector<Vec<D>> samples_of(const TangentPlanes<D>& planes) {
-  std::vector<Vec<D>> x(planes.origins.size());
-  const auto tree_points = planes.point_tree.points();
-  const auto tree_order = planes.point_tree.order();
-  for (std::size_t t = 0; t < x.size(); ++t) x[tree_order[t]] = tree_points[t];
-  return x;
-}
-
 // The first k of each neighbourhood, itself excluded.
 template <int D>
 std::size_t neighbourhood_size(const TangentPlanes<D>& planes, const RiemannianGraphOptions& options) {
@@ -98,7 +89,7 @@ RiemannianGraph<D> build_orientation_graph(const TangentPlanes<D>& planes, Orien
       break;
     }
     case OrientationGraph::complete: {
-      const std::vector<Vec<D>> x = samples_of(planes);
+      const std::vector<Vec<D>> x = samples_of<D>(planes);
       MinimumSpanningEdges tree = complete_graph_minimum_spanning_tree<D>(x);
       if (counts) *counts += tree.counts;
       result = from_edges<D>(n, tree.edges, tree.edges);

@@ -124,14 +124,7 @@ void add_graph(const ReportInput& in, const ReportOptions& options, ReportLayers
   if (!has_whole_graph(*in.oriented, in.points.size())) return;  // graph released
   layers.has_graph = true;
   const Vec3 shift = in.offset - layers.centre;
-  ReportGraph g = draw_graph(*in.oriented, in.points, shift, layers.point_stride, options.max_edges);
-  layers.graph_edges_total = g.edges_total;
-  layers.graph_vertex_stride = g.vertex_stride;
-  layers.graph_segments = std::move(g.segments);
-  layers.tree_edges_total = g.tree_edges_total;
-  layers.tree_segments = std::move(g.tree_segments);
-  layers.tree_flip = std::move(g.tree_flip);
-  layers.tree_flips_total = g.tree_flips_total;
+  layers.graph = draw_graph(*in.oriented, in.points, shift, layers.point_stride, options.max_edges);
 }
 
 void add_corners(const MarchingCubesResult& c, const ReportInput& in, const ReportOptions& options,
@@ -542,17 +535,22 @@ void write_points(JsonWriter& w, const ReportLayers& layers) {
   w.close();
 }
 
+// A graph and its tree as drawn: layer 4's keys, and each lab graph's.
+void write_drawn_graph(JsonWriter& w, const ReportGraph& g) {
+  w.count("edges_total", g.edges_total);
+  w.count("vertex_stride", g.vertex_stride);
+  w.count("drawn", g.segments.size() / 6);
+  w.count("tree_drawn", g.tree_flip.size());
+  w.array("segments", g.segments);
+  w.count("tree_total", g.tree_edges_total);
+  w.count("flips_total", g.tree_flips_total);
+  w.array("tree_segments", g.tree_segments);
+  w.array("tree_flip", g.tree_flip);
+}
+
 void write_graph(JsonWriter& w, const ReportLayers& layers) {
   w.open("graph");
-  w.count("edges_total", layers.graph_edges_total);
-  w.count("vertex_stride", layers.graph_vertex_stride);
-  w.count("drawn", layers.graph_segments.size() / 6);
-  w.count("tree_drawn", layers.tree_flip.size());
-  w.array("segments", layers.graph_segments);
-  w.count("tree_total", layers.tree_edges_total);
-  w.count("flips_total", layers.tree_flips_total);
-  w.array("tree_segments", layers.tree_segments);
-  w.array("tree_flip", layers.tree_flip);
+  write_drawn_graph(w, layers.graph);
   w.close();
 }
 
@@ -587,15 +585,7 @@ void write_lab_graph(JsonWriter& w, const ReportLabGraph& g) {
   w.count("components", g.component_count);
   w.count("flips", g.flips);
   w.array("component", g.component);
-  w.count("edges_total", g.drawn.edges_total);
-  w.count("vertex_stride", g.drawn.vertex_stride);
-  w.count("drawn", g.drawn.segments.size() / 6);
-  w.count("tree_drawn", g.drawn.tree_flip.size());
-  w.array("segments", g.drawn.segments);
-  w.count("tree_total", g.drawn.tree_edges_total);
-  w.count("flips_total", g.drawn.tree_flips_total);
-  w.array("tree_segments", g.drawn.tree_segments);
-  w.array("tree_flip", g.drawn.tree_flip);
+  write_drawn_graph(w, g.drawn);
   w.close();
 }
 

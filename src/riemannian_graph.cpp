@@ -14,19 +14,9 @@
 namespace recon {
 namespace {
 
-// The samples in input order (the tree keeps them in its own order), and
-// how far phase I's lists reach for certain: every sample closer to x_i than
-// the farthest listed one is listed (the float radius is shaded down so that
-// rounding cannot overstate it).
-template <int D>
-std::vector<Vec<D>> samples_of(const TangentPlanes<D>& planes) {
-  std::vector<Vec<D>> x(planes.origins.size());
-  const auto tree_points = planes.point_tree.points();
-  const auto tree_order = planes.point_tree.order();
-  for (std::size_t t = 0; t < x.size(); ++t) x[tree_order[t]] = tree_points[t];
-  return x;
-}
-
+// How far phase I's lists reach for certain: every sample closer to x_i
+// than the farthest listed one is listed (the float radius is shaded down
+// so that rounding cannot overstate it).
 std::vector<double> certain_radii2(std::span<const float> radius) {
   std::vector<double> radius2(radius.size());
   for (std::size_t i = 0; i < radius.size(); ++i) {
@@ -50,7 +40,7 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   Timer timer;
   // A tree numbered by leaf order holds the samples by index already.
   std::vector<Vec<D>> copy;
-  if (!planes.point_tree.numbered_by_leaf_order()) copy = samples_of(planes);
+  if (!planes.point_tree.numbered_by_leaf_order()) copy = samples_of<D>(planes);
   const std::span<const Vec<D>> samples = copy.empty() ? planes.point_tree.points() : std::span<const Vec<D>>(copy);
   {
     const std::vector<double> radius2 = certain_radii2(planes.radius);

@@ -299,6 +299,17 @@ TangentPlanes<D> estimate_tangent_planes(KdTree<D>&& tree, const TangentPlaneOpt
   return planes_over<D>(std::move(tree), {}, options, 0.0);
 }
 
+template <int D>
+std::vector<Vec<D>> samples_of(const TangentPlanes<D>& planes) {
+  std::vector<Vec<D>> x(planes.origins.size());
+  const auto tree_points = planes.point_tree.points();
+  const auto tree_order = planes.point_tree.order();
+  for (std::size_t t = 0; t < x.size(); ++t) x[tree_order[t]] = tree_points[t];
+  return x;
+}
+
+template std::vector<Vec<2>> samples_of<2>(const TangentPlanes<2>&);
+template std::vector<Vec<3>> samples_of<3>(const TangentPlanes<3>&);
 template TangentPlanes<2> estimate_tangent_planes<2>(std::span<const Vec<2>>, const TangentPlaneOptions&);
 template TangentPlanes<3> estimate_tangent_planes<3>(std::span<const Vec<3>>, const TangentPlaneOptions&);
 template TangentPlanes<2> estimate_tangent_planes<2>(KdTree<2>&&, const TangentPlaneOptions&);

@@ -113,29 +113,29 @@ TEST(Report, GraphAndSpanningTreeWithTheEdgesWhereTheOrientationTurns) {
   const ReportLayers layers = make_report_layers(report_input(r), options);
   ASSERT_TRUE(layers.has_graph);
   const auto& o = *r.oriented;
-  EXPECT_EQ(layers.graph_edges_total, o.graph.graph.edge_count());
-  EXPECT_EQ(layers.graph_vertex_stride, 1u);
-  EXPECT_EQ(layers.graph_segments.size(), 6 * o.graph.graph.edge_count());  // every edge once
+  EXPECT_EQ(layers.graph.edges_total, o.graph.graph.edge_count());
+  EXPECT_EQ(layers.graph.vertex_stride, 1u);
+  EXPECT_EQ(layers.graph.segments.size(), 6 * o.graph.graph.edge_count());  // every edge once
   // Every vertex but the two roots has a tree edge to its parent.
   const std::size_t n = r.points().size();
-  EXPECT_EQ(layers.tree_edges_total, n - 2);
-  ASSERT_EQ(layers.tree_flip.size(), n - 2);
+  EXPECT_EQ(layers.graph.tree_edges_total, n - 2);
+  ASSERT_EQ(layers.graph.tree_flip.size(), n - 2);
   std::size_t e = 0, flips = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t parent = o.tree.parent[i];
     if (parent == SpanningForest::no_parent) continue;
-    const Vec3 a = at(layers.tree_segments, 2 * e) + layers.centre, b = at(layers.tree_segments, 2 * e + 1) + layers.centre;
+    const Vec3 a = at(layers.graph.tree_segments, 2 * e) + layers.centre, b = at(layers.graph.tree_segments, 2 * e + 1) + layers.centre;
     EXPECT_LT((a - r.points()[i] - r.offset).norm(), 1e-5);
     EXPECT_LT((b - r.points()[parent] - r.offset).norm(), 1e-5);
     // Where the oriented normals agree across the edge (everywhere but a
     // few the vote turned), a flip is where the PCA normals disagree.
     if (r.normals()[i].dot(r.normals()[parent]) > 0.0) {
-      EXPECT_EQ(layers.tree_flip[e] == 1, r.planes.normals[i].dot(r.planes.normals[parent]) < 0.0) << "edge " << e;
+      EXPECT_EQ(layers.graph.tree_flip[e] == 1, r.planes.normals[i].dot(r.planes.normals[parent]) < 0.0) << "edge " << e;
     }
-    flips += layers.tree_flip[e];
+    flips += layers.graph.tree_flip[e];
     ++e;
   }
-  EXPECT_EQ(flips, layers.tree_flips_total);
+  EXPECT_EQ(flips, layers.graph.tree_flips_total);
   EXPECT_GT(flips, 0u);  // PCA's signs are arbitrary: a walk over a sphere must turn some
 }
 
@@ -171,13 +171,13 @@ TEST(Report, BudgetsDrawARegularSubsampleAndSaySo) {
   EXPECT_GT(layers.points.size() / 3, 900u);
   for (std::size_t j = 0; j < layers.points.size() / 3; ++j)
     EXPECT_LT((at(layers.points, j) + layers.centre - r.points()[j * layers.point_stride] - r.offset).norm(), 1e-5);
-  EXPECT_LE(layers.graph_segments.size() / 6, 5000u);
-  EXPECT_GT(layers.graph_segments.size() / 6, 2500u);  // the stride is the smallest that fits, give or take 1/8
-  EXPECT_EQ(layers.graph_vertex_stride % layers.point_stride, 0U);  // the edges start at drawn points
+  EXPECT_LE(layers.graph.segments.size() / 6, 5000u);
+  EXPECT_GT(layers.graph.segments.size() / 6, 2500u);  // the stride is the smallest that fits, give or take 1/8
+  EXPECT_EQ(layers.graph.vertex_stride % layers.point_stride, 0U);  // the edges start at drawn points
   std::size_t drawn_with_parent = 0;
   for (std::size_t i = 0; i < n; i += layers.point_stride)
     drawn_with_parent += r.oriented->tree.parent[i] != SpanningForest::no_parent ? 1U : 0U;
-  EXPECT_EQ(layers.tree_flip.size(), drawn_with_parent) << "one tree edge per drawn point that has a parent";
+  EXPECT_EQ(layers.graph.tree_flip.size(), drawn_with_parent) << "one tree edge per drawn point that has a parent";
   EXPECT_LE(layers.corner_values.size(), 700u);
   // Each mesh layer has the triangle budget to itself.
   EXPECT_LE(layers.mesh.triangles.size() / 3, 2000u);

@@ -171,13 +171,7 @@ struct ReportLayers {
 
   // 4. graph and spanning tree
   bool has_graph = false;
-  std::size_t graph_edges_total = 0;
-  std::size_t graph_vertex_stride = 1;     ///< edges of every graph_vertex_stride-th vertex are drawn
-  std::vector<float> graph_segments;
-  std::size_t tree_edges_total = 0;
-  std::vector<float> tree_segments;        ///< each drawn point to its parent
-  std::vector<std::uint8_t> tree_flip;     ///< per tree segment: orientation reversed across it
-  std::size_t tree_flips_total = 0;        ///< over the whole tree
+  ReportGraph graph;
 
   // 6. signed distance at the lattice corners
   bool has_corners = false;

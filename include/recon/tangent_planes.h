@@ -133,4 +133,9 @@ template <int D>
 template <int D>
 [[nodiscard]] TangentPlanes<D> estimate_tangent_planes(KdTree<D>&& tree, const TangentPlaneOptions& options = {});
 
+/// The samples x_i, indexed like the planes (the kd-tree keeps its copy of
+/// them in its own order).
+template <int D>
+[[nodiscard]] std::vector<Vec<D>> samples_of(const TangentPlanes<D>& planes);
+
 }  // namespace recon
