@@ -1131,6 +1131,13 @@ TEST_F(CliLab, PrintsTheTableAndWritesEveryRunAsJson) {
   EXPECT_EQ(stat_count(json, "input", "points"), 2500);
 }
 
+TEST_F(CliLab, RefusesANegativeLimit) {
+  ASSERT_NO_FATAL_FAILURE(generate("torus", 600, "t.ply"));
+  const RunResult run = recon({"lab", "t.ply", "--max-complete", "-3"});
+  EXPECT_EQ(run.exit_code, 2) << describe(run);
+  EXPECT_NE(run.err.find("--max-complete"), std::string::npos) << describe(run);
+}
+
 TEST_F(CliLab, AnAlternativeThatDisagreesIsAnErrorNotARow) {
   ASSERT_NO_FATAL_FAILURE(generate("torus", 600, "t.ply"));
   for (const char* spoiled : {"kruskal", "grid", "prim/pairing-heap"})

@@ -14,7 +14,8 @@
 //     (Every minimum spanning tree of a graph weighs the same, and the
 //     queues order ties alike: phase II's walk follows Prim's tree on the
 //     binary heap whichever algorithm is chosen here, and the page compares
-//     their work.)
+//     their work. The tree is timed as it counts: Prim's queues through
+//     CountingQueue, so its time includes the counting.)
 //   recon_layer(id) / recon_layer_size(id): layer `id`'s doubles, laid out
 //     as described at `Layer` below, valid until the next recon_run.
 
