@@ -387,7 +387,8 @@ addLayer('refinement', '8. Refined mesh (phase V)', R ? () => {
   for (let i = 0; i < distance.length; ++i) ramp(distance[i] / distanceScale, colour).toArray(c, 3 * i);
   return meshGroup(R, c);
 } : null, R ? `${meshNote(R)}; its vertices lie ${formatNumber(R.distance.mean)} from the 1992 surface on average, ` +
-  `${formatNumber(R.distance.max)} at most` : 'not available: phase V runs in the refined method only (this run: hoppe92)',
+  `${formatNumber(R.distance.max)} at most` : M ? 'not available: phase V runs in the refined method only (this run: hoppe92)'
+  : 'not available: this run made no mesh',
 R ? `distance to the 1992 surface: 0 <span class="ramp" style="background:${rampCss}"></span> ≥ ${formatNumber(distanceScale)}` +
   (C?.cell > 0 ? ` (${formatNumber(distanceScale / C.cell)} cell)` : '') + `<br>${insideAndBoundary}` : null,
 true);

@@ -215,6 +215,8 @@ test('a report of recon normals has layers 1 to 5, and the others are unavailabl
   run('normals', 'sphere.xyz', '-o', 'sphere_normals.ply', '--report', 'normals.html', '-q');
   const opened = await open('normals.html');
   await assertTogglesChangePicture(opened.page, ['points', 'kdtree', 'pca', 'graph', 'normals']);
+  // No mesh at all: layer 8 says so, not that the run was hoppe92.
+  assert.equal(await opened.page.locator('#note-refinement').textContent(), 'not available: this run made no mesh');
   // No lab data, no lab panel.
   assert.equal(await opened.page.locator('#lab').isHidden(), true);
   assert.equal(await opened.page.locator('#lab-chart, #lab-layers').count(), 0);
