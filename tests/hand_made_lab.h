@@ -1,11 +1,11 @@
 #pragma once
 // The alternatives lab's results made by hand, for the report's tests
-// (report_test.cpp, and report_lab_page.cpp for the browser tests), which
-// are built without lab.cpp and orientation_graphs.cpp. The five graphs are
-// made as orientation_graphs.h describes them, from phase I's planes and the
-// Riemannian graph, and each is walked by orient_normals; the runs are a
-// hand-written text in lab_json's form (lab.h), whose graph runs carry
-// these graphs' figures.
+// (report_test.cpp, and report_lab_page.cpp for the browser tests), so
+// that the report is tested on graphs known apart from the lab that makes
+// them. The five graphs are made as orientation_graphs.h describes them,
+// from phase I's planes and the Riemannian graph, and each is walked by
+// orient_normals; the runs are a hand-written text in the form of `recon
+// lab --stats` (app/lab.cpp), whose graph runs carry these graphs' figures.
 
 #include "recon/lab.h"
 #include "recon/point_cloud.h"
@@ -95,7 +95,7 @@ inline std::string graph_run(std::string_view name, const LabGraph& g, const Han
          (truth.empty() ? "" : R"(,"agree_truth":)" + json_number(agreement(o.normals, truth))) + "}";
 }
 
-// Runs of the other kinds, as lab_json would write them (figures made up);
+// Runs of the other kinds, as `recon lab --stats` writes them (figures made up);
 // two are skipped.
 inline constexpr std::string_view other_runs =
     R"json({"name":"kd-tree","kind":"search","seconds":0.0021,"counts":{"distance_evaluations":151234}},)json"

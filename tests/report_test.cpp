@@ -593,7 +593,7 @@ TEST(ReportLabPage, LabPartWithTheRunsAndEachGraphsArrays) {
   const ReportLayers layers = layers_with_lab(lab);
   const std::string html = report_html(layers);
   const std::string_view json = element(html, "recon-data");
-  // The runs as lab_json wrote them, then the graphs in order.
+  // The runs as written, then the graphs in order.
   const auto lab_at = json.find("\"lab\":{\"stats\":" + lab.runs_json + ",\"graphs\":[{\"name\":\"complete\"");
   ASSERT_NE(lab_at, std::string_view::npos);
   EXPECT_LT(json.find("\"points\":{"), lab_at);

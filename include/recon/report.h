@@ -40,7 +40,7 @@
 //      that graph's components (off at first): the complete graph's tree
 //      runs between separate objects, and where the sampling is uneven the
 //      mutual k-NN graph falls apart into pieces.
-// The runs are the lab's own JSON (lab_json) as it was written; the graphs
+// The runs are `recon lab`'s --stats JSON as it was written; the graphs
 // are drawn within the same budgets as layers 1 and 4.
 //
 // Large runs stay viewable: each layer draws at most a budget of elements
@@ -136,7 +136,7 @@ struct ReportLabGraph {
 
 /// The lab panel's data (see above).
 struct ReportLab {
-  std::string runs_json = "{}";            ///< lab_json's text: {"runs": [...]}
+  std::string runs_json = "{}";            ///< `recon lab`'s --stats text: {"runs": [...], ...}
   std::vector<ReportLabGraph> graphs;      ///< in the order given to make_report_lab
 };
 
@@ -210,12 +210,12 @@ struct ReportLayers {
 
 /// The lab panel's data for a report whose layers were made from the same
 /// points (ReportInput::points and offset): `graphs` as run_lab keeps them
-/// (LabResult::graphs, with keep_graphs), `runs_json` as lab_json writes
-/// them. Each graph is drawn as layer 4 is, within options.max_edges, and
-/// its components are given for the points layer 1 draws. So `recon lab`
-/// makes its report as
+/// (LabResult::graphs, with keep_graphs), `runs_json` as `recon lab`
+/// writes --stats (app/lab.cpp). Each graph is drawn as layer 4 is, within
+/// options.max_edges, and its components are given for the points layer 1
+/// draws. So `recon lab` makes its report as
 ///   ReportLayers layers = make_report_layers(input, options);  // planes, default_orientation
-///   layers.lab = make_report_lab(result.graphs, lab_json(result), input.points, input.offset, layers, options);
+///   layers.lab = make_report_lab(result.graphs, stats_json, input.points, input.offset, layers, options);
 /// Throws InvalidInputError when the points are not as many as the layers
 /// were made from, or a graph's vertices, tree, signs or component labels
 /// are not one per point.

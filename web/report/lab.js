@@ -3,7 +3,7 @@
 // counted. Plain DOM, no three.js: viewer.js draws the lab's orientation
 // graphs as layers, into the element this panel leaves for them.
 //
-// The runs are those of lab_json (include/recon/lab.h), as the data block
+// The runs are those of `recon lab --stats` (app/lab.cpp), as the data block
 // holds them: data.lab.stats.runs, each with name, kind, seconds, and where
 // they apply graph, skipped (the reason), counts {pushes, pops, ...},
 // tree_weight, and for the graph runs edges, components, flips,
