@@ -51,12 +51,9 @@ const Workload& workload() {
         recon::permuted<recon::Vec3>(cloud.positions, recon::spatial_order(cloud.positions));
     const auto planes = recon::estimate_tangent_planes<3>(points);
     Workload out;
-    out.graph = recon::build_riemannian_graph<3>(planes).graph;
-    out.graph.weights.resize(out.graph.targets.size());
-    for (std::uint32_t v = 0; v < out.graph.vertex_count(); ++v)
-      for (std::uint64_t e = out.graph.offsets[v]; e < out.graph.offsets[v + 1]; ++e)
-        out.graph.weights[e] =  // (rounding can take 1 - |n.n| a hair below 0, which Boost refuses)
-            std::max(0.0, recon::orientation_cost<3>(planes.normals[v], planes.normals[out.graph.targets[e]]));
+    // (Costs clamped at 0: rounding can take 1 - |n.n| a hair below, which Boost refuses.)
+    out.graph = recon::with_orientation_costs<3>(recon::build_riemannian_graph<3>(planes).graph,
+                                                 std::span<const recon::Vec3>(planes.normals));
     for (std::uint32_t i = 0; i < planes.origins.size(); ++i)
       if (planes.origins[i].z() > planes.origins[out.root].z()) out.root = i;
     return out;

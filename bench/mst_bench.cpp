@@ -44,12 +44,8 @@ recon::Graph workload(std::size_t n) {
   const std::vector<recon::Vec3> points =
       recon::permuted<recon::Vec3>(cloud.positions, recon::spatial_order(cloud.positions));
   const auto planes = recon::estimate_tangent_planes<3>(points);
-  recon::Graph g = recon::build_riemannian_graph<3>(planes).graph;
-  g.weights.resize(g.targets.size());
-  for (std::uint32_t v = 0; v < g.vertex_count(); ++v)
-    for (std::uint64_t e = g.offsets[v]; e < g.offsets[v + 1]; ++e)
-      g.weights[e] = std::max(0.0, recon::orientation_cost<3>(planes.normals[v], planes.normals[g.targets[e]]));
-  return g;
+  return recon::with_orientation_costs<3>(recon::build_riemannian_graph<3>(planes).graph,
+                                         std::span<const recon::Vec3>(planes.normals));
 }
 
 struct Contender {
@@ -86,7 +82,7 @@ const std::vector<recon::Edge>& sorted_edges(const recon::Graph& g) {
   static std::size_t for_vertices = 0;
   static std::vector<recon::Edge> edges;
   if (for_vertices != g.vertex_count()) {
-    edges = recon::edge_list(g, [&](std::uint32_t, std::uint64_t e) { return g.weights[e]; });
+    edges = recon::edge_list(g, recon::stored_weights(g, "recon_mst_bench"));
     std::sort(edges.begin(), edges.end(), recon::lighter);
     for_vertices = g.vertex_count();
   }

@@ -46,9 +46,7 @@ MinimumSpanningEdges boruvka_minimum_spanning_forest(std::size_t vertex_count, s
 }
 
 MinimumSpanningEdges boruvka_minimum_spanning_forest(const Graph& graph) {
-  if (graph.weights.size() != graph.targets.size())
-    throw InvalidInputError("Borůvka: the graph has no stored weights; pass a weight function");
-  return boruvka_minimum_spanning_forest(graph, [&](std::uint32_t, std::uint64_t e) { return graph.weights[e]; });
+  return boruvka_minimum_spanning_forest(graph, stored_weights(graph, "Borůvka"));
 }
 
 }  // namespace recon

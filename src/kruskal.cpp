@@ -31,9 +31,7 @@ MinimumSpanningEdges kruskal_minimum_spanning_forest(std::size_t vertex_count, s
 }
 
 MinimumSpanningEdges kruskal_minimum_spanning_forest(const Graph& graph) {
-  if (graph.weights.size() != graph.targets.size())
-    throw InvalidInputError("Kruskal: the graph has no stored weights; pass a weight function");
-  return kruskal_minimum_spanning_forest(graph, [&](std::uint32_t, std::uint64_t e) { return graph.weights[e]; });
+  return kruskal_minimum_spanning_forest(graph, stored_weights(graph, "Kruskal"));
 }
 
 }  // namespace recon

@@ -115,48 +115,43 @@ void run_searches(std::span<const Vec3> points, int k, const LabOptions& options
 
 // ------------------------------------------------------------------ queues
 
-// The Riemannian graph with its costs 1 - |n_i . n_j| stored, so that
-// every algorithm reads the same numbers.
-Graph weighted_graph(const Graph& graph, std::span<const Vec3> normals) {
-  Graph g = graph;
-  g.weights.resize(g.targets.size());
-  for (std::uint32_t v = 0; v < g.vertex_count(); ++v)
-    for (std::uint64_t e = g.offsets[v]; e < g.offsets[v + 1]; ++e)
-      g.weights[e] = std::max(0.0, orientation_cost<3>(normals[v], normals[g.targets[e]]));
-  return g;
-}
-
-double stored_weight(const Graph& g, std::uint64_t e) { return g.weights[e]; }
-
-// Prim on the queue Heap: timed plain, counted in a second run.
+// Prim on the queue Heap over the graph's stored costs: timed plain (the
+// tree grown is left in `forest`), counted in a second run.
 template <template <class> class Heap>
-LabRun queue_run(std::string name, const Graph& g, const SpanningForest& reference, const LabOptions& options) {
+LabRun queue_run(std::string name, const Graph& g, const LabOptions& options, SpanningForest& forest) {
   LabRun run = make_run("prim/" + std::move(name), LabKind::queue, "riemannian");
-  const auto weight = [&](std::uint32_t, std::uint64_t e) { return stored_weight(g, e); };
   Timer timer;
-  SpanningForest forest = prim_minimum_spanning_forest<Heap<double>>(g, {}, weight);
+  forest = prim_minimum_spanning_forest<Heap<double>>(g);
   run.seconds = timer.lap();
-  run.counts = prim_minimum_spanning_forest<CountingQueue<Heap>>(g, {}, weight).counts;
+  run.counts = prim_minimum_spanning_forest<CountingQueue<Heap>>(g).counts;
   if (options.spoil == run.name && !forest.order.empty()) forest.parent[forest.order.back()] = SpanningForest::no_parent;
   run.tree_weight = forest.total_weight;
-  if (!reference.parent.empty() && forest.parent != reference.parent)
+  return run;
+}
+
+// The queues order equal keys alike, so Prim must grow the same tree on each.
+template <template <class> class Heap>
+LabRun checked_queue_run(std::string name, const Graph& g, const LabOptions& options,
+                         const SpanningForest& binary_heap_tree) {
+  SpanningForest forest;
+  LabRun run = queue_run<Heap>(std::move(name), g, options, forest);
+  if (forest.parent != binary_heap_tree.parent)
     throw LabDisagreementError("lab: " + run.name + " and prim/binary-heap disagree: Prim grew different trees on "
                                "them, but the queues order equal keys alike, so the trees must be the same");
   return run;
 }
 
 void run_queues(const Graph& g, const LabOptions& options, LabResult& result) {
-  const SpanningForest reference = prim_minimum_spanning_forest<IndexedBinaryHeap<double>>(
-      g, {}, [&](std::uint32_t, std::uint64_t e) { return stored_weight(g, e); });
-  result.runs.push_back(queue_run<IndexedBinaryHeap>("binary-heap", g, reference, options));
-  result.runs.push_back(queue_run<FibonacciHeap>("fibonacci-heap", g, reference, options));
-  result.runs.push_back(queue_run<PairingHeap>("pairing-heap", g, reference, options));
+  SpanningForest binary_heap_tree;
+  result.runs.push_back(queue_run<IndexedBinaryHeap>("binary-heap", g, options, binary_heap_tree));
+  result.runs.push_back(checked_queue_run<FibonacciHeap>("fibonacci-heap", g, options, binary_heap_tree));
+  result.runs.push_back(checked_queue_run<PairingHeap>("pairing-heap", g, options, binary_heap_tree));
   const std::size_t n = g.vertex_count();
   if (n > options.max_points_list_heap) {
     result.runs.push_back(skipped_run("prim/list-heap", LabKind::queue, "riemannian",
                                       too_many(n, options.max_points_list_heap, "the list heap (a scan per pop)")));
   } else {
-    result.runs.push_back(queue_run<ListHeap>("list-heap", g, reference, options));
+    result.runs.push_back(checked_queue_run<ListHeap>("list-heap", g, options, binary_heap_tree));
   }
 }
 
@@ -222,6 +217,15 @@ double share_agreeing(std::span<const Vec3> a, std::span<const Vec3> b) {
   return static_cast<double>(agree) / static_cast<double>(a.size());
 }
 
+// A graph run's figures, from the orientation it found.
+void describe(const OrientedNormals<3>& oriented, std::span<const Vec3> truth, LabRun& run) {
+  run.tree_weight = oriented.tree.total_weight;
+  run.edges = oriented.graph.graph.edge_count();
+  run.components = oriented.component_count();
+  run.flips = oriented.flip_count;
+  if (!truth.empty()) run.agree_truth = share_agreeing(oriented.normals, truth);
+}
+
 LabRun graph_run(OrientationGraph kind, const TangentPlanes<3>& planes, std::span<const Vec3> truth,
                  OrientedNormals<3>& oriented) {
   LabRun run = make_run(std::string(name_of(kind)), LabKind::graph, std::string(name_of(kind)));
@@ -229,11 +233,7 @@ LabRun graph_run(OrientationGraph kind, const TangentPlanes<3>& planes, std::spa
   RiemannianGraph<3> graph = build_orientation_graph<3>(planes, kind, {}, &run.counts);
   oriented = orient_normals<3>(planes, std::move(graph), OrientationOptions{});  // the 1992 walk
   run.seconds = timer.lap();
-  run.tree_weight = oriented.tree.total_weight;
-  run.edges = oriented.graph.graph.edge_count();
-  run.components = oriented.component_count();
-  run.flips = oriented.flip_count;
-  if (!truth.empty()) run.agree_truth = share_agreeing(oriented.normals, truth);
+  describe(oriented, truth, run);
   return run;
 }
 
@@ -247,22 +247,15 @@ LabRun refined_walk_run(const TangentPlanes<3>& planes, std::span<const Vec3> tr
   fits.min_sheet_separation = 1.5 * planes.rho;  // as reconstruct() sets it, with its default cell rho
   LocalQuadrics quadrics = fit_local_quadrics(planes, fits);
   TangentPlanes<3> second_order = planes;
-  second_order.origins = std::move(quadrics.origins);
-  second_order.normals = std::move(quadrics.normals);
-  std::vector<Eigen::Vector3f> guide(planes.normals.size());
-  for (std::size_t i = 0; i < guide.size(); ++i) guide[i] = planes.normals[i].cast<float>();
+  adopt_second_order(second_order, quadrics);
   OrientationOptions walk;
   walk.sign_by_extremes = true;
   walk.sheet_misfit = quadrics.residual;
-  walk.guide = guide;
+  walk.guide = quadrics.guide;
   const OrientedNormals<3> oriented = orient_normals<3>(second_order, walk);
   run.seconds = timer.lap();
-  run.tree_weight = oriented.tree.total_weight;
-  run.edges = oriented.graph.graph.edge_count();
-  run.components = oriented.component_count();
-  run.flips = oriented.flip_count;
+  describe(oriented, truth, run);
   run.agree_default = share_agreeing(oriented.normals, result.default_orientation.normals);
-  if (!truth.empty()) run.agree_truth = share_agreeing(oriented.normals, truth);
   return run;
 }
 
@@ -322,7 +315,8 @@ LabResult run_lab(std::span<const Vec3> points, const LabOptions& options) {
     truth.push_back(options.true_normals[i]);
   run_searches(points, result.planes.k, options, result);
   run_graphs(result.planes, truth, options, result);
-  const Graph g = weighted_graph(result.default_orientation.graph.graph, result.planes.normals);
+  const Graph g =
+      with_orientation_costs<3>(result.default_orientation.graph.graph, std::span<const Vec3>(result.planes.normals));
   run_queues(g, options, result);
   run_msts(g, options, result);
   run_euclidean_msts(points, options, result);

@@ -563,4 +563,14 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
   return result;
 }
 
+void adopt_second_order(TangentPlanes<3>& planes, LocalQuadrics& quadrics) {
+  quadrics.guide.resize(planes.normals.size());
+  for (std::size_t i = 0; i < planes.normals.size(); ++i) quadrics.guide[i] = planes.normals[i].cast<float>();
+  planes.origins = std::move(quadrics.origins);
+  planes.normals = std::move(quadrics.normals);
+  quadrics.origins = {};
+  quadrics.normals = {};
+  planes.noise = quadrics.noise;
+}
+
 }  // namespace recon

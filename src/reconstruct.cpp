@@ -224,15 +224,7 @@ void fit_second_order(Reconstruction& r, const ReconstructionOptions& options, d
     r.quadrics = fit_local_quadrics(r.planes, fits);
     r.quadrics->seconds += first;
   }
-  r.planes.origins = std::move(r.quadrics->origins);
-  r.quadrics->guide.resize(r.planes.normals.size());  // phase I's normals guide phase II (orientation.h)
-  for (std::size_t i = 0; i < r.planes.normals.size(); ++i) r.quadrics->guide[i] = r.planes.normals[i].cast<float>();
-  r.planes.normals = std::move(r.quadrics->normals);
-  r.quadrics->origins = {};
-  r.quadrics->normals = {};
-  // The noise (phase III's delta is twice it) is now what the quadrics miss:
-  // the curvature a plane cannot follow, or a second sheet, is no noise.
-  r.planes.noise = r.quadrics->noise;
+  adopt_second_order(r.planes, *r.quadrics);
 }
 
 }  // namespace

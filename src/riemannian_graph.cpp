@@ -253,6 +253,17 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
   return result;
 }
 
+template <int D>
+Graph with_orientation_costs(Graph graph, std::span<const Vec<D>> normals) {
+  graph.weights.resize(graph.targets.size());
+  for (std::uint32_t v = 0; v < graph.vertex_count(); ++v)
+    for (std::uint64_t e = graph.offsets[v]; e < graph.offsets[v + 1]; ++e)
+      graph.weights[e] = std::max(0.0, orientation_cost<D>(normals[v], normals[graph.targets[e]]));
+  return graph;
+}
+
+template Graph with_orientation_costs<2>(Graph, std::span<const Vec<2>>);
+template Graph with_orientation_costs<3>(Graph, std::span<const Vec<3>>);
 template RiemannianGraph<2> build_riemannian_graph<2>(const TangentPlanes<2>&, const RiemannianGraphOptions&);
 template RiemannianGraph<3> build_riemannian_graph<3>(const TangentPlanes<3>&, const RiemannianGraphOptions&);
 

@@ -98,6 +98,14 @@ struct LocalQuadrics {
 /// Neighbourhoods of copies of one point keep their plane (curvature 0).
 [[nodiscard]] LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuadricOptions& options = {});
 
+/// The refined method's phase I: the quadrics' origins and normals take
+/// the planes' places (moved out of `quadrics`), phase I's PCA normals
+/// become `quadrics.guide` (they guide phase II, orientation.h), and the
+/// noise (phase III's delta is twice it) becomes what the quadrics miss:
+/// the curvature a plane cannot follow, or a second sheet, is no noise.
+/// Precondition: quadrics was fitted to `planes`.
+void adopt_second_order(TangentPlanes<3>& planes, LocalQuadrics& quadrics);
+
 /// A point of a fitted surface and the unit normal there.
 struct SurfacePoint {
   Vec3 point;

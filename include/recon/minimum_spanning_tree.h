@@ -44,6 +44,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -154,14 +155,21 @@ template <class Queue = IndexedBinaryHeap<double>, class Weight>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph,
                                                           std::span<const std::uint32_t> roots = {});
 
+/// The graph's stored weights as a weight function (weight(v, e) =
+/// graph.weights[e]), for the algorithms' stored-weight forms. Throws
+/// InvalidInputError, its message starting with `algorithm`, when the graph
+/// has none.
+[[nodiscard]] inline auto stored_weights(const Graph& graph, std::string_view algorithm) {
+  if (graph.weights.size() != graph.targets.size())
+    throw InvalidInputError(std::string(algorithm) + ": the graph has no stored weights; pass a weight function");
+  return [&graph](std::uint32_t, std::uint64_t e) { return graph.weights[e]; };
+}
+
 /// The same on another queue: prim_minimum_spanning_forest<MyQueue>(graph).
 template <class Queue>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph,
                                                           std::span<const std::uint32_t> roots = {}) {
-  if (graph.weights.size() != graph.targets.size())
-    throw InvalidInputError("Prim: the graph has no stored weights; pass a weight function");
-  return prim_minimum_spanning_forest<Queue>(graph, roots,
-                                             [&](std::uint32_t, std::uint64_t e) { return graph.weights[e]; });
+  return prim_minimum_spanning_forest<Queue>(graph, roots, stored_weights(graph, "Prim"));
 }
 
 }  // namespace recon

@@ -42,6 +42,7 @@
 #include "recon/tangent_planes.h"
 
 #include <cmath>
+#include <span>
 #include <vector>
 
 namespace recon {
@@ -51,6 +52,14 @@ template <int D>
 [[nodiscard]] inline double orientation_cost(const Vec<D>& n_i, const Vec<D>& n_j) {
   return 1.0 - std::abs(n_i.dot(n_j));
 }
+
+/// `graph` with the cost of each edge stored in its weights, computed from
+/// `normals` (one per vertex) and clamped at 0 (rounding can take
+/// 1 - |n_i . n_j| a hair below it), for the algorithms that read stored
+/// weights: Kruskal, Borůvka, the lab's queues, the benchmarks. Phase II
+/// computes the costs as it goes instead.
+template <int D>
+[[nodiscard]] Graph with_orientation_costs(Graph graph, std::span<const Vec<D>> normals);
 
 struct RiemannianGraphOptions {
   int k = 0;                 ///< k-NN edges from the first k of each neighbourhood (itself included); 0: all

@@ -94,11 +94,8 @@ TreeRun edges_of(recon::MinimumSpanningEdges tree, double seconds) {
 
 // The chosen algorithm on phase II's graph with its costs stored.
 TreeRun run_tree(const recon::CurveReconstruction& r, int tree) {
-  recon::Graph g = r.oriented.graph.graph;
-  g.weights.resize(g.targets.size());
-  for (std::uint32_t v = 0; v < g.vertex_count(); ++v)
-    for (std::uint64_t e = g.offsets[v]; e < g.offsets[v + 1]; ++e)
-      g.weights[e] = std::max(0.0, recon::orientation_cost<2>(r.planes.normals[v], r.planes.normals[g.targets[e]]));
+  const recon::Graph g =
+      recon::with_orientation_costs<2>(r.oriented.graph.graph, std::span<const Vec2>(r.planes.normals));
   recon::Timer timer;
   switch (tree) {
     case prim_fibonacci: return prim_on<recon::FibonacciHeap>(g);
