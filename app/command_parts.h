@@ -22,6 +22,9 @@ namespace recon::cli {
 struct InputOptions {
   std::filesystem::path path;
   std::string format;
+  std::string columns;       ///< --columns x,y,z,_,r,g,b (text without a header)
+  bool skip_invalid = false;  ///< --skip-invalid
+  bool no_colors = false;     ///< --no-colors: drop the input's colours
 };
 void add_input(CLI::App& app, InputOptions& in);
 /// Reads the cloud, says so, and records it in the statistics.

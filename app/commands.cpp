@@ -29,9 +29,32 @@
 namespace recon::cli {
 
 void add_input(CLI::App& app, InputOptions& in) {
-  app.add_option("input", in.path, "Point cloud (.ply .xyz .txt .pts .obj .off .pcd)")->required();
-  app.add_option("--format", in.format, "Input format when the extension does not say: ply, xyz, pts, obj, off, pcd");
+  app.add_option("input", in.path, "Point cloud (.ply .xyz .txt .csv .pts .obj .off .pcd .las)")->required();
+  app.add_option("--format", in.format,
+                 "Input format when the extension does not say: ply, xyz, pts, obj, off, pcd, las");
+  app.add_option("--columns", in.columns,
+                 "What each column of a text file without a header holds, e.g. x,y,z,_,r,g,b "
+                 "(x y z, nx ny nz, r g b, _ to skip a column)");
+  app.add_flag("--skip-invalid", in.skip_invalid,
+               "Skip points with a coordinate that is NaN, infinite or beyond 1e15 instead of refusing the file");
+  app.add_flag("--no-colors", in.no_colors, "Drop the input's colours (the mesh or cloud is written without)");
 }
+
+namespace {
+// "x,y,z,_,r,g,b" -> {"x", "y", "z", "_", "r", "g", "b"}.
+std::vector<std::string> split_columns(const std::string& text) {
+  std::vector<std::string> names;
+  std::size_t start = 0;
+  while (start <= text.size() && !text.empty()) {
+    const std::size_t comma = text.find(',', start);
+    const std::size_t end = comma == std::string::npos ? text.size() : comma;
+    names.push_back(text.substr(start, end - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return names;
+}
+}  // namespace
 
 // Peak memory per step for --stats (resource_usage.h): ends the last step
 // and writes "memory": {"peak_mib": {step: MiB, ...}, "peak_mib_total": the
@@ -52,12 +75,21 @@ PointCloud read_input(const InputOptions& in, Summary& summary) {
   Timer timer;
   io::ReadPointsOptions options;
   if (!in.format.empty()) options.format = io::point_format_from_name(in.format);
-  PointCloud cloud = io::read_points(in.path, options);
-  summary.say("read      " + in.path.string() + ": " + plural(cloud.size(), "point") +
-              (cloud.has_normals() ? " with normals" : "") + " (" + format_seconds(timer.elapsed()) + ")");
+  options.columns = split_columns(in.columns);
+  options.skip_invalid = in.skip_invalid;
+  io::ReadNotes notes;
+  PointCloud cloud = io::read_points(in.path, options, &notes);
+  if (in.no_colors) cloud.colors = {};
+  const char* extras = cloud.has_normals() ? (cloud.has_colors() ? " with normals and colours" : " with normals")
+                                           : (cloud.has_colors() ? " with colours" : "");
+  summary.say("read      " + in.path.string() + ": " + plural(cloud.size(), "point") + extras + " (" +
+              format_seconds(timer.elapsed()) + ")");
+  for (const std::string& line : notes.lines) summary.say("          " + line);
   summary.stats()["input"]["file"] = in.path.string();
   summary.stats()["input"]["points"] = cloud.size();
   summary.stats()["input"]["has_normals"] = cloud.has_normals();
+  summary.stats()["input"]["has_colors"] = cloud.has_colors();
+  summary.stats()["input"]["skipped_points"] = notes.skipped_points;
   summary.stats()["input"]["seconds"] = timer.elapsed();
   return cloud;
 }

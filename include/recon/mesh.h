@@ -12,9 +12,13 @@ namespace recon {
 
 /// Indexed triangle mesh: #V vertices, #F triangles of three vertex indices,
 /// counter-clockwise seen from the side the surface normal points to.
+/// `colors` is either empty or holds one colour per vertex.
 struct Mesh {
   std::vector<Vec3> vertices;
   std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<Color> colors;
+
+  [[nodiscard]] bool has_colors() const { return !colors.empty(); }
 };
 
 /// Topology of a mesh. "Edge" means an undirected pair of vertices used by

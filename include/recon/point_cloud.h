@@ -3,7 +3,9 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <vector>
@@ -23,14 +25,20 @@ using Vec3 = Vec<3>;
 /// stay far below it.
 inline constexpr double max_coordinate = 1e15;
 
-/// An unorganized point cloud: positions, and normals when the source had them.
-/// `normals` is either empty or has exactly one entry per position.
+/// A colour: red, green, blue, 0 to 255 each.
+using Color = std::array<std::uint8_t, 3>;
+
+/// An unorganized point cloud: positions, and normals and colours when the
+/// source had them. `normals` and `colors` are each either empty or have
+/// exactly one entry per position.
 struct PointCloud {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;
+  std::vector<Color> colors;
 
   [[nodiscard]] std::size_t size() const { return positions.size(); }
   [[nodiscard]] bool has_normals() const { return !normals.empty(); }
+  [[nodiscard]] bool has_colors() const { return !colors.empty(); }
 };
 
 /// Axis-aligned bounding box.

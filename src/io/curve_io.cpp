@@ -58,7 +58,9 @@ std::vector<Vec2> read_points_2d(const std::filesystem::path& path, const ReadPo
     if (is_plain_columns(format, file, content) && detail::xyz_column_count(file, content) == 2)
       return detail::read_xy_points(file, content);
   }
-  const PointCloud cloud = read_points(path, {format});
+  ReadPointsOptions read_options;
+  read_options.format = format;
+  const PointCloud cloud = read_points(path, read_options);
   const int axis = shared_axis(cloud.positions);
   if (axis < 0)
     detail::fail_in_file(file,

@@ -8,6 +8,7 @@
 // look no further than it needs, so garbage is refused early). A writer gets data already checked by
 // check_cloud_for_writing / check_mesh_for_writing and an open stream.
 
+#include "recon/io/point_io.h"
 #include "recon/mesh.h"
 #include "recon/point_cloud.h"
 #include "recon/polyline.h"
@@ -25,6 +26,8 @@ void write_ply_points(std::ostream& out, const PointCloud& cloud, bool ascii);
 void write_ply_mesh(std::ostream& out, const Mesh& mesh, bool ascii);
 
 [[nodiscard]] PointCloud read_xyz_points(std::string_view file, std::string_view content);
+[[nodiscard]] PointCloud read_xyz_points(std::string_view file, std::string_view content,
+                                         const ReadPointsOptions& options, ReadNotes& notes);
 [[nodiscard]] PointCloud read_pts_points(std::string_view file, std::string_view content);
 /// Numbers on the first line of plain text columns that has any (0: none).
 [[nodiscard]] std::size_t xyz_column_count(std::string_view file, std::string_view content);
@@ -43,6 +46,12 @@ void write_obj_mesh(std::ostream& out, const Mesh& mesh);
 void write_off_mesh(std::ostream& out, const Mesh& mesh);
 
 [[nodiscard]] PointCloud read_pcd_points(std::string_view file, std::string_view content);
+[[nodiscard]] PointCloud read_pcd_points(std::string_view file, std::string_view content,
+                                         const ReadPointsOptions& options, ReadNotes& notes);
+
+/// LAS 1.0-1.4 (las.cpp).
+[[nodiscard]] PointCloud read_las_points(std::string_view file, std::string_view content,
+                                         const ReadPointsOptions& options, ReadNotes& notes);
 
 void write_svg_curves(std::ostream& out, const PolylineSet& curves, std::span<const Vec2> points,
                       std::span<const Vec2> normals, double normal_length);

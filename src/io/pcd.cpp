@@ -310,4 +310,9 @@ PointCloud read_pcd_points(std::string_view file, std::string_view content) {
   return cloud;
 }
 
+PointCloud read_pcd_points(std::string_view file, std::string_view content, const ReadPointsOptions& /*options*/,
+                           ReadNotes& /*notes*/) {
+  return read_pcd_points(file, content);
+}
+
 }  // namespace recon::io::detail

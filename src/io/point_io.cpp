@@ -24,25 +24,28 @@ std::string lower_case(std::string_view text) {
   return result;
 }
 
-constexpr std::array<std::pair<std::string_view, PointFormat>, 6> format_names = {{
+constexpr std::array<std::pair<std::string_view, PointFormat>, 7> format_names = {{
     {"ply", PointFormat::ply},
     {"xyz", PointFormat::xyz},
     {"pts", PointFormat::pts},
     {"obj", PointFormat::obj},
     {"off", PointFormat::off},
     {"pcd", PointFormat::pcd},
+    {"las", PointFormat::las},
 }};
 
-constexpr std::array<std::pair<std::string_view, PointFormat>, 9> extensions = {{
+constexpr std::array<std::pair<std::string_view, PointFormat>, 11> extensions = {{
     {".ply", PointFormat::ply},
     {".xyz", PointFormat::xyz},
     {".txt", PointFormat::xyz},
     {".asc", PointFormat::xyz},
     {".pwn", PointFormat::xyz},
+    {".csv", PointFormat::xyz},
     {".pts", PointFormat::pts},
     {".obj", PointFormat::obj},
     {".off", PointFormat::off},
     {".pcd", PointFormat::pcd},
+    {".las", PointFormat::las},
 }};
 
 std::string_view name_of(PointFormat format) {
@@ -64,7 +67,7 @@ PointFormat point_format_from_name(std::string_view name) {
     if (lower == known) return format;
   }
   throw InvalidInputError("unknown point format '" + std::string(name) +
-                          "'; known formats: ply, xyz, pts, obj, off, pcd");
+                          "'; known formats: ply, xyz, pts, obj, off, pcd, las");
 }
 
 PointFormat point_format_from_path(const std::filesystem::path& path) {
@@ -74,11 +77,13 @@ PointFormat point_format_from_path(const std::filesystem::path& path) {
   }
   const std::string what = extension.empty() ? "has no extension" : "has the unknown extension '" + extension + "'";
   throw InvalidInputError(path.string() + ": " + what +
-                          "; known point formats: .ply, .xyz (also .txt, .asc, .pwn), .pts, .obj, .off, .pcd"
-                          " - or name the format with --format (ply, xyz, pts, obj, off, pcd)");
+                          "; known point formats: .ply, .xyz (also .txt, .asc, .pwn, .csv), .pts, .obj, .off, .pcd, .las"
+                          " - or name the format with --format (ply, xyz, pts, obj, off, pcd, las)");
 }
 
-PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options) {
+PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options, ReadNotes* notes) {
+  ReadNotes ignored;
+  ReadNotes& said = notes != nullptr ? *notes : ignored;
   const PointFormat format = resolve(path, options.format);
   const std::string file = path.string();
   const detail::FileContent file_content = detail::read_file(path, options.max_stream_bytes);
@@ -86,11 +91,12 @@ PointCloud read_points(const std::filesystem::path& path, const ReadPointsOption
   if (content.empty()) detail::fail_in_file(file, "the file is empty");
   switch (format) {
     case PointFormat::ply: return detail::read_ply_points(file, content);
-    case PointFormat::xyz: return detail::read_xyz_points(file, content);
+    case PointFormat::xyz: return detail::read_xyz_points(file, content, options, said);
     case PointFormat::pts: return detail::read_pts_points(file, content);
     case PointFormat::obj: return detail::read_obj_points(file, content);
     case PointFormat::off: return detail::read_off_points(file, content);
-    case PointFormat::pcd: return detail::read_pcd_points(file, content);
+    case PointFormat::pcd: return detail::read_pcd_points(file, content, options, said);
+    case PointFormat::las: return detail::read_las_points(file, content, options, said);
     case PointFormat::automatic: break;
   }
   throw InvalidInputError(file + ": no point format chosen");

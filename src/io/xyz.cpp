@@ -144,6 +144,11 @@ bool pts_has_records(std::string_view file, std::string_view content) {
   return !first.empty() && is_letter(first[0]);
 }
 
+PointCloud read_xyz_points(std::string_view file, std::string_view content, const ReadPointsOptions& /*options*/,
+                           ReadNotes& /*notes*/) {
+  return read_xyz_points(file, content);
+}
+
 PointCloud read_pts_points(std::string_view file, std::string_view content) {
   if (!pts_has_records(file, content)) return read_xyz_points(file, content);
   const std::size_t first_line = first_pts_field(file, content).second;

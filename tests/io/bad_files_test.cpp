@@ -308,7 +308,7 @@ TEST(BadFiles, UnreadableFile) {
     // offset 0, an address no process maps. It opens, then the first read fails with EIO.
     std::cout << "[ NOTE     ] running as root: chmod 000 would not stop reading; /proc/self/mem stands in\n";
     const std::string message =
-        message_of<IoError>([&] { static_cast<void>(read_points("/proc/self/mem", {.format = PointFormat::xyz})); });
+        message_of<IoError>([&] { static_cast<void>(read_points("/proc/self/mem", testing::as_format(PointFormat::xyz))); });
     EXPECT_TRUE(message.starts_with("/proc/self/mem: cannot read: ")) << message;
   }
 }
@@ -328,7 +328,7 @@ TEST(BadFiles, AStreamBeyondItsLimitIsRefused) {
   // /dev/zero never ends: a stream is held whole in memory, so it must stop
   // at the limit (by default half the machine's memory) with a message.
   const std::string message = message_of<IoError>([&] {
-    static_cast<void>(read_points("/dev/zero", {.format = PointFormat::xyz, .max_stream_bytes = 3 << 20}));
+    static_cast<void>(read_points("/dev/zero", testing::as_format(PointFormat::xyz, 3 << 20)));
   });
   EXPECT_TRUE(message.starts_with("/dev/zero: more than 3145728 bytes from a stream")) << message;
   EXPECT_CONTAINS(message, "save it to a file first");
@@ -337,7 +337,7 @@ TEST(BadFiles, AStreamBeyondItsLimitIsRefused) {
   const std::filesystem::path fifo = folder / "points.xyz";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::thread writer([&] { write_file(fifo, "1 2 3\n4 5 6\n"); });
-  const PointCloud cloud = read_points(fifo, {.max_stream_bytes = 12});
+  const PointCloud cloud = read_points(fifo, testing::as_format(PointFormat::automatic, 12));
   writer.join();
   EXPECT_EQ(cloud.size(), 2U);
 }

@@ -59,6 +59,14 @@ class TempFolder {
   std::filesystem::path path_;
 };
 
+/// Read options naming the format (and the stream limit).
+inline ReadPointsOptions as_format(PointFormat format, std::size_t max_stream_bytes = 0) {
+  ReadPointsOptions options;
+  options.format = format;
+  options.max_stream_bytes = max_stream_bytes;
+  return options;
+}
+
 inline void write_file(const std::filesystem::path& path, std::string_view content) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(content.data(), static_cast<std::streamsize>(content.size()));

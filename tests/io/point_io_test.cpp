@@ -17,6 +17,7 @@
 namespace recon::io {
 namespace {
 
+using testing::as_format;
 using testing::Bytes;
 using testing::message_of;
 using testing::point_read_error;
@@ -71,9 +72,10 @@ TEST(PointIoFormat, FromName) {
   EXPECT_EQ(point_format_from_name("obj"), PointFormat::obj);
   EXPECT_EQ(point_format_from_name("off"), PointFormat::off);
   EXPECT_EQ(point_format_from_name("pcd"), PointFormat::pcd);
-  const std::string message = message_of<InvalidInputError>([] { static_cast<void>(point_format_from_name("las")); });
-  EXPECT_CONTAINS(message, "'las'");
-  EXPECT_CONTAINS(message, "ply, xyz, pts, obj, off, pcd");
+  EXPECT_EQ(point_format_from_name("LAS"), PointFormat::las);
+  const std::string message = message_of<InvalidInputError>([] { static_cast<void>(point_format_from_name("e57")); });
+  EXPECT_CONTAINS(message, "'e57'");
+  EXPECT_CONTAINS(message, "ply, xyz, pts, obj, off, pcd, las");
 }
 
 TEST(PointIoFormat, FromExtension) {
@@ -87,11 +89,13 @@ TEST(PointIoFormat, FromExtension) {
   EXPECT_EQ(point_format_from_path("b.obj"), PointFormat::obj);
   EXPECT_EQ(point_format_from_path("b.Off"), PointFormat::off);
   EXPECT_EQ(point_format_from_path("b.pcd"), PointFormat::pcd);
+  EXPECT_EQ(point_format_from_path("b.CSV"), PointFormat::xyz);
+  EXPECT_EQ(point_format_from_path("b.las"), PointFormat::las);
 }
 
 TEST(PointIoFormat, UnknownExtensionNamesTheFormatsAndTheOption) {
-  const std::string message = message_of<InvalidInputError>([] { static_cast<void>(read_points("scan.las")); });
-  EXPECT_CONTAINS(message, "scan.las");
+  const std::string message = message_of<InvalidInputError>([] { static_cast<void>(read_points("scan.e57")); });
+  EXPECT_CONTAINS(message, "scan.e57");
   EXPECT_CONTAINS(message, ".las");
   EXPECT_CONTAINS(message, ".ply");
   EXPECT_CONTAINS(message, ".pcd");
@@ -103,7 +107,7 @@ TEST(PointIoFormat, UnknownExtensionNamesTheFormatsAndTheOption) {
 TEST(PointIoFormat, NamedFormatOverridesTheExtension) {
   TempFolder folder;
   write_file(folder / "points.dat", "1 2 3\n4 5 6\n");
-  const PointCloud cloud = read_points(folder / "points.dat", {.format = PointFormat::xyz});
+  const PointCloud cloud = read_points(folder / "points.dat", as_format(PointFormat::xyz));
   EXPECT_EQ(cloud.size(), 2U);
 }
 

@@ -68,13 +68,15 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace recon::io {
 
-enum class PointFormat { automatic, ply, xyz, pts, obj, off, pcd };
+enum class PointFormat { automatic, ply, xyz, pts, obj, off, pcd, las };
 
-/// "ply", "xyz", "pts", "obj", "off", "pcd"; throws InvalidInputError otherwise.
+/// "ply", "xyz", "pts", "obj", "off", "pcd", "las"; throws InvalidInputError otherwise.
 [[nodiscard]] PointFormat point_format_from_name(std::string_view name);
 /// From the extension (case-insensitive); throws InvalidInputError when unknown.
 [[nodiscard]] PointFormat point_format_from_path(const std::filesystem::path& path);
@@ -84,9 +86,28 @@ struct ReadPointsOptions {
   /// A stream (pipe, device) is held whole in memory: IoError "FILE: more
   /// than N bytes from a stream ..." beyond this; 0: half the physical memory.
   std::size_t max_stream_bytes = 0;
+  /// Text columns without a header: what each column holds, in order
+  /// ("x", "y", "z", "nx", "ny", "nz", "r", "g", "b", "_" for a column to
+  /// skip); empty: from the header line, or from the values (see xyz above).
+  std::vector<std::string> columns;
+  /// Skip points with a coordinate that is not finite or beyond
+  /// +-max_coordinate instead of refusing the file (ReadNotes says how many).
+  bool skip_invalid = false;
 };
 
-[[nodiscard]] PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options = {});
+/// What a reader chose or skipped that the user should hear about, one line
+/// each, e.g. "columns x y z r g b (no header: integers 0 to 255 after the
+/// position are read as colours)" or "skipped 1200 points with no position
+/// (NaN x y z in an organized cloud); the first at byte 356".
+struct ReadNotes {
+  std::vector<std::string> lines;
+  std::size_t skipped_points = 0;  ///< points left out (invalid or no measurement)
+};
+
+/// Reads a point cloud; `notes`, when given, receives what the reader chose
+/// or skipped.
+[[nodiscard]] PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options = {},
+                                     ReadNotes* notes = nullptr);
 
 /// The mapped input file a reader of this library is reading at this
 /// moment, or "" when none. Reading a page that another program cut off the
