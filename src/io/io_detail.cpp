@@ -282,7 +282,9 @@ std::string coordinate_bound() {
   return text;
 }
 
-void PointChecker::check(const Vec3& v, std::size_t location, const std::string_view (&names)[3],
+PointChecker::PointChecker(Location location) : location_(location), skip_(SkipInvalidPoints::current()) {}
+
+bool PointChecker::check(const Vec3& v, std::size_t location, const std::string_view (&names)[3],
                          const std::size_t* offsets, bool bounded, Found& found) {
   for (int k = 0; k < 3; ++k) {
     const double value = v[k];
@@ -292,32 +294,54 @@ void PointChecker::check(const Vec3& v, std::size_t location, const std::string_
       found.first = std::string(names[k]) + " = ";
       append_number(found.first, value);
     }
-    return;  // one point counts once
+    return false;  // one point counts once
   }
+  return true;
+}
+
+std::string PointChecker::describe(const Found& found, std::string_view what, bool vertices) const {
+  std::string text = std::to_string(found.count);
+  if (vertices) {
+    text += found.count == 1 ? " vertex has " : " vertices have ";
+  } else {
+    text += found.count == 1 ? " point has " : " points have ";
+  }
+  text += what;
+  text += "; the first at " + place(location_, found.location) + " (" + found.first + ")";
+  return text;
+}
+
+std::string place(PointChecker::Location kind, std::size_t location) {
+  static constexpr std::string_view words[] = {"line ", "byte ", "point "};
+  return std::string(words[static_cast<std::size_t>(kind)]) + std::to_string(location);
 }
 
 void PointChecker::report(std::string_view file, bool vertices) const {
-  if (positions_.count == 0 && normals_.count == 0) return;
-  const auto describe = [&](const Found& found, std::string_view what) {
-    std::string text = std::to_string(found.count);
-    if (vertices) {
-      text += found.count == 1 ? " vertex has " : " vertices have ";
-    } else {
-      text += found.count == 1 ? " point has " : " points have ";
-    }
-    text += what;
-    text += binary_ ? "; the first at byte " : "; the first at line ";
-    text += std::to_string(found.location) + " (" + found.first + ")";
-    return text;
-  };
+  const std::string bad_position = "a coordinate that is not finite or beyond " + coordinate_bound();
+  const bool skipping = skip_ != nullptr && !vertices;
+  if (skipping && positions_.count != 0) skip_->found(positions_.count, describe(positions_, bad_position, false));
   std::string message;
-  if (positions_.count != 0)
-    message = describe(positions_, "a coordinate that is not finite or beyond " + coordinate_bound());
+  if (positions_.count != 0 && !skipping) message = describe(positions_, bad_position, vertices);
   if (normals_.count != 0) {
     if (!message.empty()) message += "; and ";
-    message += describe(normals_, "a normal that is not finite (NaN or infinity)");
+    message += describe(normals_, "a normal that is not finite (NaN or infinity)", vertices);
   }
-  fail_in_file(file, message);
+  if (!message.empty()) fail_in_file(file, message);
+}
+
+namespace {
+thread_local SkipInvalidPoints* innermost_skip = nullptr;
+}  // namespace
+
+SkipInvalidPoints::SkipInvalidPoints() : outer_(innermost_skip) { innermost_skip = this; }
+
+SkipInvalidPoints::~SkipInvalidPoints() { innermost_skip = outer_; }
+
+SkipInvalidPoints* SkipInvalidPoints::current() { return innermost_skip; }
+
+void SkipInvalidPoints::found(std::uint64_t count, std::string description) {
+  if (count_ == 0) description_ = std::move(description);
+  count_ += count;
 }
 
 void append_number(std::string& out, double value) {
@@ -339,6 +363,25 @@ bool readable(const Vec3& v) {
   return coordinate_in_range(v.x()) && coordinate_in_range(v.y()) && coordinate_in_range(v.z());
 }
 }  // namespace
+
+void SkipInvalidPoints::remove_from(std::string_view file, PointCloud& cloud, ReadNotes& notes) const {
+  if (count_ == 0) return;
+  const std::size_t before = cloud.size();
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < before; ++i) {
+    if (!readable(cloud.positions[i])) continue;
+    cloud.positions[kept] = cloud.positions[i];
+    if (cloud.has_normals()) cloud.normals[kept] = cloud.normals[i];
+    if (cloud.has_colors()) cloud.colors[kept] = cloud.colors[i];
+    ++kept;
+  }
+  cloud.positions.resize(kept);
+  if (cloud.has_normals()) cloud.normals.resize(kept);
+  if (cloud.has_colors()) cloud.colors.resize(kept);
+  if (kept == 0) fail_in_file(file, "no points: every point is invalid (" + description_ + ")");
+  notes.skipped_points += before - kept;
+  notes.lines.push_back("skipped as invalid: " + description_);
+}
 
 void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
   const std::string name(file);

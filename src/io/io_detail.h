@@ -4,6 +4,7 @@
 // messages, parsing and printing numbers, and binary scalars in either byte
 // order.
 
+#include "recon/io/point_io.h"
 #include "recon/mesh.h"
 #include "recon/point_cloud.h"
 
@@ -253,6 +254,22 @@ inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, doub
   return Decoded::nan;
 }
 
+/// The value of type T stored at `bytes` in little-endian byte order (no
+/// alignment needed): LAS headers and records, PCD's compressed sizes.
+template <typename T>
+[[nodiscard]] T read_little_endian(const char* bytes) {
+  static_assert(std::is_trivially_copyable_v<T> &&
+                (sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4 || sizeof(T) == 8));
+  char raw[sizeof(T)];
+  std::memcpy(raw, bytes, sizeof(T));
+  if constexpr (std::endian::native == std::endian::big) {
+    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+  }
+  T value;
+  std::memcpy(&value, raw, sizeof(T));
+  return value;
+}
+
 /// Appends `value` to `out` in little-endian byte order.
 template <typename T>
 void append_little_endian(std::string& out, T value) {
@@ -286,35 +303,50 @@ void append_little_endian(std::string& out, T value) {
 /// "its type uint8 (0 to 255)", ... for messages about a value that does not fit.
 [[nodiscard]] std::string describe_range(ScalarType type);
 
+class SkipInvalidPoints;
+
 /// Counts, while a reader goes on reading, the points whose position has a
 /// coordinate that is NaN, infinite or beyond +-max_coordinate, and those
 /// whose normal has a component that is NaN or infinite, remembering where
 /// the first of each is; report() then refuses them all in one message.
 /// Reading on costs nothing for a good file and tells the user of a bad one
 /// how much is wrong, not only the first problem.
+///
+/// A checker made while a SkipInvalidPoints lives on the same thread (see
+/// below) does not refuse the positions of a point cloud: report() hands
+/// them to it instead, and the normals of those points are not checked.
 class PointChecker {
  public:
+  /// How a message places the first bad value: "line 17", "byte 356" or
+  /// "point 12" (data whose bytes are not the file's, such as decompressed
+  /// data).
+  enum class Location { line, byte, point };
+
   /// `binary`: locations are byte offsets, else line numbers.
-  explicit PointChecker(bool binary) : binary_(binary) {}
+  explicit PointChecker(bool binary) : PointChecker(binary ? Location::byte : Location::line) {}
+  explicit PointChecker(Location location);
 
   /// Checks a position read at `location`; `names` name its coordinates in
   /// messages. Binary readers may give the byte offset of each coordinate
   /// from `location` in `offsets`, so the message points at the bad value.
   void position(const Vec3& p, std::size_t location, const std::string_view (&names)[3],
                 const std::size_t* offsets = nullptr) {
-    check(p, location, names, offsets, true, positions_);
+    last_position_bad_ = !check(p, location, names, offsets, true, positions_);
   }
-  /// Checks a normal (only finiteness: its length does not matter).
+  /// Checks a normal (only finiteness: its length does not matter). Call it
+  /// after the position of the same point.
   void normal(const Vec3& n, std::size_t location, const std::string_view (&names)[3],
               const std::size_t* offsets = nullptr) {
-    check(n, location, names, offsets, false, normals_);
+    if (skip_ != nullptr && last_position_bad_) return;  // the point is left out
+    static_cast<void>(check(n, location, names, offsets, false, normals_));
   }
   /// Adopts what `other` found in normals (OBJ checks its normals apart and
   /// keeps them only when there is one per point).
   void take_normals(const PointChecker& other) { normals_ = other.normals_; }
   /// Throws ParseError "FILE: 3 points have a coordinate that is not finite
   /// or beyond +-1e+15; the first at line 17 (z = inf)" (and the same for
-  /// normals) when anything was found; "vertices" for a mesh reader.
+  /// normals) when anything was found; "vertices" for a mesh reader, whose
+  /// positions are always refused (leaving a vertex out would break faces).
   void report(std::string_view file, bool vertices = false) const;
 
  private:
@@ -323,11 +355,51 @@ class PointChecker {
     std::size_t location = 0;
     std::string first;  ///< "z = inf"
   };
-  void check(const Vec3& v, std::size_t location, const std::string_view (&names)[3], const std::size_t* offsets,
+  /// False when `v` has a bad value (then counted in `found`).
+  bool check(const Vec3& v, std::size_t location, const std::string_view (&names)[3], const std::size_t* offsets,
              bool bounded, Found& found);
-  bool binary_;
+  /// "3 points have WHAT; the first at line 17 (z = inf)".
+  [[nodiscard]] std::string describe(const Found& found, std::string_view what, bool vertices) const;
+  Location location_;
+  SkipInvalidPoints* skip_;  ///< the scope that takes bad positions, or nullptr
+  bool last_position_bad_ = false;
   Found positions_;
   Found normals_;
+};
+
+/// "line 17", "byte 356" or "point 12": a place in a message.
+[[nodiscard]] std::string place(PointChecker::Location kind, std::size_t location);
+
+/// ReadPointsOptions::skip_invalid for every reader at once: while an object
+/// of this class lives, the PointCheckers made on the same thread leave the
+/// points whose position is not finite or beyond +-max_coordinate to it
+/// instead of refusing them, so the readers themselves need not know the
+/// option. They return those points in the cloud, and read_points removes
+/// them with remove_from(). Scopes nest; the innermost one is used.
+class SkipInvalidPoints {
+ public:
+  SkipInvalidPoints();
+  SkipInvalidPoints(const SkipInvalidPoints&) = delete;
+  SkipInvalidPoints& operator=(const SkipInvalidPoints&) = delete;
+  ~SkipInvalidPoints();
+
+  /// The innermost scope open on this thread, or nullptr.
+  [[nodiscard]] static SkipInvalidPoints* current();
+
+  /// Called by PointChecker::report(): `count` points were found invalid,
+  /// `description` says so in its words ("3 points have ...; the first ...").
+  void found(std::uint64_t count, std::string description);
+
+  /// Removes from `cloud` the points with a position that is not finite or
+  /// beyond +-max_coordinate, with their normals and colours, and tells
+  /// `notes` how many and where the first was. Throws ParseError "FILE: no
+  /// points: ..." when none is left.
+  void remove_from(std::string_view file, PointCloud& cloud, ReadNotes& notes) const;
+
+ private:
+  SkipInvalidPoints* outer_;
+  std::uint64_t count_ = 0;
+  std::string description_;  ///< of the first report with bad positions
 };
 
 // ---------------------------------------------------------------------------

@@ -1,5 +1,6 @@
 // Choosing a point cloud format and handing the file to its reader or writer
-// (the formats themselves live in ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp).
+// (the formats themselves live in ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp,
+// las.cpp), and leaving out invalid points when asked (skip_invalid).
 
 #include "recon/io/point_io.h"
 
@@ -81,14 +82,10 @@ PointFormat point_format_from_path(const std::filesystem::path& path) {
                           " - or name the format with --format (ply, xyz, pts, obj, off, pcd, las)");
 }
 
-PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options, ReadNotes* notes) {
-  ReadNotes ignored;
-  ReadNotes& said = notes != nullptr ? *notes : ignored;
-  const PointFormat format = resolve(path, options.format);
-  const std::string file = path.string();
-  const detail::FileContent file_content = detail::read_file(path, options.max_stream_bytes);
-  const std::string_view content = file_content.view();
-  if (content.empty()) detail::fail_in_file(file, "the file is empty");
+namespace {
+
+PointCloud read_as(PointFormat format, const std::string& file, std::string_view content,
+                   const ReadPointsOptions& options, ReadNotes& said) {
   switch (format) {
     case PointFormat::ply: return detail::read_ply_points(file, content);
     case PointFormat::xyz: return detail::read_xyz_points(file, content, options, said);
@@ -100,6 +97,24 @@ PointCloud read_points(const std::filesystem::path& path, const ReadPointsOption
     case PointFormat::automatic: break;
   }
   throw InvalidInputError(file + ": no point format chosen");
+}
+
+}  // namespace
+
+PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options, ReadNotes* notes) {
+  ReadNotes ignored;
+  ReadNotes& said = notes != nullptr ? *notes : ignored;
+  const PointFormat format = resolve(path, options.format);
+  const std::string file = path.string();
+  const detail::FileContent file_content = detail::read_file(path, options.max_stream_bytes);
+  const std::string_view content = file_content.view();
+  if (content.empty()) detail::fail_in_file(file, "the file is empty");
+  if (!options.skip_invalid) return read_as(format, file, content, options, said);
+  // The readers' PointCheckers hand the invalid points to this scope instead of refusing them.
+  const detail::SkipInvalidPoints skipping;
+  PointCloud cloud = read_as(format, file, content, options, said);
+  skipping.remove_from(file, cloud, said);
+  return cloud;
 }
 
 void write_points(const std::filesystem::path& path, const PointCloud& cloud, const WritePointsOptions& options) {
