@@ -1,6 +1,6 @@
 #pragma once
 // The readers and writers of each file format, one source file per format
-// (ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp, stl.cpp, svg.cpp). point_io.cpp,
+// (ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp, las.cpp, stl.cpp, svg.cpp). point_io.cpp,
 // mesh_io.cpp and curve_io.cpp choose among them.
 //
 // A reader gets the file name (for messages only) and the whole content of
@@ -15,6 +15,7 @@
 
 #include <ostream>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -49,9 +50,12 @@ void write_off_mesh(std::ostream& out, const Mesh& mesh);
 [[nodiscard]] PointCloud read_pcd_points(std::string_view file, std::string_view content,
                                          const ReadPointsOptions& options, ReadNotes& notes);
 
-/// LAS 1.0-1.4 (las.cpp).
+/// LAS 1.0-1.4 (las.cpp); `notes` hears how 16-bit colours became 8-bit.
 [[nodiscard]] PointCloud read_las_points(std::string_view file, std::string_view content,
                                          const ReadPointsOptions& options, ReadNotes& notes);
+/// "LAZ (compressed LAS) is not read ...: decompress FILE first, e.g. ...":
+/// what is said of a .laz file and of LAS content with laszip's compression bit.
+[[nodiscard]] std::string laz_refusal(std::string_view file);
 
 void write_svg_curves(std::ostream& out, const PolylineSet& curves, std::span<const Vec2> points,
                       std::span<const Vec2> normals, double normal_length);

@@ -25,7 +25,7 @@ std::string lower_case(std::string_view text) {
   return result;
 }
 
-constexpr std::array<std::pair<std::string_view, PointFormat>, 7> format_names = {{
+constexpr std::array<std::pair<std::string_view, PointFormat>, 8> format_names = {{
     {"ply", PointFormat::ply},
     {"xyz", PointFormat::xyz},
     {"pts", PointFormat::pts},
@@ -33,9 +33,10 @@ constexpr std::array<std::pair<std::string_view, PointFormat>, 7> format_names =
     {"off", PointFormat::off},
     {"pcd", PointFormat::pcd},
     {"las", PointFormat::las},
+    {"laz", PointFormat::laz},  // known only to be refused with a way out
 }};
 
-constexpr std::array<std::pair<std::string_view, PointFormat>, 11> extensions = {{
+constexpr std::array<std::pair<std::string_view, PointFormat>, 12> extensions = {{
     {".ply", PointFormat::ply},
     {".xyz", PointFormat::xyz},
     {".txt", PointFormat::xyz},
@@ -47,6 +48,7 @@ constexpr std::array<std::pair<std::string_view, PointFormat>, 11> extensions = 
     {".off", PointFormat::off},
     {".pcd", PointFormat::pcd},
     {".las", PointFormat::las},
+    {".laz", PointFormat::laz},
 }};
 
 std::string_view name_of(PointFormat format) {
@@ -94,6 +96,7 @@ PointCloud read_as(PointFormat format, const std::string& file, std::string_view
     case PointFormat::off: return detail::read_off_points(file, content);
     case PointFormat::pcd: return detail::read_pcd_points(file, content, options, said);
     case PointFormat::las: return detail::read_las_points(file, content, options, said);
+    case PointFormat::laz:
     case PointFormat::automatic: break;
   }
   throw InvalidInputError(file + ": no point format chosen");
@@ -106,6 +109,7 @@ PointCloud read_points(const std::filesystem::path& path, const ReadPointsOption
   ReadNotes& said = notes != nullptr ? *notes : ignored;
   const PointFormat format = resolve(path, options.format);
   const std::string file = path.string();
+  if (format == PointFormat::laz) throw InvalidInputError(detail::laz_refusal(file));
   const detail::FileContent file_content = detail::read_file(path, options.max_stream_bytes);
   const std::string_view content = file_content.view();
   if (content.empty()) detail::fail_in_file(file, "the file is empty");

@@ -74,9 +74,9 @@
 
 namespace recon::io {
 
-enum class PointFormat { automatic, ply, xyz, pts, obj, off, pcd, las };
+enum class PointFormat { automatic, ply, xyz, pts, obj, off, pcd, las, laz };
 
-/// "ply", "xyz", "pts", "obj", "off", "pcd", "las"; throws InvalidInputError otherwise.
+/// "ply", "xyz", "pts", "obj", "off", "pcd", "las", "laz"; throws InvalidInputError otherwise.
 [[nodiscard]] PointFormat point_format_from_name(std::string_view name);
 /// From the extension (case-insensitive); throws InvalidInputError when unknown.
 [[nodiscard]] PointFormat point_format_from_path(const std::filesystem::path& path);
