@@ -17,6 +17,16 @@ void run(std::string_view content) {
   }
 }
 
+/// A reader that takes options and notes, with the default options.
+template <auto read>
+void run_with_notes(std::string_view content) {
+  try {
+    recon::io::ReadNotes notes;
+    static_cast<void>(read("fuzz-input", content, recon::io::ReadPointsOptions{}, notes));
+  } catch (const recon::Error&) {
+  }
+}
+
 }  // namespace
 
 Reader reader_named(std::string_view name) {
@@ -26,7 +36,7 @@ Reader reader_named(std::string_view name) {
       {"xyz_points", run<read_xyz_points>}, {"pts_points", run<read_pts_points>},
       {"obj_points", run<read_obj_points>}, {"obj_mesh", run<read_obj_mesh>},
       {"off_points", run<read_off_points>}, {"off_mesh", run<read_off_mesh>},
-      {"pcd_points", run<read_pcd_points>}, {"xy_points", run<read_xy_points>},
+      {"pcd_points", run_with_notes<read_pcd_points>}, {"xy_points", run<read_xy_points>},
   };
   for (const auto& [known, reader] : readers) {
     if (known == name) return reader;

@@ -46,7 +46,7 @@ void write_obj_mesh(std::ostream& out, const Mesh& mesh);
 [[nodiscard]] Mesh read_off_mesh(std::string_view file, std::string_view content);
 void write_off_mesh(std::ostream& out, const Mesh& mesh);
 
-[[nodiscard]] PointCloud read_pcd_points(std::string_view file, std::string_view content);
+/// PCD v0.7 (pcd.cpp); `notes` hears of skipped NaN points and dropped normals or colours.
 [[nodiscard]] PointCloud read_pcd_points(std::string_view file, std::string_view content,
                                          const ReadPointsOptions& options, ReadNotes& notes);
 

@@ -469,7 +469,7 @@ TEST(PointIoPcd, Errors) {
     const char* what;
   };
   const Case errors[] = {
-      {header + "DATA binary_compressed\n", "e.pcd:7:", "convert"},
+      {header + "DATA binary_compressed\n", "e.pcd: byte 84:", "the file ends before the two sizes"},
       {header + "DATA ascii\n1 2 3\n", "e.pcd:8:", "promises 2"},
       {header + "DATA ascii\n1 2 3\n1 2\n", "e.pcd:9:", "expected 3 values"},
       {header + "DATA ascii\n1 2 3\n1 2 3\n1 2 3\n", "e.pcd:10:", "more data lines"},
