@@ -4,6 +4,7 @@
 
 #include "summary.h"
 
+#include "recon/io/point_io.h"
 #include "recon/point_cloud.h"
 #include "recon/report.h"
 #include "recon/resource_usage.h"
@@ -27,8 +28,9 @@ struct InputOptions {
   bool no_colors = false;     ///< --no-colors: drop the input's colours
 };
 void add_input(CLI::App& app, InputOptions& in);
-/// Reads the cloud, says so, and records it in the statistics.
-PointCloud read_input(const InputOptions& in, Summary& summary);
+/// Reads the cloud, says so, and records it in the statistics; `notes`,
+/// when given, receives what the reader said.
+PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* notes = nullptr);
 
 /// Checks made before any work, so that a run that cannot write its results
 /// fails at once: outputs must not be the input or each other, and their

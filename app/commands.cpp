@@ -71,7 +71,7 @@ void report_memory(StepPeaks& memory, Summary& summary) {
   m["peak_mib_total"] = largest;
 }
 
-PointCloud read_input(const InputOptions& in, Summary& summary) {
+PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* said) {
   Timer timer;
   io::ReadPointsOptions options;
   if (!in.format.empty()) options.format = io::point_format_from_name(in.format);
@@ -91,6 +91,7 @@ PointCloud read_input(const InputOptions& in, Summary& summary) {
   summary.stats()["input"]["has_colors"] = cloud.has_colors();
   summary.stats()["input"]["skipped_points"] = notes.skipped_points;
   summary.stats()["input"]["seconds"] = timer.elapsed();
+  if (said != nullptr) *said = std::move(notes);
   return cloud;
 }
 
@@ -377,6 +378,16 @@ void report_mesh(const Mesh& mesh, Summary& summary) {
   m["signed_volume"] = t.signed_volume;
 }
 
+/// --use-normals on a cloud whose reader dropped its normals (PCD with NaN
+/// normals): say so, rather than that the input has none.
+void refuse_dropped_normals(const io::ReadNotes& notes) {
+  for (const std::string& line : notes.lines) {
+    if (line.starts_with("normals dropped: "))
+      throw InvalidInputError("--use-normals: the input's normals were dropped when it was read (" + line.substr(17) +
+                              "); run without the option to estimate them");
+  }
+}
+
 }  // namespace
 
 Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
@@ -431,8 +442,10 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     check_outputs(o->in.path, {o->output, o->stats, o->report});
     StepPeaks memory;
     memory.start("read");
-    PointCloud cloud = read_input(o->in, summary);
+    io::ReadNotes notes;
+    PointCloud cloud = read_input(o->in, summary, &notes);
     const std::size_t points = cloud.size();
+    if (o->use_normals && !cloud.has_normals()) refuse_dropped_normals(notes);
 
     ReconstructionOptions options;
     options.method = method_from_name(o->method);

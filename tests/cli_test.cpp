@@ -812,6 +812,34 @@ TEST_F(CliInfo, ReportsDuplicatesAndPointCount) {
   EXPECT_EQ(entries(), std::vector<std::string>{"dups.xyz"});
 }
 
+TEST_F(CliInfo, ReaderNotesAreSaidUnderTheReadLine) {
+  // A 3 x 2 depth image with one pixel without a return.
+  write_file(at("o.pcd"),
+             "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nHEIGHT 2\nPOINTS 6\nDATA ascii\n"
+             "0 0 1\n1 0 1\n2 0 1\n0 1 1\nnan nan nan\n2 1 1\n");
+  const RunResult run = recon({"info", "o.pcd"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_NE(run.out.find("o.pcd: 5 points"), std::string::npos) << describe(run);
+  EXPECT_NE(run.out.find("\n          skipped 1 point with no position (NaN x y z in an organized cloud); the first "
+                         "at line 12 (row 1, column 1)\n"),
+            std::string::npos)
+      << describe(run);
+}
+
+TEST_F(CliErrors, UseNormalsSaysTheReaderDroppedThem) {
+  write_file(at("n.pcd"),
+             "FIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\nPOINTS 2\n"
+             "DATA ascii\n0 0 0 0 0 1\n1 0 0 nan nan nan\n");
+  EXPECT_TRUE(refused(recon({"reconstruct", "n.pcd", "-o", "m.ply", "--use-normals"}),
+                      {"--use-normals: the input's normals were dropped when it was read (1 point has no normal (NaN), "
+                       "the first at line 7; recon estimates its own); run without the option"}));
+  // LAZ is named with the tools that decompress it.
+  write_file(at("scan.laz"), "LASF");
+  EXPECT_TRUE(
+      refused(recon({"info", "scan.laz"}), {"scan.laz: LAZ (compressed LAS) is not read", "laszip -i scan.laz"}));
+  EXPECT_EQ(entries(), (std::vector<std::string>{"n.pcd", "scan.laz"}));
+}
+
 // ---------------------------------------------------------------- determinism
 
 // Large enough that every parallel part really splits its work (kd-tree
