@@ -37,6 +37,7 @@ Reader reader_named(std::string_view name) {
       {"obj_points", run<read_obj_points>}, {"obj_mesh", run<read_obj_mesh>},
       {"off_points", run<read_off_points>}, {"off_mesh", run<read_off_mesh>},
       {"pcd_points", run_with_notes<read_pcd_points>}, {"xy_points", run<read_xy_points>},
+      {"las_points", run_with_notes<read_las_points>},
   };
   for (const auto& [known, reader] : readers) {
     if (known == name) return reader;
