@@ -28,11 +28,29 @@
 //          line (colours after it ignored); faces are not read. 4OFF, nOFF
 //          and binary OFF are refused.
 //   pcd  - PCD v0.7 with x, y, z fields of any type (F 4/8, I or U 1/2/4/8),
-//          normal_x, normal_y, normal_z used when all are present, other
-//          fields skipped; DATA ascii or binary (little-endian records).
-//          Points whose x, y and z are all NaN (PCL's "no measurement" in
-//          organized clouds) are skipped. DATA binary_compressed is refused
-//          with a hint to convert the file.
+//          normal_x, normal_y, normal_z used when all are present, rgb (or
+//          rgba) of 4 bytes as colours (PCL's packed 0x00RRGGBB), other
+//          fields skipped and never checked; DATA ascii, binary
+//          (little-endian records) or binary_compressed (LZF, the fields
+//          stored column by column). NaN is "no value": a point with a NaN
+//          coordinate in an organized cloud (HEIGHT > 1), or with all of
+//          x, y, z NaN in any cloud, has no position and is skipped (a
+//          ReadNotes line counts them and places the first, also by row and
+//          column); a NaN in some but not all of x, y, z of an unorganized
+//          cloud is an invalid point (see below). A NaN normal component
+//          drops the normals of the whole cloud, said in a note ("normals
+//          dropped: ...; recon estimates its own"); a colour that is not a
+//          number (ascii) drops the colours the same way.
+//   las  - LAS 1.0 to 1.4, uncompressed, point data record formats 0 to 10,
+//          the 32-bit or (1.4) 64-bit point count, header size, offset to
+//          the points and record length as the header gives them (longer
+//          records: extra bytes, skipped). A coordinate is X * scale +
+//          offset, computed in double (millimetres of geo-referenced
+//          coordinates of 1e6-1e7 are kept). Colours of formats 2, 3, 5,
+//          7, 8, 10 are 16-bit: taken as they are when every value of the
+//          file is at most 255, else by their high byte; a note says which.
+//   laz  - compressed LAS (.laz, or LAS content with laszip's compression
+//          bit) is refused with a message naming tools that decompress it.
 //
 // The file is mapped into memory read-only (mmap), not copied; a pipe or
 // another file that cannot be mapped is read whole, up to a limit
@@ -54,15 +72,23 @@
 // normal components that are NaN or infinite, are not a stop: the reader
 // reads on and then throws one ParseError that counts them and places the
 // first, "FILE: 3 points have a coordinate that is not finite or beyond
-// +-1e+15; the first at line 17 (z = nan)" ("at byte N" in binary data;
-// "; and 2 points have a normal that is not finite ..." when both occur).
-// PCD's all-NaN points are not counted: they are skipped (see above).
+// +-1e+15; the first at line 17 (z = nan)" ("at byte N" in binary data,
+// "at point N" in decompressed data; "; and 2 points have a normal that is
+// not finite ..." when both occur). PCD's points without a position are not
+// counted: they are skipped (see above). With ReadPointsOptions::skip_invalid
+// the points with such a coordinate are left out instead, with their normals
+// and colours (a left-out point's normal is not checked), and a note says so
+// in the same words, "skipped as invalid: 3 points have ..."; a file where
+// no point is left is "FILE: no points: every point is invalid (...)".
 // "FILE: the file is empty" and "FILE: no points ..." when there is nothing
 // to read. IoError "FILE: cannot open: reason" when the file is missing, a
 // folder or unreadable, "FILE: cannot read: reason" when reading fails,
 // "FILE: more than N bytes from a stream ..." beyond max_stream_bytes;
 // InvalidInputError for an unknown format name or extension (the message
-// lists the known ones and the --format option).
+// lists the known ones and the --format option) and for .laz ("FILE: LAZ
+// (compressed LAS) is not read by recon ...: decompress it first, e.g.
+// 'laszip -i FILE -o out.las', ..."); LAS content with the compression bit
+// gives the same words as a ParseError at byte 104.
 
 #include "recon/point_cloud.h"
 
@@ -98,7 +124,8 @@ struct ReadPointsOptions {
 /// What a reader chose or skipped that the user should hear about, one line
 /// each, e.g. "columns x y z r g b (no header: integers 0 to 255 after the
 /// position are read as colours)" or "skipped 1200 points with no position
-/// (NaN x y z in an organized cloud); the first at byte 356".
+/// (NaN x y z in an organized cloud); the first at byte 356 (row 0,
+/// column 3)".
 struct ReadNotes {
   std::vector<std::string> lines;
   std::size_t skipped_points = 0;  ///< points left out (invalid or no measurement)
