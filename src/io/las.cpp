@@ -159,7 +159,7 @@ void check_point_data(std::string_view file, std::string_view content, LasHeader
     fail_at_byte(file, header.point_offset + static_cast<std::size_t>(whole_records) * header.record_length,
                  "the file ends early: the header promises " + std::to_string(header.points) + " points of " +
                      std::to_string(header.record_length) + " bytes from byte " + std::to_string(header.point_offset) +
-                     ", but the file ends inside point " + std::to_string(whole_records) + " (counting from 0)");
+                     ", but the file holds only " + std::to_string(whole_records) + " whole points");
 }
 
 LasHeader read_header(std::string_view file, std::string_view content) {

@@ -26,6 +26,7 @@ using testing::as_format;
 using testing::Bytes;
 using testing::message_of;
 using testing::point_read_error;
+using testing::read_with_notes;
 using testing::TempFolder;
 using testing::write_file;
 
@@ -146,12 +147,6 @@ Vec3 expected_position(const LasFile& las, const LasPoint& p) {
   return v;
 }
 
-PointCloud read_las(const std::filesystem::path& path, ReadNotes& notes, bool skip_invalid = false) {
-  ReadPointsOptions options;
-  options.skip_invalid = skip_invalid;
-  return read_points(path, options, &notes);
-}
-
 TEST(LasReader, EveryFormatOfEveryVersion) {
   TempFolder folder;
   for (unsigned minor = 0; minor <= 4; ++minor) {
@@ -169,7 +164,7 @@ TEST(LasReader, EveryFormatOfEveryVersion) {
       ASSERT_EQ(las.record_length(), spec_record_size[format]);
       write_file(folder / "f.las", las.bytes());
       ReadNotes notes;
-      const PointCloud cloud = read_las(folder / "f.las", notes);
+      const PointCloud cloud = read_with_notes(folder / "f.las", notes);
       ASSERT_EQ(cloud.size(), las.points.size());
       EXPECT_FALSE(cloud.has_normals());
       EXPECT_EQ(cloud.has_colors(), las.has_rgb());
@@ -198,7 +193,7 @@ TEST(LasReader, ExtraBytesAndVariableLengthRecordsAreSkipped) {
     las.points = some_points(9, format);
     write_file(folder / "x.las", las.bytes());
     ReadNotes notes;
-    const PointCloud cloud = read_las(folder / "x.las", notes);
+    const PointCloud cloud = read_with_notes(folder / "x.las", notes);
     ASSERT_EQ(cloud.size(), las.points.size());
     for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_EQ(cloud.positions[i], expected_position(las, las.points[i]));
   }
@@ -215,7 +210,7 @@ TEST(LasReader, LegacyAnd64BitCounts) {
     las.count_64 = wide;
     write_file(folder / "c.las", las.bytes());
     ReadNotes notes;
-    return read_las(folder / "c.las", notes).size();
+    return read_with_notes(folder / "c.las", notes).size();
   };
   EXPECT_EQ(read_count(false, true), 5U);  // formats 6-10: the legacy count is 0
   EXPECT_EQ(read_count(true, false), 5U);  // a writer that filled only the legacy count
@@ -227,7 +222,7 @@ TEST(LasReader, LegacyAnd64BitCounts) {
   old.points = some_points(4, 4);
   write_file(folder / "old.las", old.bytes());
   ReadNotes notes;
-  EXPECT_EQ(read_las(folder / "old.las", notes).size(), 4U);
+  EXPECT_EQ(read_with_notes(folder / "old.las", notes).size(), 4U);
 }
 
 TEST(LasReader, GeoReferencedCoordinatesKeepTheMillimetre) {
@@ -244,7 +239,7 @@ TEST(LasReader, GeoReferencedCoordinatesKeepTheMillimetre) {
   las.points[0].xyz = {std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::min(), 1};
   write_file(folder / "geo.las", las.bytes());
   ReadNotes notes;
-  const PointCloud cloud = read_las(folder / "geo.las", notes);
+  const PointCloud cloud = read_with_notes(folder / "geo.las", notes);
   ASSERT_EQ(cloud.size(), las.points.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     for (std::size_t k = 0; k < 3; ++k) {
@@ -269,7 +264,7 @@ TEST(LasReader, ColoursOfEightBitsAreTakenAsTheyAre) {
   las.points[3].rgb = {255, 0, 128};
   write_file(folder / "c8.las", las.bytes());
   ReadNotes notes;
-  const PointCloud cloud = read_las(folder / "c8.las", notes);
+  const PointCloud cloud = read_with_notes(folder / "c8.las", notes);
   ASSERT_TRUE(cloud.has_colors());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Rgb16& rgb = las.points[i].rgb;
@@ -292,7 +287,7 @@ TEST(LasReader, ColoursOfSixteenBitsKeepTheirHighByte) {
   las.points[2].rgb = {100, 200, 300};
   write_file(folder / "c16.las", las.bytes());
   ReadNotes notes;
-  const PointCloud cloud = read_las(folder / "c16.las", notes);
+  const PointCloud cloud = read_with_notes(folder / "c16.las", notes);
   ASSERT_EQ(cloud.colors.size(), 3U);
   EXPECT_EQ(cloud.colors[0], (Color{255, 1, 0}));
   EXPECT_EQ(cloud.colors[1], (Color{0, 128, 1}));
@@ -322,7 +317,7 @@ TEST(LasReader, SkipInvalidLeavesOutPointsBeyondTheBound) {
                 "first at byte " +
                 std::to_string(third_record) + " (x = 2e+15)");
   ReadNotes notes;
-  const PointCloud cloud = read_las(folder / "s.las", notes, true);
+  const PointCloud cloud = read_with_notes(folder / "s.las", notes, true);
   ASSERT_EQ(cloud.size(), 4U);
   EXPECT_EQ(notes.skipped_points, 2U);
   const std::vector<std::uint8_t> kept_reds = {0, 1, 3, 5};
@@ -415,7 +410,7 @@ TEST(LasReader, BadFiles) {
       {"offset beyond file", patched<std::uint32_t>(good, 96, 5000),
        ": byte 96: ", "beyond the end of the file (311 bytes)"},
       {"truncated", good.substr(0, good.size() - 5), ": byte " + std::to_string(227 + 2 * 28) + ": ",
-       "the header promises 3 points of 28 bytes from byte 227, but the file ends inside point 2"},
+       "the header promises 3 points of 28 bytes from byte 227, but the file holds only 2 whole points"},
       // A count far beyond the file: refused before anything is sized by it.
       {"huge count", patched<std::uint32_t>(good, 107, 4'000'000'000U), ": byte " + std::to_string(227 + 3 * 28) + ": ",
        "the header promises 4000000000 points"},
