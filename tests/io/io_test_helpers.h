@@ -146,6 +146,13 @@ std::string message_of(F&& f) {
   return {};
 }
 
+/// Reads a point cloud, with what the reader said in `notes`.
+inline PointCloud read_with_notes(const std::filesystem::path& path, ReadNotes& notes, bool skip_invalid = false) {
+  ReadPointsOptions options;
+  options.skip_invalid = skip_invalid;
+  return read_points(path, options, &notes);
+}
+
 /// The message of the ParseError that reading `path` as a point cloud throws.
 inline std::string point_read_error(const std::filesystem::path& path) {
   return message_of<ParseError>([&] { static_cast<void>(read_points(path)); });

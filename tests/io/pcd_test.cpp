@@ -27,6 +27,7 @@ namespace {
 
 using testing::Bytes;
 using testing::point_read_error;
+using testing::read_with_notes;
 using testing::TempFolder;
 using testing::write_file;
 
@@ -243,12 +244,6 @@ void expect_same(const PointCloud& expected, const PointCloud& actual) {
   }
 }
 
-PointCloud read_with_notes(const std::filesystem::path& path, ReadNotes& notes, bool skip_invalid = false) {
-  ReadPointsOptions options;
-  options.skip_invalid = skip_invalid;
-  return read_points(path, options, &notes);
-}
-
 // --------------------------------------------------------------------------
 // DATA binary_compressed
 
@@ -352,21 +347,12 @@ TEST(PcdCompressed, BadData) {
        "2 compressed bytes cannot become the 12000000 bytes"},
       {"truncated literal", header + sizes(20, 24) + literal.substr(0, 20), data + 8,
        "bad LZF data: a literal run of 24 bytes is cut off by the end of the data"},
-      {"truncated reference",
-       header + sizes(3, 24) +
-           std::string("\x00"
-                       "a"
-                       "\x20",
-                       3),
-       data + 8 + 2, "a back-reference is cut off"},
-      {"reference before the start",
-       header + sizes(4, 24) +
-           std::string("\x00"
-                       "a"
-                       "\x20\x05",
-                       4),
-       data + 8 + 2, "a back-reference 6 bytes back reaches before the start of the decompressed data (at its byte 1)"},
-      {"output overrun", header + sizes(27, 24) + literal + std::string("\x20\x00", 2), data + 8 + 25,
+      // A literal 'a', then a reference of 3 bytes cut off before its distance byte, or 6 bytes back.
+      {"truncated reference", header + sizes(3, 24) + std::string{'\0', 'a', '\x20'}, data + 8 + 2,
+       "a back-reference is cut off"},
+      {"reference before the start", header + sizes(4, 24) + std::string{'\0', 'a', '\x20', '\x05'}, data + 8 + 2,
+       "a back-reference 6 bytes back reaches before the start of the decompressed data (at its byte 1)"},
+      {"output overrun", header + sizes(27, 24) + literal + std::string{'\x20', '\0'}, data + 8 + 25,
        "a back-reference goes beyond the 24 bytes of decompressed data"},
       {"decompresses short", header + sizes(21, 24) + std::string(1, '\x13') + raw.substr(0, 20), data + 8 + 21,
        "the data decompresses to 20 bytes, not the 24 the header gives"},

@@ -26,9 +26,7 @@ using testing::TempFolder;
 using testing::write_file;
 
 PointCloud read_skipping(const std::filesystem::path& path, ReadNotes& notes) {
-  ReadPointsOptions options;
-  options.skip_invalid = true;
-  return read_points(path, options, &notes);
+  return testing::read_with_notes(path, notes, true);
 }
 
 std::string binary_ply() {
