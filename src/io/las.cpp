@@ -21,7 +21,9 @@
 // specification scales colours to 0-65535, but many writers store 0-255 in
 // the 16-bit fields. So when every value of the file is at most 255, the
 // values are taken as they are; otherwise each is scaled down by taking its
-// high byte (value >> 8). A ReadNotes line says which was done.
+// high byte (value >> 8), which is exact for both ways writers widen 8 bits
+// (v * 256 and v * 257), where PLY's v / 257 would make 0xFF00 254. A
+// ReadNotes line says which was done.
 
 #include "formats.h"
 #include "io_detail.h"
