@@ -306,10 +306,38 @@ Vec3 working_offset(std::span<const Vec3> points) {
 }
 
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
-  return reconstruct(PointCloud(cloud), options);
+  return reconstruct(PointCloudView(cloud), options);
+}
+
+Reconstruction reconstruct(PointCloudView cloud, const ReconstructionOptions& options) {
+  return reconstruct_from(cloud, options, [] {});
 }
 
 Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options) {
+  return reconstruct_from(PointCloudView(cloud), options, [&cloud] { cloud = {}; });
+}
+
+namespace {
+
+// The start of phase I: the cloud moved near the origin (see working_offset)
+// as phase I's kd-tree copies it, in the tree's leaf order; the input
+// normals, when used, in the same order. `release` is called once nothing
+// more is read from `cloud`.
+Reconstruction take_the_cloud(PointCloudView cloud, const ReconstructionOptions& options,
+                              const std::function<void()>& release, KdTree<3>& tree) {
+  Reconstruction r;
+  r.offset = working_offset(cloud.positions);
+  tree = KdTree<3>(cloud.positions, options.planes.tree, r.offset);
+  r.order = tree.renumber_by_leaf_order();
+  if (options.use_input_normals) r.input_normals = permuted<Vec3>(cloud.normals, r.order);
+  release();
+  return r;
+}
+
+}  // namespace
+
+Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
+                                const std::function<void()>& release) {
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
   auto starting = [&](const char* phase) {
@@ -318,17 +346,10 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
   check_coordinates<3>(cloud.positions);  // before the bounding box below
   const std::size_t limit = options.max_memory > 0 ? options.max_memory : default_memory_limit();
   check_memory_planes_and_graph(cloud.size(), options.planes.k, limit, options.method);
-  Reconstruction r;
-  r.offset = working_offset(cloud.positions);
-  if (r.offset != Vec3::Zero())
-    for (Vec3& p : cloud.positions) p -= r.offset;
   starting("tangent planes");
   Timer tree_timer;
-  KdTree<3> tree(cloud.positions, options.planes.tree);
-  cloud.positions = {};
-  r.order = tree.renumber_by_leaf_order();
-  if (options.use_input_normals) r.input_normals = permuted<Vec3>(cloud.normals, r.order);
-  cloud.normals = {};
+  KdTree<3> tree;
+  Reconstruction r = take_the_cloud(cloud, options, release, tree);
   const double seconds_tree = tree_timer.lap();
   r.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
   r.planes.seconds_tree += seconds_tree;

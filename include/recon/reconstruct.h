@@ -114,10 +114,17 @@ struct Reconstruction {
 /// parameters, ResourceLimitError for a lattice too large), and
 /// InvalidInputError when use_input_normals is set but the cloud has none.
 [[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
+/// The same on a cloud held elsewhere (numpy arrays, a memory map): read in
+/// place, never copied; phase I's kd-tree makes the one working copy of the
+/// positions (moved by `offset`, in its leaf order), as in every form here.
+[[nodiscard]] Reconstruction reconstruct(PointCloudView cloud, const ReconstructionOptions& options = {});
 /// The same, consuming the cloud: its arrays are released as soon as phase
-/// I's kd-tree holds the points, which lowers the peak memory (the const&
-/// form works on a copy).
+/// I's kd-tree holds the points, which lowers the peak memory.
 [[nodiscard]] Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options = {});
+/// The three above: `release` is called as soon as nothing more is read
+/// from `cloud` (the caller may free it then).
+[[nodiscard]] Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
+                                              const std::function<void()>& release);
 
 /// Phase III's f as reconstruct() built it for `r` (the same planes, delta
 /// and plane choice); it references r, which must outlive it.

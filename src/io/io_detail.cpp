@@ -72,8 +72,9 @@ std::string read_to_end(int fd, const std::string& name, std::size_t limit) {
     content.resize(used + chunk);
     const ssize_t got = ::read(fd, content.data() + used, chunk);
     if (got < 0) {
-      if (errno == EINTR) continue;
-      throw IoError(name + ": cannot read: " + std::strerror(errno));
+      const int error = errno;
+      if (error == EINTR) continue;
+      throw IoError(name + ": cannot read: " + std::strerror(error), error);
     }
     if (got == 0) break;
     used += static_cast<std::size_t>(got);
@@ -93,12 +94,16 @@ FileContent read_file(const std::filesystem::path& path, std::size_t stream_limi
   const Descriptor fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
   if (fd.get() < 0) {
     // open() succeeds on a folder; EISDIR only comes for other flags, but say it plainly anyway.
-    if (errno == EISDIR) throw IoError(name + ": cannot open: it is a folder, not a file");
-    throw IoError(name + ": cannot open: " + std::strerror(errno));
+    const int error = errno;
+    if (error == EISDIR) throw IoError(name + ": cannot open: it is a folder, not a file", EISDIR);
+    throw IoError(name + ": cannot open: " + std::strerror(error), error);
   }
   struct stat status {};
-  if (::fstat(fd.get(), &status) != 0) throw IoError(name + ": cannot open: " + std::strerror(errno));
-  if (S_ISDIR(status.st_mode)) throw IoError(name + ": cannot open: it is a folder, not a file");
+  if (::fstat(fd.get(), &status) != 0) {
+    const int error = errno;
+    throw IoError(name + ": cannot open: " + std::strerror(error), error);
+  }
+  if (S_ISDIR(status.st_mode)) throw IoError(name + ": cannot open: it is a folder, not a file", EISDIR);
   // Pipes and devices cannot be mapped; files of /proc and the like say they
   // are empty and are not: read those, an empty file reads as empty anyway.
   if (!S_ISREG(status.st_mode) || status.st_size == 0) return FileContent(read_to_end(fd.get(), name, stream_limit));
