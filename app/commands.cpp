@@ -15,6 +15,7 @@
 #include "recon/orientation.h"
 #include "recon/parallel.h"
 #include "recon/shapes.h"
+#include "recon/spatial_order.h"  // permuted
 #include "recon/tangent_planes.h"
 #include "recon/timer.h"
 
@@ -285,6 +286,7 @@ void release_all_but_the_mesh(Reconstruction& r) {
   r.quadrics.reset();
   r.oriented.reset();
   r.input_normals = {};
+  r.colors = {};
 }
 
 void report_phases_3_4(const Reconstruction& r, Summary& summary) {
@@ -357,6 +359,18 @@ void report_refinement(const Refinement& r, Summary& summary) {
   s["seconds"] = r.seconds;
 }
 
+// The mesh's colours, when the input had some.
+void report_colors(const Reconstruction& r, const VertexColorOptions& options, Summary& summary) {
+  if (!r.mesh().has_colors()) return;
+  std::ostringstream line;
+  line << "colours   mesh vertices coloured from the samples: inverse-distance blend of the " << options.k
+       << " nearest (" << format_seconds(r.seconds_colors) << ")";
+  summary.say(line.str());
+  Json& s = summary.stats()["colors"];
+  s["k"] = options.k;
+  s["seconds"] = r.seconds_colors;
+}
+
 void report_mesh(const Mesh& mesh, Summary& summary) {
   const MeshTopology t = analyze_topology(mesh);
   std::ostringstream line;
@@ -375,6 +389,7 @@ void report_mesh(const Mesh& mesh, Summary& summary) {
   m["euler_characteristic"] = static_cast<double>(t.euler_characteristic);
   m["area"] = t.area;
   m["signed_volume"] = t.signed_volume;
+  m["has_colors"] = mesh.has_colors();
 }
 
 }  // namespace
@@ -466,6 +481,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     }
     report_phases_3_4(r, summary);
     if (r.refinement) report_refinement(*r.refinement, summary);
+    report_colors(r, options.colors, summary);
     if (o->report.empty()) release_all_but_the_mesh(r);
     report_mesh(r.mesh(), summary);
     memory.start("write");
@@ -522,7 +538,8 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
   auto stats = std::make_shared<std::filesystem::path>();
   auto report = std::make_shared<std::filesystem::path>();
   add_input(app, *in);
-  app.add_option("-o,--output", *output, "Oriented cloud to write (.ply or .xyz)")->required();
+  app.add_option("-o,--output", *output, "Oriented cloud to write (.ply or .xyz), with the input's colours if any")
+      ->required();
   app.add_flag("--ascii", *ascii, "Write ASCII PLY instead of binary");
   app.add_option("--stats", *stats, "Also write the run's figures as JSON to this file");
   add_report_option(app, *report);
@@ -573,6 +590,9 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
       input.planes = &planes;
       input.oriented = &oriented;
       input.normals = oriented.normals;
+      const std::vector<Color> colors =
+          cloud.has_colors() ? permuted<Color>(cloud.colors, order) : std::vector<Color>{};
+      input.colors = colors;
       write_run_report(*report, input, in->path, summary);
     }
     if (!stats->empty()) summary.write_stats(*stats);
