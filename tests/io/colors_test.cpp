@@ -44,6 +44,15 @@ Mesh colored_mesh(std::size_t vertices, std::uint64_t seed) {
   return mesh;
 }
 
+// One triangle, its vertices red-ish, a dark blue and black.
+Mesh colored_triangle() {
+  Mesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1.5, 0}};
+  mesh.triangles = {{0, 1, 2}};
+  mesh.colors = {{255, 0, 128}, {1, 254, 51}, {0, 0, 0}};
+  return mesh;
+}
+
 WritePointsOptions ply_ascii(bool ascii) {
   WritePointsOptions options;
   options.ascii = ascii;
@@ -193,10 +202,7 @@ TEST(ColorIo, MeshesRoundTripThroughPlyAndObj) {
 
 TEST(ColorIo, ObjWritesColoursInZeroToOne) {
   TempFolder folder;
-  Mesh mesh;
-  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1.5, 0}};
-  mesh.triangles = {{0, 1, 2}};
-  mesh.colors = {{255, 0, 128}, {1, 254, 51}, {0, 0, 0}};
+  Mesh mesh = colored_triangle();
   write_mesh(folder / "m.obj", mesh);
   const std::string content = read_bytes(folder / "m.obj");
   EXPECT_CONTAINS(content, "\nv 0 0 0 1 0 0.502\nv 1 0 0 0.0039 0.9961 0.2\nv 0 1.5 0 0 0 0\nf 1 2 3\n");
@@ -223,14 +229,11 @@ TEST(ColorRead, ObjColoursOnlyWhenEveryVertexHasThem) {
 
 TEST(ColorIo, OffWritesCoffAndStlDropsTheColours) {
   TempFolder folder;
-  Mesh mesh;
-  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  mesh.triangles = {{0, 1, 2}};
-  mesh.colors = {{255, 0, 128}, {1, 2, 3}, {0, 0, 0}};
+  Mesh mesh = colored_triangle();
   write_mesh(folder / "m.off", mesh);
   const std::string off = read_bytes(folder / "m.off");
   EXPECT_EQ(off.rfind("COFF\n", 0), 0U);
-  EXPECT_CONTAINS(off, "\n3 1 0\n0 0 0 255 0 128 255\n1 0 0 1 2 3 255\n0 1 0 0 0 0 255\n3 0 1 2\n");
+  EXPECT_CONTAINS(off, "\n3 1 0\n0 0 0 255 0 128 255\n1 0 0 1 254 51 255\n0 1.5 0 0 0 0 255\n3 0 1 2\n");
   const Mesh back = read_mesh(folder / "m.off");  // read without its colours
   EXPECT_TRUE(back.vertices == mesh.vertices);
   EXPECT_TRUE(back.triangles == mesh.triangles);

@@ -249,6 +249,11 @@ const hues = (page, name) => page.evaluate((name) => {
   }
   return { red: red / (x.length / 4), blue: blue / (x.length / 4) };
 }, name);
+// The hues of the picture as drawn now, kept as snapshot `name`.
+async function shownHues(page, name) {
+  await snapshot(page, name);
+  return hues(page, name);
+}
 
 // A sphere whose samples are red above the equator and blue below, as a
 // PLY with uchar colours: the run's page carries the colours and draws the
@@ -280,14 +285,12 @@ test('a run with colours draws its points and its mesh in them', async () => {
   // The final mesh alone: red above, blue below.
   for (const id of layerIds) await setLayer(page, id, false);
   await setLayer(page, 'refinement', true);
-  await snapshot(page, 'mesh-colours');
-  const mesh = await hues(page, 'mesh-colours');
+  const mesh = await shownHues(page, 'mesh-colours');
   assert.ok(mesh.red > 0.03 && mesh.blue > 0.03, `mesh: ${JSON.stringify(mesh)} of the picture red and blue`);
   // Coloured by distance instead (the page's choice), and back.
   await page.locator('#colouring-refinement').selectOption('distance');
-  await snapshot(page, 'mesh-distance');
+  assert.ok((await shownHues(page, 'mesh-distance')).blue < 0.001, 'the distance ramp has no plain blue');
   assert.ok(await difference(page, 'mesh-colours', 'mesh-distance') > 0.03, 'the colouring changes the picture');
-  assert.ok((await hues(page, 'mesh-distance')).blue < 0.001, 'the distance ramp has no plain blue');
   assert.match(await page.locator('#legend-refinement').textContent(), /distance to the 1992 surface/);
   await page.locator('#colouring-refinement').selectOption('input');
   await snapshot(page, 'mesh-colours-again');
@@ -296,12 +299,10 @@ test('a run with colours draws its points and its mesh in them', async () => {
   // The points alone, in their colours, then by component (one: no red, no blue).
   await setLayer(page, 'refinement', false);
   await setLayer(page, 'points', true);
-  await snapshot(page, 'point-colours');
-  const points = await hues(page, 'point-colours');
+  const points = await shownHues(page, 'point-colours');
   assert.ok(points.red > 0.002 && points.blue > 0.002, `points: ${JSON.stringify(points)} of the picture red and blue`);
   await page.locator('#colouring-points').selectOption('component');
-  await snapshot(page, 'point-components');
-  const components = await hues(page, 'point-components');
+  const components = await shownHues(page, 'point-components');
   assert.ok(components.red < 0.0005 && components.blue < 0.0005, `by component: ${JSON.stringify(components)}`);
   assertOffline(opened);
   await opened.context.close();
