@@ -17,6 +17,7 @@
 #include "recon/orientation.h"
 #include "recon/parallel.h"
 #include "recon/shapes.h"
+#include "recon/spatial_order.h"  // permuted
 #include "recon/tangent_planes.h"
 #include "recon/timer.h"
 
@@ -234,7 +235,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
     progress.stop();
     memory.start("summary");  // the mesh's topology, for the report below
 
-    report_reconstruction(r, points, !o->report.empty(), summary);
+    report_reconstruction(r, options, points, !o->report.empty(), summary);
     memory.start("write");
     Timer timer;
     io::write_mesh(o->output, r.mesh(), write_options);
@@ -289,7 +290,8 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
   auto stats = std::make_shared<std::filesystem::path>();
   auto report = std::make_shared<std::filesystem::path>();
   add_input(app, *in);
-  app.add_option("-o,--output", *output, "Oriented cloud to write (.ply or .xyz)")->required();
+  app.add_option("-o,--output", *output, "Oriented cloud to write (.ply or .xyz), with the input's colours if any")
+      ->required();
   app.add_flag("--ascii", *ascii, "Write ASCII PLY instead of binary");
   app.add_option("--stats", *stats, "Also write the run's figures as JSON to this file");
   add_report_option(app, *report);
@@ -335,6 +337,9 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
       input.planes = &planes;
       input.oriented = &oriented;
       input.normals = oriented.normals;
+      const std::vector<Color> colors =
+          cloud.has_colors() ? permuted<Color>(cloud.colors, estimated.order) : std::vector<Color>{};
+      input.colors = colors;
       write_run_report(*report, input, in->path, summary);
     }
     if (!stats->empty()) summary.write_stats(*stats);

@@ -81,6 +81,18 @@ void report_refinement(const Refinement& r, Summary& summary) {
   s["seconds"] = r.seconds;
 }
 
+// The mesh's colours, when the input had some.
+void report_colors(const Reconstruction& r, const VertexColorOptions& options, Summary& summary) {
+  if (!r.mesh().has_colors()) return;
+  std::ostringstream line;
+  line << "colours   mesh vertices coloured from the samples: inverse-distance blend of the " << options.k
+       << " nearest (" << format_seconds(r.seconds_colors) << ")";
+  summary.say(line.str());
+  Json& s = summary.stats()["colors"];
+  s["k"] = options.k;
+  s["seconds"] = r.seconds_colors;
+}
+
 void report_mesh(const Mesh& mesh, Summary& summary) {
   const MeshTopology t = analyze_topology(mesh);
   std::ostringstream line;
@@ -99,6 +111,7 @@ void report_mesh(const Mesh& mesh, Summary& summary) {
   m["euler_characteristic"] = static_cast<double>(t.euler_characteristic);
   m["area"] = t.area;
   m["signed_volume"] = t.signed_volume;
+  m["has_colors"] = mesh.has_colors();
 }
 
 // Without a report only the mesh is needed once the phases are reported:
@@ -111,6 +124,7 @@ void release_all_but_the_mesh(Reconstruction& r) {
   r.quadrics.reset();
   r.oriented.reset();
   r.input_normals = {};
+  r.colors = {};
 }
 
 }  // namespace
@@ -174,7 +188,8 @@ void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
   s["components_turned"] = oriented.components_turned;
 }
 
-void report_reconstruction(Reconstruction& r, std::size_t points, bool keep_all, Summary& summary) {
+void report_reconstruction(Reconstruction& r, const ReconstructionOptions& options, std::size_t points, bool keep_all,
+                           Summary& summary) {
   report_phase_1(r.planes, points, summary);
   summary.stats()["method"] = method_name(r.method);
   if (r.quadrics) report_quadrics(*r.quadrics, summary);
@@ -185,6 +200,7 @@ void report_reconstruction(Reconstruction& r, std::size_t points, bool keep_all,
   }
   report_phases_3_4(r, summary);
   if (r.refinement) report_refinement(*r.refinement, summary);
+  report_colors(r, options.colors, summary);
   if (!keep_all) release_all_but_the_mesh(r);
   report_mesh(r.mesh(), summary);
 }

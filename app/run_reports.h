@@ -19,11 +19,12 @@ void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary&
 /// Phase II's line and statistics.
 void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary);
 
-/// Every phase of a finished reconstruction of `points` points (lines and
-/// statistics), then its mesh. Without `keep_all` (no report to draw),
-/// everything but the mesh is released before the mesh's topology is
-/// measured, the run's last large allocation.
-void report_reconstruction(Reconstruction& r, std::size_t points, bool keep_all, Summary& summary);
+/// Every phase of a finished reconstruction of `points` points made with
+/// `options` (lines and statistics), then its mesh. Without `keep_all` (no
+/// report to draw), everything but the mesh is released before the mesh's
+/// topology is measured, the run's last large allocation.
+void report_reconstruction(Reconstruction& r, const ReconstructionOptions& options, std::size_t points, bool keep_all,
+                           Summary& summary);
 
 /// Peak memory per step for --stats (resource_usage.h): ends the last step
 /// and writes "memory": {"peak_mib": {step: MiB, ...}, "peak_mib_total": the largest}.

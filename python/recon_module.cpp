@@ -292,7 +292,7 @@ std::unique_ptr<PyMesh> run_reconstruct(const CloudArrays& input, const Reconstr
     in["points"] = input.view.size();
     in["has_normals"] = input.view.has_normals();
     in["has_colors"] = input.view.has_colors();
-    cli::report_reconstruction(r, input.view.size(), p.report.has_value(), summary);
+    cli::report_reconstruction(r, options, input.view.size(), p.report.has_value(), summary);
     cli::report_memory(memory, summary);
     summary.stats()["threads"] = thread_count();
     summary.stats()["seconds_total"] = total.elapsed();

@@ -305,6 +305,20 @@ Vec3 working_offset(std::span<const Vec3> points) {
   return centre;
 }
 
+namespace {
+// The final mesh's colours from the samples' (vertex_colors.h). Called
+// before the mesh moves back to the input's coordinates: its vertices and
+// phase I's tree over the samples are both in working coordinates then.
+template <class Starting>
+void color_mesh(Reconstruction& r, const VertexColorOptions& options, Starting& starting) {
+  starting("colours");
+  Timer timer;
+  Mesh& mesh = r.refinement ? r.refinement->mesh : r.contour.mesh;
+  mesh.colors = vertex_colors(mesh.vertices, r.planes.point_tree, r.colors, options);
+  r.seconds_colors = timer.elapsed();
+}
+}  // namespace
+
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
   return reconstruct(PointCloudView(cloud), options);
 }
@@ -330,6 +344,7 @@ Reconstruction take_the_cloud(PointCloudView cloud, const ReconstructionOptions&
   tree = KdTree<3>(cloud.positions, options.planes.tree, r.offset);
   r.order = tree.renumber_by_leaf_order();
   if (options.use_input_normals) r.input_normals = permuted<Vec3>(cloud.normals, r.order);
+  if (cloud.has_colors()) r.colors = permuted<Color>(cloud.colors, r.order);
   release();
   return r;
 }
@@ -340,6 +355,9 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
                                 const std::function<void()>& release) {
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
+  if (cloud.has_colors() && cloud.colors.size() != cloud.size())
+    throw InvalidInputError("the cloud has " + std::to_string(cloud.colors.size()) + " colours for " +
+                            std::to_string(cloud.size()) + " points");
   auto starting = [&](const char* phase) {
     if (options.on_phase) options.on_phase(phase);
   };
@@ -429,6 +447,7 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
     if (refinement.max_move <= 0.0) refinement.max_move = cell;
     r.refinement = refine_mesh(r.contour.mesh, input, refinement);
   }
+  if (options.mesh_colors && !r.colors.empty()) color_mesh(r, options.colors, starting);
   if (r.offset != Vec3::Zero()) {
     for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
     if (r.refinement)

@@ -162,3 +162,23 @@ def test_ctrl_c_stops_a_run_promptly():
         recon.reconstruct(points, method="hoppe92", threads=1)
     stopped = time.perf_counter() - started
     assert stopped < 0.85 * whole, (stopped, whole)
+
+
+def test_colours_reach_the_mesh(tmp_path):
+    points = sphere(20000, seed=17)
+    colors = np.where(points[:, 2:3] > 0, [255, 0, 0], [0, 0, 255]).astype(np.uint8)
+    seen = []
+    mesh = recon.reconstruct(points, colors=colors, progress=seen.append)
+    assert seen[-1] == "colours"
+    assert mesh.colors.shape == mesh.vertices.shape and mesh.colors.dtype == np.uint8
+    top, bottom = mesh.vertices[:, 2] > 0.1, mesh.vertices[:, 2] < -0.1
+    assert np.all(mesh.colors[top] == [255, 0, 0])
+    assert np.all(mesh.colors[bottom] == [0, 0, 255])
+    assert mesh.stats["mesh"]["has_colors"]
+    # Floats in [0, 1] mean the same colours; a cloud brings its own.
+    same = recon.reconstruct(recon.PointCloud(points, colors=colors / 255.0))
+    np.testing.assert_array_equal(same.colors, mesh.colors)
+    path = tmp_path / "coloured.ply"
+    mesh.save(path)
+    assert b"property uchar red" in path.read_bytes()[:400]
+    assert recon.reconstruct(points).colors is None

@@ -350,6 +350,9 @@ void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
   if (cloud.has_normals() && cloud.normals.size() != cloud.positions.size())
     throw InvalidInputError(name + ": cannot write: the cloud has " + std::to_string(cloud.normals.size()) +
                             " normals for " + std::to_string(cloud.positions.size()) + " points");
+  if (cloud.has_colors() && cloud.colors.size() != cloud.positions.size())
+    throw InvalidInputError(name + ": cannot write: the cloud has " + std::to_string(cloud.colors.size()) +
+                            " colours for " + std::to_string(cloud.positions.size()) + " points");
   for (std::size_t i = 0; i < cloud.positions.size(); ++i) {
     if (!readable(cloud.positions[i]))
       throw InvalidInputError(name + ": cannot write: point " + std::to_string(i) +
@@ -364,6 +367,9 @@ void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
 
 void check_mesh_for_writing(std::string_view file, const Mesh& mesh) {
   const std::string name(file);
+  if (mesh.has_colors() && mesh.colors.size() != mesh.vertices.size())
+    throw InvalidInputError(name + ": cannot write: the mesh has " + std::to_string(mesh.colors.size()) +
+                            " colours for " + std::to_string(mesh.vertices.size()) + " vertices");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     if (!readable(mesh.vertices[i]))
       throw InvalidInputError(name + ": cannot write: vertex " + std::to_string(i) +
