@@ -44,6 +44,33 @@ print(json.dumps({{"wall": wall, "inside": mesh.stats["seconds_total"], "faces":
     return json.loads(out.stdout)
 
 
+def interrupt_latency(cloud: str, threads: int, count: int) -> dict:
+    """Ctrl-C during recon.reconstruct, `count` times at spread-out moments
+    of the run, in a fresh interpreter: seconds from the signal to the
+    KeyboardInterrupt."""
+    code = f"""
+import _thread, json, threading, time, numpy as np, recon
+points = np.ascontiguousarray(recon.read_points({cloud!r}).points)
+started = time.perf_counter(); recon.reconstruct(points, threads={threads}); whole = time.perf_counter() - started
+latencies = []
+for i in range({count}):
+    sent = []
+    def interrupt():
+        time.sleep(whole * (i + 0.5) / {count})
+        sent.append(time.perf_counter())
+        _thread.interrupt_main()
+    threading.Thread(target=interrupt).start()
+    try:
+        recon.reconstruct(points, threads={threads})
+        time.sleep(whole)  # the signal came after the run: let it land here
+    except KeyboardInterrupt:
+        latencies.append(time.perf_counter() - sent[0])
+print(json.dumps({{"whole": whole, "latencies": latencies}}))
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return json.loads(out.stdout)
+
+
 def program_run(program: str, cloud: str, folder: str, threads: int) -> dict:
     stats = os.path.join(folder, "stats.json")
     mesh = os.path.join(folder, "mesh.ply")
@@ -61,6 +88,7 @@ def main() -> None:
     parser.add_argument("--reps", type=int, default=3)
     parser.add_argument("--threads", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--program", default=str(ROOT / "build/release/app/recon"))
+    parser.add_argument("--interrupts", type=int, default=8, help="Ctrl-C latency samples (0: none)")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         cloud = os.path.join(folder, "torus.ply")
@@ -87,6 +115,12 @@ def main() -> None:
               f"{100 * (q['wall'] - q['inside']) / q['inside']:.2f} % outside the library); "
               f"memory during the call {q['peak_mib'] - q['before_mib']:.0f} MiB over what the process held "
               f"before (the program's whole peak: {p['peak_mib']:.0f} MiB, including its own copy of the input)")
+        if args.interrupts > 0:
+            r = interrupt_latency(cloud, args.threads, args.interrupts)
+            lat = sorted(r["latencies"])
+            print(f"Ctrl-C at {args.interrupts} moments spread over a {r['whole']:.2f} s run: "
+                  f"KeyboardInterrupt after {1000 * lat[len(lat) // 2]:.0f} ms (median), {1000 * lat[-1]:.0f} ms "
+                  f"(longest) [{', '.join(f'{1000 * x:.0f}' for x in lat)}]")
 
 
 if __name__ == "__main__":

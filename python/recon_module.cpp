@@ -9,8 +9,9 @@
 //   arrays out: views of the vectors inside a Mesh or PointCloud object,
 //               which each array keeps alive (its `base`): no copy.
 //   while recon works the GIL is released; at each phase the run takes it
-//   back for a moment to call the progress callback and to check for
-//   signals (Ctrl-C raises KeyboardInterrupt out of the run).
+//   back for a moment to call the progress callback, and between the
+//   phases' steps to check for signals (interruption.h: Ctrl-C raises
+//   KeyboardInterrupt out of the run).
 //   errors:     InvalidInputError, ParseError -> ValueError;
 //               ResourceLimitError -> recon.ResourceLimitError (a MemoryError);
 //               IoError -> FileNotFoundError, IsADirectoryError,
@@ -23,6 +24,7 @@
 
 #include "recon/errors.h"
 #include "recon/estimate_normals.h"
+#include "recon/interruption.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 #include "recon/parallel.h"
@@ -189,6 +191,14 @@ class ThreadsForOneCall {
   int previous_;
 };
 
+// Raises a pending KeyboardInterrupt (Ctrl-C) out of the run: installed on
+// the calling thread as the library's interruption check (interruption.h),
+// which the phases run between their steps, without the GIL.
+void check_signals() {
+  py::gil_scoped_acquire gil;
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
 // What a run does as each phase starts (called on the calling thread,
 // without the GIL): note the step for the memory peaks, then, holding the
 // GIL, raise a pending KeyboardInterrupt and call the progress callback.
@@ -283,6 +293,7 @@ std::unique_ptr<PyMesh> run_reconstruct(const CloudArrays& input, const Reconstr
   {
     py::gil_scoped_release no_gil;
     Timer total;
+    InterruptionCheck interruptible(check_signals);
     StepPeaks memory;
     ReconstructionOptions options = checked;
     options.on_phase = phase_hook(memory, p.progress);
@@ -319,6 +330,7 @@ py::tuple run_estimate_normals(const CloudArrays& input, const PhaseParameters& 
   cli::Summary summary(true);
   {
     py::gil_scoped_release no_gil;
+    InterruptionCheck interruptible(check_signals);
     StepPeaks memory;
     options.on_phase = phase_hook(memory, progress);
     const NormalEstimation estimated = estimate_normals(input.view, options);
