@@ -2,6 +2,7 @@
 // Pieces the subcommands share (commands.cpp, lab.cpp): reading the input,
 // checking the outputs, the options of phases I and II, the report.
 
+#include "run_reports.h"
 #include "summary.h"
 
 #include "recon/io/point_io.h"
@@ -39,12 +40,7 @@ void check_outputs(const std::filesystem::path& input, const std::vector<std::fi
 
 /// --report FILE.html.
 void add_report_option(CLI::App& app, std::filesystem::path& report);
-/// The report options of a run from `source`: its title and the --stats
-/// JSON as it will be written, so the page and the file agree.
-ReportOptions run_report_options(const std::filesystem::path& source, Summary& summary);
 
-/// Peak memory per step for --stats (resource_usage.h).
-void report_memory(StepPeaks& memory, Summary& summary);
 
 // Options of phases I and II, and the memory limit.
 struct PhaseOptions {
@@ -56,7 +52,5 @@ struct PhaseOptions {
 void add_phase_options(CLI::App& app, PhaseOptions& p);
 TangentPlaneOptions phase_1_options(const PhaseOptions& p);
 
-/// Phase I's line and statistics.
-void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary& summary);
 
 }  // namespace recon::cli

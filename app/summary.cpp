@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -126,6 +127,34 @@ std::string format_length(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.4g", v);
   return buffer;
+}
+
+// "800M", "2G", "1.5 GB", "3000000000": bytes (K, M, G, T are powers of 1000,
+// as in the messages; a trailing 'B' or 'iB' is allowed: KiB, MiB... powers of 1024).
+std::string parse_size(const std::string& text, std::size_t& bytes) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return "expected a size such as 800M or 2G, found '" + text + "'";
+  }
+  if (!std::isfinite(value)) return "expected a size such as 800M or 2G, found '" + text + "'";
+  std::string unit = text.substr(used);
+  unit.erase(std::remove(unit.begin(), unit.end(), ' '), unit.end());
+  for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  static const std::pair<const char*, double> units[] = {
+      {"", 1.0},      {"B", 1.0},      {"K", 1e3},        {"KB", 1e3},       {"KIB", 1024.0},
+      {"M", 1e6},     {"MB", 1e6},     {"MIB", 1048576.0}, {"G", 1e9},        {"GB", 1e9},
+      {"GIB", 1073741824.0}, {"T", 1e12}, {"TB", 1e12},    {"TIB", 1099511627776.0}};
+  for (const auto& [name, factor] : units) {
+    if (unit != name) continue;
+    const double b = value * factor;
+    if (!(b >= 1e6) || !(b < 1e18)) return "a memory limit must be between 1M and 1000000T, found '" + text + "'";
+    bytes = static_cast<std::size_t>(b);
+    return "";
+  }
+  return "unknown size unit in '" + text + "' (use K, M, G or T)";
 }
 
 }  // namespace recon::cli

@@ -58,5 +58,10 @@ std::string plural(std::size_t n, const std::string& word);
 std::string format_seconds(double s);
 /// Shortest round-trip decimal form of a length.
 std::string format_length(double v);
+/// Parses a memory size: "800M", "2G", "1.5 GB", "3000000000" (K, M, G, T
+/// are powers of 1000, as in the messages; KiB, MiB... powers of 1024),
+/// between 1M and 1000000T. Returns "" and sets `bytes`, or returns what
+/// was wrong.
+std::string parse_size(const std::string& text, std::size_t& bytes);
 
 }  // namespace recon::cli

@@ -94,7 +94,10 @@ void check_coordinates(std::span<const Vec<D>> points) {
 }
 
 template <int D>
-KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : options_(options) {
+KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : KdTree(points, options, Point::Zero()) {}
+
+template <int D>
+KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options, const Point& shift) : options_(options) {
   if (options.leaf_size < 1) throw InvalidInputError("kd-tree leaf size must be at least 1");
   if (points.size() >= no_child)
     throw InvalidInputError("kd-tree: " + std::to_string(points.size()) + " points is more than the 2^32 - 1 supported");
@@ -104,7 +107,11 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options) : option
   // Build over (point, input index) pairs so that the median selection moves
   // contiguous data rather than chasing indices.
   std::vector<std::pair<Point, std::uint32_t>> items(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i], static_cast<std::uint32_t>(i)};
+  if (shift == Point::Zero()) {
+    for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i], static_cast<std::uint32_t>(i)};
+  } else {
+    for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i] - shift, static_cast<std::uint32_t>(i)};
+  }
 
   // The shape of the tree depends only on the sizes (each node splits its
   // points into halves of sizes m / 2 and m - m / 2), so every subtree's node

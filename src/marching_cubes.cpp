@@ -1,6 +1,7 @@
 #include "recon/marching_cubes.h"
 
 #include "recon/errors.h"
+#include "recon/interruption.h"
 #include "recon/marching_cubes_table.h"
 #include "recon/timer.h"
 
@@ -365,6 +366,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, SeedWave wave, const Ma
     wave_cubes.swap(next);
     next.clear();
     for (std::size_t first = 0; first < wave_cubes.size(); first += batch) {
+      interruption_point();
       const std::size_t count = std::min(batch, wave_cubes.size() - first);
       cube_slots.resize(count);
       fresh.clear();

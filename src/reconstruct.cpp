@@ -305,30 +305,69 @@ Vec3 working_offset(std::span<const Vec3> points) {
   return centre;
 }
 
+namespace {
+// The final mesh's colours from the samples' (vertex_colors.h). Called
+// before the mesh moves back to the input's coordinates: its vertices and
+// phase I's tree over the samples are both in working coordinates then.
+template <class Starting>
+void color_mesh(Reconstruction& r, const VertexColorOptions& options, Starting& starting) {
+  starting("colours");
+  Timer timer;
+  Mesh& mesh = r.refinement ? r.refinement->mesh : r.contour.mesh;
+  mesh.colors = vertex_colors(mesh.vertices, r.planes.point_tree, r.colors, options);
+  r.seconds_colors = timer.elapsed();
+}
+}  // namespace
+
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
-  return reconstruct(PointCloud(cloud), options);
+  return reconstruct(PointCloudView(cloud), options);
+}
+
+Reconstruction reconstruct(PointCloudView cloud, const ReconstructionOptions& options) {
+  return reconstruct_from(cloud, options, [] {});
 }
 
 Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options) {
+  return reconstruct_from(PointCloudView(cloud), options, [&cloud] { cloud = {}; });
+}
+
+namespace {
+
+// The start of phase I: the cloud moved near the origin (see working_offset)
+// as phase I's kd-tree copies it, in the tree's leaf order; the input
+// normals, when used, in the same order. `release` is called once nothing
+// more is read from `cloud`.
+Reconstruction take_the_cloud(PointCloudView cloud, const ReconstructionOptions& options,
+                              const std::function<void()>& release, KdTree<3>& tree) {
+  Reconstruction r;
+  r.offset = working_offset(cloud.positions);
+  tree = KdTree<3>(cloud.positions, options.planes.tree, r.offset);
+  r.order = tree.renumber_by_leaf_order();
+  if (options.use_input_normals) r.input_normals = permuted<Vec3>(cloud.normals, r.order);
+  if (cloud.has_colors()) r.colors = permuted<Color>(cloud.colors, r.order);
+  release();
+  return r;
+}
+
+}  // namespace
+
+Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
+                                const std::function<void()>& release) {
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
+  if (cloud.has_colors() && cloud.colors.size() != cloud.size())
+    throw InvalidInputError("the cloud has " + std::to_string(cloud.colors.size()) + " colours for " +
+                            std::to_string(cloud.size()) + " points");
   auto starting = [&](const char* phase) {
     if (options.on_phase) options.on_phase(phase);
   };
   check_coordinates<3>(cloud.positions);  // before the bounding box below
   const std::size_t limit = options.max_memory > 0 ? options.max_memory : default_memory_limit();
   check_memory_planes_and_graph(cloud.size(), options.planes.k, limit, options.method);
-  Reconstruction r;
-  r.offset = working_offset(cloud.positions);
-  if (r.offset != Vec3::Zero())
-    for (Vec3& p : cloud.positions) p -= r.offset;
   starting("tangent planes");
   Timer tree_timer;
-  KdTree<3> tree(cloud.positions, options.planes.tree);
-  cloud.positions = {};
-  r.order = tree.renumber_by_leaf_order();
-  if (options.use_input_normals) r.input_normals = permuted<Vec3>(cloud.normals, r.order);
-  cloud.normals = {};
+  KdTree<3> tree;
+  Reconstruction r = take_the_cloud(cloud, options, release, tree);
   const double seconds_tree = tree_timer.lap();
   r.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
   r.planes.seconds_tree += seconds_tree;
@@ -408,6 +447,7 @@ Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& opti
     if (refinement.max_move <= 0.0) refinement.max_move = cell;
     r.refinement = refine_mesh(r.contour.mesh, input, refinement);
   }
+  if (options.mesh_colors && !r.colors.empty()) color_mesh(r, options.colors, starting);
   if (r.offset != Vec3::Zero()) {
     for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
     if (r.refinement)

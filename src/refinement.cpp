@@ -1,6 +1,7 @@
 #include "recon/refinement.h"
 
 #include "recon/errors.h"
+#include "recon/interruption.h"
 #include "recon/timer.h"
 
 #include <Eigen/Dense>
@@ -876,6 +877,7 @@ Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, cons
   Timer timer;
   const double cos_crease = std::cos(options.crease_angle_degrees * std::numbers::pi / 180.0);
   Projected pr = project_vertices(contoured, input, options.max_move);
+  interruption_point();
   const std::size_t brought_back = bring_back(pr, contoured, input, cos_crease, options.max_move);
   Builder b;
   b.mesh.vertices = pr.point;
@@ -888,7 +890,9 @@ Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, cons
   }
   for (std::size_t v = 0; v < pr.point.size(); ++v)
     b.displacement[v] = static_cast<float>((b.mesh.vertices[v] - contoured.vertices[v]).norm());
+  interruption_point();
   sharpen(b, pr, contoured, input, cos_crease);
+  interruption_point();
   Refinement result;
   result.trimmed = trim_boundaries(b, pr);
   if (input.sample_tree != nullptr) result.stray_triangles = drop_strays(b, pr, input);

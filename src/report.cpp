@@ -170,6 +170,14 @@ std::vector<std::uint32_t> add_triangles(const Mesh& mesh, std::size_t budget, c
   }
   out.vertices.reserve(3 * source.size());
   for (const std::uint32_t v : source) push(out.vertices, mesh.vertices[v] - centre);
+  if (mesh.has_colors()) {
+    if (mesh.colors.size() != mesh.vertices.size())
+      throw InvalidInputError("report: a mesh has " + std::to_string(mesh.colors.size()) + " colours for " +
+                              std::to_string(mesh.vertices.size()) + " vertices");
+    out.colors.reserve(3 * source.size());
+    for (const std::uint32_t v : source)
+      out.colors.insert(out.colors.end(), mesh.colors[v].begin(), mesh.colors[v].end());
+  }
   return source;
 }
 
@@ -395,6 +403,7 @@ void write_mesh(JsonWriter& w, const ReportMesh& mesh) {
   w.count("boundary_drawn", mesh.boundary_segments.size() / 6);
   w.array("vertices", mesh.vertices);
   w.array("triangles", mesh.triangles);
+  if (!mesh.colors.empty()) w.array("colors", mesh.colors);
   w.count("boundary_total", mesh.boundary_edges_total);
   w.count("boundary_stride", mesh.boundary_stride);
   w.array("boundary", mesh.boundary_segments);
@@ -465,6 +474,7 @@ ReportInput report_input(const Reconstruction& r) {
   in.planes = &r.planes;
   in.oriented = r.oriented ? &*r.oriented : nullptr;
   in.normals = r.normals();
+  in.colors = r.colors;
   in.contour = &r.contour;
   in.refinement = r.refinement ? &*r.refinement : nullptr;
   return in;
@@ -477,6 +487,9 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
   if (planes.origins.size() != n || planes.normals.size() != n || in.normals.size() != n)
     throw InvalidInputError("report: " + std::to_string(n) + " points but " + std::to_string(planes.origins.size()) +
                             " planes and " + std::to_string(in.normals.size()) + " oriented normals");
+  if (!in.colors.empty() && in.colors.size() != n)
+    throw InvalidInputError("report: " + std::to_string(n) + " points but " + std::to_string(in.colors.size()) +
+                            " colours");
 
   ReportLayers layers;
   const Box<3> box = bounding_box<3>(in.points);
@@ -500,6 +513,8 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
     layers.no_plane.push_back(planes.local_rho[i] > 0.0F ? 0 : 1);
     push_normal(layers.normals, in.normals[i]);
     layers.flipped.push_back(planes.normals[i].dot(in.normals[i]) < 0.0 ? 1 : 0);
+    if (!in.colors.empty())
+      layers.point_colors.insert(layers.point_colors.end(), in.colors[i].begin(), in.colors[i].end());
   }
 
   add_kdtree(planes.point_tree, layers.centre - in.offset, options.max_kdtree_depth, layers);
@@ -525,6 +540,7 @@ void write_points(JsonWriter& w, const ReportLayers& layers) {
   w.array("no_plane", layers.no_plane);
   w.array("normal", layers.normals);
   w.array("flipped", layers.flipped);
+  if (!layers.point_colors.empty()) w.array("color", layers.point_colors);
   w.close();
 
   w.open("kdtree");

@@ -2,6 +2,7 @@
 
 #include "recon/emst.h"
 #include "recon/errors.h"
+#include "recon/interruption.h"
 #include "recon/parallel.h"  // AtomicRef
 #include "recon/timer.h"
 
@@ -47,6 +48,7 @@ RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes, const 
     result.emst = euclidean_minimum_spanning_tree<D>(planes.point_tree, samples, EmstHints{&planes.neighbors, radius2});
   }
   result.seconds_emst = timer.lap();
+  interruption_point();
 
   // (Raw pointers: the loops below run over every list entry.)
   const Vec<D>* const origin = planes.origins.data();

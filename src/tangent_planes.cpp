@@ -1,6 +1,7 @@
 #include "recon/tangent_planes.h"
 
 #include "recon/errors.h"
+#include "recon/interruption.h"
 #include "recon/pca.h"
 #include "recon/timer.h"
 
@@ -128,6 +129,7 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
     }
   }
   result.seconds_knn_pca = timer.lap();
+  interruption_point();
   result.distinct_points = distinct;
   if (distinct < kk + 1) {
     std::string message = "only " + std::to_string(distinct) + " distinct point" + (distinct == 1 ? "" : "s") +

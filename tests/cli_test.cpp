@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <csignal>
@@ -582,6 +583,35 @@ TEST_F(CliNormals, AsciiFlagWritesAsciiPly) {
   EXPECT_EQ(cloud.normals.size(), 2000U);
 }
 
+// A sphere's samples, red above the equator and blue below, as a binary PLY
+// with "uchar red green blue" (made from `recon generate`'s cloud).
+void add_red_above_blue_below(const fs::path& from, const fs::path& to) {
+  PointCloud cloud = io::read_points(from);
+  for (const Vec3& p : cloud.positions) cloud.colors.push_back(p.z() > 0.0 ? Color{255, 0, 0} : Color{0, 0, 255});
+  io::write_points(to, cloud);
+}
+
+TEST_F(CliNormals, KeepsTheInputsColoursUnlessNoColors) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 3000, "s.xyz"));
+  add_red_above_blue_below(at("s.xyz"), at("c.ply"));
+  const RunResult run = recon({"normals", "c.ply", "-o", "n.ply"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_EQ(lines_starting_with(run.out, "read      c.ply: 3000 points with colours").size(), 1U) << run.out;
+  const PointCloud input = io::read_points(at("c.ply"));
+  const PointCloud cloud = io::read_points(at("n.ply"));
+  ASSERT_TRUE(cloud.has_normals());
+  EXPECT_TRUE(cloud.positions == input.positions);
+  EXPECT_TRUE(cloud.colors == input.colors) << "the colours are written back in the input's order";
+  // As text: x y z nx ny nz r g b.
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "c.ply", "-o", "n.xyz"})));
+  const std::string text = read_bytes(at("n.xyz"));
+  const std::string first = text.substr(0, text.find('\n'));
+  EXPECT_EQ(std::count(first.begin(), first.end(), ' '), 8) << first;
+  EXPECT_TRUE(first.ends_with(input.colors[0] == Color{255, 0, 0} ? " 255 0 0" : " 0 0 255")) << first;
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "c.ply", "-o", "plain.ply", "--no-colors"})));
+  EXPECT_FALSE(io::read_points(at("plain.ply")).has_colors());
+}
+
 // ---------------------------------------------------------------- reconstruct
 
 TEST_F(CliReconstruct, TorusIsClosedGenusOneAndStatsMatchTheFile) {
@@ -716,6 +746,42 @@ TEST_F(CliReconstruct, TwoShapesGiveTwoComponents) {
 }
 
 // ---------------------------------------------------------------- what is printed
+
+// Colours travel to the mesh, in PLY and OBJ; --no-colors drops them.
+TEST_F(CliReconstruct, ColoursReachTheMeshUnlessNoColors) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 8000, "s.xyz"));
+  add_red_above_blue_below(at("s.xyz"), at("c.ply"));
+  const RunResult run = recon({"reconstruct", "c.ply", "-o", "m.ply", "--stats", "st.json"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_EQ(lines_starting_with(run.out, "colours   mesh vertices coloured from the samples").size(), 1U) << run.out;
+  const std::string json = read_bytes(at("st.json"));
+  EXPECT_NE(json.find("\"has_colors\": true"), std::string::npos);
+  EXPECT_EQ(stat_count(json, "colors", "k"), 8);
+  const Mesh mesh = io::read_mesh(at("m.ply"));
+  ASSERT_EQ(mesh.colors.size(), mesh.vertices.size());
+  const double margin = 2.0 * stat(json, "contouring", "cell").value_or(1.0);
+  std::size_t checked = 0;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const double z = mesh.vertices[v].z();
+    if (std::abs(z) <= margin) continue;
+    ++checked;
+    ASSERT_EQ(mesh.colors[v], z > 0.0 ? (Color{255, 0, 0}) : (Color{0, 0, 255})) << "vertex " << v << " at z " << z;
+  }
+  EXPECT_GT(checked, mesh.vertices.size() / 2);
+
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "c.ply", "-o", "m.obj"})));
+  const std::string obj = read_bytes(at("m.obj"));
+  EXPECT_TRUE(obj.find(" 1 0 0\n") != std::string::npos && obj.find(" 0 0 1\n") != std::string::npos)
+      << "'v x y z r g b' lines, red and blue";
+  EXPECT_TRUE(io::read_mesh(at("m.obj")).colors == mesh.colors);
+
+  const RunResult plain = recon({"reconstruct", "c.ply", "-o", "plain.ply", "--no-colors"});
+  ASSERT_TRUE(succeeded(plain));
+  EXPECT_TRUE(lines_starting_with(plain.out, "colours ").empty()) << plain.out;
+  EXPECT_EQ(lines_starting_with(plain.out, "read      c.ply: 8000 points (").size(), 1U) << plain.out;
+  EXPECT_FALSE(io::read_mesh(at("plain.ply")).has_colors());
+  EXPECT_EQ(read_bytes(at("plain.ply")).find("red"), std::string::npos);
+}
 
 TEST_F(CliOutput, QuietPrintsNothing) {
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 1500, "s.ply"));
@@ -892,6 +958,26 @@ TEST_F(CliReport, NormalsWritesAReportWithoutLatticeLayers) {
   EXPECT_NE(page.find("\"graph\":{"), std::string::npos);
   EXPECT_EQ(page.find("\"mesh\":{"), std::string::npos);
   EXPECT_EQ(page.find("\"corners\":{"), std::string::npos);
+}
+
+TEST_F(CliReport, AColouredRunsPageCarriesThePointsAndTheMeshsColours) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 3000, "s.xyz"));
+  add_red_above_blue_below(at("s.xyz"), at("c.ply"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "c.ply", "-o", "m.ply", "--report", "r.html"})));
+  const std::string page = read_bytes(at("r.html"));
+  // An array's number in the data block (the statistics have a "colors" object too).
+  const auto names_an_array = [](const std::string& text, const std::string& key) {
+    for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1))
+      if (at + key.size() < text.size() && std::isdigit(static_cast<unsigned char>(text[at + key.size()]))) return true;
+    return false;
+  };
+  EXPECT_TRUE(names_an_array(page, ",\"color\":")) << "layer 1's colours";
+  EXPECT_TRUE(names_an_array(page, ",\"colors\":")) << "the mesh's colours";
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "c.ply", "-o", "n.ply", "--report", "n.html"})));
+  EXPECT_TRUE(names_an_array(read_bytes(at("n.html")), ",\"color\":"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "s.xyz", "-o", "p.ply", "--report", "p.html"})));
+  const std::string plain = read_bytes(at("p.html"));
+  EXPECT_FALSE(names_an_array(plain, ",\"color\":") || names_an_array(plain, ",\"colors\":"));
 }
 
 TEST_F(CliReport, BadReportPathIsRefusedBeforeAnyWork) {

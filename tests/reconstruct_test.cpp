@@ -222,6 +222,86 @@ TEST(Reconstruct, UsesTheInputNormalsWhenAsked) {
   EXPECT_THROW((void)reconstruct(bare, options), InvalidInputError);
 }
 
+// Colours travel: a sphere whose samples are red above its equator and
+// blue below, far from the origin (so the run works relative to an offset
+// and the mesh is moved back): every mesh vertex more than two cells above
+// the equator is red, more than two below blue, in both methods; the
+// colours are kept in spatial order beside the other per-point results.
+PointCloud red_above_blue_below(const Vec3& centre, std::size_t n, std::uint64_t seed) {
+  PointCloud cloud = make_sphere(1.0, centre)->sample(n, seed);
+  cloud.normals.clear();
+  for (const Vec3& p : cloud.positions)
+    cloud.colors.push_back(p.z() > centre.z() ? Color{255, 0, 0} : Color{0, 0, 255});
+  return cloud;
+}
+
+TEST(Reconstruct, ColoursTravelFromTheSamplesToTheMesh) {
+  const Vec3 centre(2000.0, -3000.0, 500.0);
+  const PointCloud cloud = red_above_blue_below(centre, 20000, 41);
+  for (const Method method : {Method::refined, Method::hoppe92}) {
+    ReconstructionOptions options;
+    options.method = method;
+    const Reconstruction r = reconstruct(cloud, options);
+    ASSERT_NE(r.offset, Vec3::Zero());
+    ASSERT_EQ(r.colors.size(), cloud.size());
+    for (std::size_t j = 0; j < r.order.size(); ++j) ASSERT_EQ(r.colors[j], cloud.colors[r.order[j]]) << j;
+    const Mesh& mesh = r.mesh();
+    ASSERT_EQ(mesh.colors.size(), mesh.vertices.size()) << method_name(method);
+    EXPECT_GT(r.seconds_colors, 0.0);
+    if (r.refinement) {
+      EXPECT_FALSE(r.contour.mesh.has_colors()) << "phase IV's mesh, an intermediate, has none";
+    }
+    const double margin = 2.0 * r.contour.cell;
+    std::size_t red = 0, blue = 0, wrong = 0;
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+      const double height = mesh.vertices[v].z() - centre.z();
+      if (height > margin) {
+        ++red;
+        if (mesh.colors[v] != Color{255, 0, 0}) ++wrong;
+      } else if (height < -margin) {
+        ++blue;
+        if (mesh.colors[v] != Color{0, 0, 255}) ++wrong;
+      }
+    }
+    EXPECT_EQ(wrong, 0U) << method_name(method);
+    EXPECT_GT(red, mesh.vertices.size() / 3) << method_name(method);
+    EXPECT_GT(blue, mesh.vertices.size() / 3) << method_name(method);
+  }
+}
+
+TEST(Reconstruct, MeshColoursAreTheSameForAnyThreadCount) {
+  const PointCloud cloud = red_above_blue_below(Vec3::Zero(), 20000, 42);
+  const int threads = thread_count();
+  std::vector<Mesh> meshes;
+  for (const int t : {1, 3}) {
+    set_thread_count(t);
+    meshes.push_back(reconstruct(cloud).mesh());
+  }
+  set_thread_count(threads);
+  ASSERT_TRUE(meshes[0].vertices == meshes[1].vertices);
+  EXPECT_TRUE(meshes[0].colors == meshes[1].colors);
+  // A blend: vertices near the equator take colours between red and blue.
+  EXPECT_TRUE(std::any_of(meshes[0].colors.begin(), meshes[0].colors.end(),
+                          [](const Color& c) { return c[0] > 0 && c[2] > 0; }));
+}
+
+TEST(Reconstruct, NoMeshColoursWithoutInputColoursOrWhenTurnedOff) {
+  PointCloud cloud = red_above_blue_below(Vec3::Zero(), 8000, 43);
+  ReconstructionOptions options;
+  options.mesh_colors = false;
+  const Reconstruction off = reconstruct(cloud, options);
+  EXPECT_FALSE(off.mesh().has_colors());
+  EXPECT_EQ(off.colors.size(), cloud.size()) << "the samples' colours are kept all the same";
+  EXPECT_EQ(off.seconds_colors, 0.0);
+  PointCloud wrong = cloud;
+  wrong.colors.pop_back();
+  EXPECT_THROW((void)reconstruct(wrong), InvalidInputError);
+  cloud.colors.clear();
+  const Reconstruction none = reconstruct(std::move(cloud));
+  EXPECT_FALSE(none.mesh().has_colors());
+  EXPECT_TRUE(none.colors.empty());
+}
+
 TEST(Reconstruct, CellAndResolutionOptions) {
   const auto shape = make_sphere();
   const PointCloud cloud = shape->sample(5000, 35);

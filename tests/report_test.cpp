@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -461,6 +463,92 @@ TEST(ReportPage, ArraysRoundTripThroughThePage) {
   EXPECT_TRUE(element(html, "recon-array-22").empty());
   EXPECT_NE(json.find("\"distance\":{\"value\":21,\"mean\":"), std::string_view::npos);
   EXPECT_NE(json.find("\"drawn_box\":{\"min\":["), std::string_view::npos);
+}
+
+// A run whose input had colours: layer 1 carries each drawn point's, and
+// the final mesh's layer (8, or 7 in hoppe92) each drawn vertex's, within
+// the budgets; the page holds them as arrays the JSON names. A run without
+// colours has no such keys.
+const Reconstruction& colored_sphere(Method method) {
+  static const auto make = [](Method m) {
+    PointCloud cloud = make_sphere()->sample(4000, 22);
+    for (const Vec3& p : cloud.positions)
+      cloud.colors.push_back(
+          {static_cast<std::uint8_t>(p.z() > 0.0 ? 255 : 0), static_cast<std::uint8_t>(p.x() > 0.0 ? 200 : 20), 0});
+    ReconstructionOptions options;
+    options.method = m;
+    return reconstruct(cloud, options);
+  };
+  static const Reconstruction refined = make(Method::refined), hoppe92 = make(Method::hoppe92);
+  return method == Method::refined ? refined : hoppe92;
+}
+
+// Each drawn vertex's colour is its mesh vertex's (found by its position).
+void expect_vertex_colors(const ReportMesh& drawn, const Mesh& mesh, const Vec3& centre) {
+  ASSERT_EQ(drawn.colors.size(), drawn.vertices.size());
+  std::map<std::array<float, 3>, Color> by_position;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Vec3 p = mesh.vertices[v] - centre;
+    by_position[{static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())}] = mesh.colors[v];
+  }
+  for (std::size_t v = 0; v < drawn.vertices.size() / 3; ++v) {
+    const auto found = by_position.find({drawn.vertices[3 * v], drawn.vertices[3 * v + 1], drawn.vertices[3 * v + 2]});
+    ASSERT_NE(found, by_position.end()) << v;
+    EXPECT_EQ((Color{drawn.colors[3 * v], drawn.colors[3 * v + 1], drawn.colors[3 * v + 2]}), found->second) << v;
+  }
+}
+
+// The number the page's JSON gives the array `key` after `after`.
+int array_number(std::string_view json, std::string_view after, std::string_view key) {
+  const std::size_t from = json.find(after);
+  const std::string label = "\"" + std::string(key) + "\":";
+  const std::size_t at = json.find(label, from == std::string_view::npos ? 0 : from);
+  if (from == std::string_view::npos || at == std::string_view::npos) return -1;
+  return std::atoi(std::string(json.substr(at + label.size(), 12)).c_str());
+}
+
+TEST(Report, ColoursOfThePointsAndOfTheFinalMesh) {
+  ReportOptions options;
+  options.max_points = 1000;     // every 4th point
+  options.max_triangles = 500;   // a subsample of each mesh
+  for (const Method method : {Method::refined, Method::hoppe92}) {
+    const Reconstruction& r = colored_sphere(method);
+    ASSERT_TRUE(r.mesh().has_colors());
+    const ReportLayers layers = make_report_layers(report_input(r), options);
+    ASSERT_EQ(layers.point_stride, 4u);
+    ASSERT_EQ(layers.point_colors.size(), layers.points.size());
+    for (std::size_t i = 0, j = 0; j < r.colors.size(); ++i, j += layers.point_stride)
+      for (std::size_t c = 0; c < 3; ++c) ASSERT_EQ(layers.point_colors[3 * i + c], r.colors[j][c]) << j;
+    const ReportMesh& final_mesh = method == Method::refined ? layers.refined : layers.mesh;
+    EXPECT_GT(final_mesh.triangle_stride, 1u);
+    expect_vertex_colors(final_mesh, r.mesh(), layers.centre);
+    if (method == Method::refined) {
+      EXPECT_TRUE(layers.mesh.colors.empty()) << "phase IV's mesh has none";
+    }
+
+    const std::string html = report_html(layers, options);
+    const std::string_view json = element(html, "recon-data");
+    const int points = array_number(json, "\"points\":{", "color");
+    ASSERT_GE(points, 0);
+    EXPECT_EQ(decode<std::uint8_t>(html, points), layers.point_colors);
+    const int mesh = array_number(json, method == Method::refined ? "\"refinement\":{" : "\"mesh\":{", "colors");
+    ASSERT_GE(mesh, 0);
+    EXPECT_EQ(decode<std::uint8_t>(html, mesh), final_mesh.colors);
+  }
+  const std::string plain = report_html(make_report_layers(report_input(small_sphere(Method::refined))));
+  EXPECT_EQ(element(plain, "recon-data").find("\"color"), std::string_view::npos);
+}
+
+TEST(Report, RefusesColoursThatAreNotOnePerPointOrVertex) {
+  const Reconstruction& r = colored_sphere(Method::hoppe92);
+  ReportInput input = report_input(r);
+  input.colors = input.colors.subspan(1);
+  EXPECT_THROW((void)make_report_layers(input), InvalidInputError);
+  Mesh mesh = r.mesh();
+  mesh.colors.pop_back();
+  input = report_input(r);
+  input.mesh = &mesh;
+  EXPECT_THROW((void)make_report_layers(input), InvalidInputError);
 }
 
 TEST(ReportPage, WrittenWholeOrNotAtAll) {

@@ -21,10 +21,16 @@ class InvalidInputError : public Error {
   using Error::Error;
 };
 
-/// A file could not be opened, read, written or renamed.
+/// A file could not be opened, read, written or renamed. `error_code()` is
+/// the errno value behind it when there was one (ENOENT: no such file), 0
+/// otherwise.
 class IoError : public Error {
  public:
-  using Error::Error;
+  explicit IoError(const std::string& what, int error_code = 0) : Error(what), error_code_(error_code) {}
+  [[nodiscard]] int error_code() const { return error_code_; }
+
+ private:
+  int error_code_ = 0;
 };
 
 /// A file is malformed. The message starts with "FILE:LINE:" for text or

@@ -102,6 +102,11 @@ class KdTree {
   /// 2^32 - 1 points, a leaf size below 1, or coordinates that are not finite
   /// or beyond +-max_coordinate (the message counts them and names the first).
   explicit KdTree(std::span<const Point> points, KdTreeOptions options = {});
+  /// The same over the points moved by -shift (points[i] - shift, computed
+  /// as the tree copies them: the caller's array is neither copied first nor
+  /// changed). reconstruct() builds its tree this way from a cloud it does
+  /// not own.
+  KdTree(std::span<const Point> points, KdTreeOptions options, const Point& shift);
 
   [[nodiscard]] std::size_t size() const { return points_.size(); }
   [[nodiscard]] bool empty() const { return points_.empty(); }

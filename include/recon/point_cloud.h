@@ -41,6 +41,23 @@ struct PointCloud {
   [[nodiscard]] bool has_colors() const { return !colors.empty(); }
 };
 
+/// A point cloud held elsewhere (numpy arrays, a memory map), seen in place:
+/// the same arrays as PointCloud, not owned, never copied by the view.
+struct PointCloudView {
+  std::span<const Vec3> positions;
+  std::span<const Vec3> normals;   ///< empty or one per position
+  std::span<const Color> colors;   ///< empty or one per position
+
+  PointCloudView() = default;
+  PointCloudView(const PointCloud& cloud)  // NOLINT: a cloud is its own view
+      : positions(cloud.positions), normals(cloud.normals), colors(cloud.colors) {}
+  PointCloudView(std::span<const Vec3> p, std::span<const Vec3> n, std::span<const Color> c)
+      : positions(p), normals(n), colors(c) {}
+  [[nodiscard]] std::size_t size() const { return positions.size(); }
+  [[nodiscard]] bool has_normals() const { return !normals.empty(); }
+  [[nodiscard]] bool has_colors() const { return !colors.empty(); }
+};
+
 /// Axis-aligned bounding box.
 template <int D>
 struct Box {

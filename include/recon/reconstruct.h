@@ -1,6 +1,14 @@
 #pragma once
 // The whole of Hoppe's algorithm in one call: phases I to IV, keeping every
 // phase's result (the visual feedback and the statistics read them).
+//
+// Colours travel: when the cloud has colours, the result keeps them (in
+// spatial order, Reconstruction::colors) and the final mesh (phase V's, or
+// phase IV's in hoppe92) gets one per vertex, Mesh::colors: a blend of the
+// colours of the k samples nearest the vertex, weighted by inverse squared
+// distance (vertex_colors.h says why a blend rather than the nearest
+// sample). Phase IV's mesh of a refined run, an intermediate, has none.
+// ReconstructionOptions::mesh_colors turns this off.
 
 #include "recon/local_quadrics.h"
 #include "recon/marching_cubes.h"
@@ -9,6 +17,7 @@
 #include "recon/resource_usage.h"  // default_memory_limit
 #include "recon/signed_distance.h"
 #include "recon/tangent_planes.h"
+#include "recon/vertex_colors.h"
 
 #include <functional>
 #include <optional>
@@ -44,9 +53,14 @@ struct ReconstructionOptions {
   /// oriented, before phases III and IV need their memory (on 10M points,
   /// about 1 GB). Their sizes stay in RiemannianGraph::edge_count.
   bool keep_graph = true;
+  /// Give the final mesh the cloud's colours, when it has them (see above);
+  /// false: the mesh has none (the colours are still kept in the result).
+  bool mesh_colors = true;
+  VertexColorOptions colors{};             ///< how the mesh's colours are blended
   /// Called as each phase starts, with its name ("tangent planes",
-  /// "orientation", "signed distance", "contouring", and "refinement" in the
-  /// refined method): for progress displays.
+  /// "orientation", "signed distance", "contouring", "refinement" in the
+  /// refined method, and "colours" when the mesh is coloured): for progress
+  /// displays.
   std::function<void(const char* phase)> on_phase;
 };
 
@@ -76,6 +90,9 @@ struct Reconstruction {
   TangentPlanes<3> planes;
   std::optional<OrientedNormals<3>> oriented;  ///< absent when the input normals were used
   std::vector<Vec3> input_normals;             ///< the input's own normals (unit, spatial order), when used
+  /// The input's colours in spatial order (colors[j] is input point
+  /// order[j]'s); empty when it had none. 3 bytes a point.
+  std::vector<Color> colors;
   KdTree<3> origin_tree;                       ///< over the plane origins: phase III's nearest-plane queries
 
   /// The input positions in spatial order.
@@ -103,6 +120,7 @@ struct Reconstruction {
   /// tree over the origins, and f at the corners of the lattice cubes that
   /// hold a sample, from the unoriented planes (signs are fixed afterwards).
   double seconds_distance_beside = 0.0;
+  double seconds_colors = 0.0;                 ///< giving the mesh its colours (0 when it has none)
 };
 
 /// The phases run in order, except that with more than one thread phase
@@ -112,12 +130,20 @@ struct Reconstruction {
 /// FirstWave).
 /// Throws what the phases throw (InvalidInputError for unusable data or
 /// parameters, ResourceLimitError for a lattice too large), and
-/// InvalidInputError when use_input_normals is set but the cloud has none.
+/// InvalidInputError when use_input_normals is set but the cloud has none,
+/// or the cloud's colours are not one per point.
 [[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
+/// The same on a cloud held elsewhere (numpy arrays, a memory map): read in
+/// place, never copied; phase I's kd-tree makes the one working copy of the
+/// positions (moved by `offset`, in its leaf order), as in every form here.
+[[nodiscard]] Reconstruction reconstruct(PointCloudView cloud, const ReconstructionOptions& options = {});
 /// The same, consuming the cloud: its arrays are released as soon as phase
-/// I's kd-tree holds the points, which lowers the peak memory (the const&
-/// form works on a copy).
+/// I's kd-tree holds the points, which lowers the peak memory.
 [[nodiscard]] Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options = {});
+/// The three above: `release` is called as soon as nothing more is read
+/// from `cloud` (the caller may free it then).
+[[nodiscard]] Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
+                                              const std::function<void()>& release);
 
 /// Phase III's f as reconstruct() built it for `r` (the same planes, delta
 /// and plane choice); it references r, which must outlive it.
@@ -135,7 +161,8 @@ struct Reconstruction {
 
 /// Memory limits. reconstruct() estimates what phases I-II (neighbourhoods,
 /// planes, the graph) and the lattice walk will hold before they allocate,
-/// from peaks measured on this implementation, and refuses with
+/// from peaks measured on this implementation (the colours' 3 bytes a point
+/// and a mesh vertex are under 1 % of that, and left out), and refuses with
 /// ResourceLimitError when the estimate exceeds ReconstructionOptions::
 /// max_memory: the message gives the estimate, the limit and what to change.
 /// The default limit is default_memory_limit() (resource_usage.h).

@@ -9,7 +9,8 @@
 // into this library, so a report needs no network and no other file.
 //
 // Eight layers, each taken from one phase's result:
-//   1. the input points, coloured by component (phase II's pieces);
+//   1. the input points, coloured by component (phase II's pieces), or by
+//      their own colours when the run had them (the page offers both);
 //   2. the kd-tree's cells, node boxes down to a depth chosen on the page;
 //   3. the tangent planes' normals before orientation, coloured by the
 //      planarity of their neighbourhood (surface variation, see below);
@@ -22,6 +23,9 @@
 //   8. phase V's refined mesh (Method::refined only), coloured by each
 //      vertex's distance to the 1992 surface of layer 7, with its boundary
 //      edges.
+// A mesh with colours (Mesh::colors: the final mesh of a run whose input
+// had colours, layer 8's or, in hoppe92, layer 7's) is drawn in them; the
+// page offers layer 8's distance colours beside them.
 //
 // The lab panel (`recon lab INPUT --report FILE.html`, lab.h). A report
 // may carry the alternatives lab's results (ReportLayers::lab); the page
@@ -91,6 +95,7 @@ struct ReportInput {
   const TangentPlanes<3>* planes = nullptr;          ///< required
   const OrientedNormals<3>* oriented = nullptr;      ///< phase II with its graph kept; null: no layer 4
   std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's)
+  std::span<const Color> colors;                     ///< the points' own colours, or empty (none)
   const MarchingCubesResult* contour = nullptr;      ///< null: no layers 6, 7 and 8 (`recon normals`)
   const Mesh* mesh = nullptr;                        ///< the mesh drawn in layer 7; null: contour->mesh
   const Refinement* refinement = nullptr;            ///< phase V (input coordinates); null: no layer 8 (hoppe92)
@@ -108,6 +113,7 @@ struct ReportMesh {
   std::size_t triangle_stride = 1;         ///< every triangle_stride-th triangle is drawn
   std::vector<float> vertices;             ///< all, or (when subsampled) those of the drawn triangles, 3 each
   std::vector<std::uint32_t> triangles;    ///< 3 per drawn triangle, indices into `vertices`
+  std::vector<std::uint8_t> colors;        ///< r g b per drawn vertex when the mesh has colours, else empty
   std::size_t boundary_edges_total = 0;
   std::size_t boundary_stride = 1;
   std::vector<float> boundary_segments;    ///< every boundary_stride-th boundary edge (of the whole mesh), 6 each
@@ -154,6 +160,7 @@ struct ReportLayers {
   std::vector<float> points;               ///< 3 per drawn point
   std::vector<std::uint32_t> component;    ///< per drawn point (0 when phase II did not run)
   std::size_t component_count = 1;
+  std::vector<std::uint8_t> point_colors;  ///< r g b per drawn point when the input had colours, else empty
 
   // 2. kd-tree cells: the node boxes down to kdtree_drawn_depth, in pre-order
   int kdtree_depth = 0;                    ///< of the whole tree
@@ -205,7 +212,8 @@ struct ReportLayers {
 };
 
 /// Throws InvalidInputError when input.planes is null or the spans' sizes
-/// disagree.
+/// disagree (colors: one per point, or none; a mesh's colours: one per
+/// vertex, or none).
 [[nodiscard]] ReportLayers make_report_layers(const ReportInput& input, const ReportOptions& options = {});
 
 /// The lab panel's data for a report whose layers were made from the same

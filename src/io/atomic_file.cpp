@@ -67,8 +67,11 @@ AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)
   temporary_ = folder / name;
   slot_ = register_temporary(temporary_);  // before the file exists: a signal then finds it
   out_.open(temporary_, std::ios::binary | std::ios::trunc);
-  if (!out_) unregister_temporary(std::exchange(slot_, -1));
-  if (!out_) throw IoError(target_.string() + ": cannot write in '" + folder.string() + "': " + std::strerror(errno));
+  if (!out_) {
+    const int error = errno;
+    unregister_temporary(std::exchange(slot_, -1));
+    throw IoError(target_.string() + ": cannot write in '" + folder.string() + "': " + std::strerror(error), error);
+  }
 }
 
 AtomicFile::~AtomicFile() {

@@ -72,8 +72,9 @@ std::string read_to_end(int fd, const std::string& name, std::size_t limit) {
     content.resize(used + chunk);
     const ssize_t got = ::read(fd, content.data() + used, chunk);
     if (got < 0) {
-      if (errno == EINTR) continue;
-      throw IoError(name + ": cannot read: " + std::strerror(errno));
+      const int error = errno;
+      if (error == EINTR) continue;
+      throw IoError(name + ": cannot read: " + std::strerror(error), error);
     }
     if (got == 0) break;
     used += static_cast<std::size_t>(got);
@@ -93,12 +94,16 @@ FileContent read_file(const std::filesystem::path& path, std::size_t stream_limi
   const Descriptor fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
   if (fd.get() < 0) {
     // open() succeeds on a folder; EISDIR only comes for other flags, but say it plainly anyway.
-    if (errno == EISDIR) throw IoError(name + ": cannot open: it is a folder, not a file");
-    throw IoError(name + ": cannot open: " + std::strerror(errno));
+    const int error = errno;
+    if (error == EISDIR) throw IoError(name + ": cannot open: it is a folder, not a file", EISDIR);
+    throw IoError(name + ": cannot open: " + std::strerror(error), error);
   }
   struct stat status {};
-  if (::fstat(fd.get(), &status) != 0) throw IoError(name + ": cannot open: " + std::strerror(errno));
-  if (S_ISDIR(status.st_mode)) throw IoError(name + ": cannot open: it is a folder, not a file");
+  if (::fstat(fd.get(), &status) != 0) {
+    const int error = errno;
+    throw IoError(name + ": cannot open: " + std::strerror(error), error);
+  }
+  if (S_ISDIR(status.st_mode)) throw IoError(name + ": cannot open: it is a folder, not a file", EISDIR);
   // Pipes and devices cannot be mapped; files of /proc and the like say they
   // are empty and are not: read those, an empty file reads as empty anyway.
   if (!S_ISREG(status.st_mode) || status.st_size == 0) return FileContent(read_to_end(fd.get(), name, stream_limit));
@@ -388,6 +393,9 @@ void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
   if (cloud.has_normals() && cloud.normals.size() != cloud.positions.size())
     throw InvalidInputError(name + ": cannot write: the cloud has " + std::to_string(cloud.normals.size()) +
                             " normals for " + std::to_string(cloud.positions.size()) + " points");
+  if (cloud.has_colors() && cloud.colors.size() != cloud.positions.size())
+    throw InvalidInputError(name + ": cannot write: the cloud has " + std::to_string(cloud.colors.size()) +
+                            " colours for " + std::to_string(cloud.positions.size()) + " points");
   for (std::size_t i = 0; i < cloud.positions.size(); ++i) {
     if (!readable(cloud.positions[i]))
       throw InvalidInputError(name + ": cannot write: point " + std::to_string(i) +
@@ -402,6 +410,9 @@ void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
 
 void check_mesh_for_writing(std::string_view file, const Mesh& mesh) {
   const std::string name(file);
+  if (mesh.has_colors() && mesh.colors.size() != mesh.vertices.size())
+    throw InvalidInputError(name + ": cannot write: the mesh has " + std::to_string(mesh.colors.size()) +
+                            " colours for " + std::to_string(mesh.vertices.size()) + " vertices");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     if (!readable(mesh.vertices[i]))
       throw InvalidInputError(name + ": cannot write: vertex " + std::to_string(i) +

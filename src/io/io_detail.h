@@ -435,11 +435,12 @@ class BlockWriter {
 // Checks before writing
 
 /// Throws InvalidInputError "FILE: ..." when the cloud cannot be written
-/// faithfully or would not read back: normals present but not one per
-/// position, a non-finite value, or a coordinate beyond max_coordinate.
+/// faithfully or would not read back: normals or colours present but not
+/// one per position, a non-finite value, or a coordinate beyond max_coordinate.
 void check_cloud_for_writing(std::string_view file, const PointCloud& cloud);
-/// Throws InvalidInputError "FILE: ..." for a vertex coordinate that is not
-/// finite or beyond max_coordinate, or a vertex index out of range.
+/// Throws InvalidInputError "FILE: ..." for colours present but not one per
+/// vertex, a vertex coordinate that is not finite or beyond max_coordinate,
+/// or a vertex index out of range.
 void check_mesh_for_writing(std::string_view file, const Mesh& mesh);
 
 }  // namespace recon::io::detail

@@ -1,9 +1,13 @@
 // Wavefront OBJ, the geometry statements only.
 //
-// "v x y z" is a vertex. Numbers after z are ignored: the optional w weight
-// of the OBJ specification (it weighs rational curves and surfaces and is 1
-// for polygon vertices, so it is not divided by) and the per-vertex colour
-// "v x y z r g b" some exporters write.
+// "v x y z" is a vertex. A fourth number, the optional w weight of the OBJ
+// specification, is ignored (it weighs rational curves and surfaces and is 1
+// for polygon vertices, so it is not divided by). "v x y z r g b", the
+// per-vertex colour of MeshLab, Open3D and many scanners (r g b in [0, 1]),
+// gives the colours when every "v" line has one (a colour for only some
+// points cannot be matched to the rest); other counts are ignored. The
+// colours follow the floating-point rule of colors.h. recon writes the same
+// form.
 // "vn nx ny nz" lines become the cloud's normals only when there are exactly
 // as many as "v" lines: OBJ ties normals to face corners, not to vertices, so
 // any other count cannot be matched to the points.
@@ -11,6 +15,7 @@
 // the end of the vertices read so far when negative; polygons are fanned.
 // Every other statement (vt, g, o, usemtl, l, ...) is ignored.
 
+#include "colors.h"
 #include "formats.h"
 #include "io_detail.h"
 #include "text_scanner.h"
@@ -25,9 +30,14 @@
 namespace recon::io::detail {
 namespace {
 
+/// The colours' channels in the text: numbers, taken by the floating-point rule.
+constexpr std::array<ScalarType, 3> color_types = {ScalarType::float64, ScalarType::float64, ScalarType::float64};
+
 struct ObjContent {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;
+  ColorReader colors{color_types};
+  bool every_vertex_colored = true;  ///< so far; colours are read while it holds
   std::vector<std::array<std::uint32_t, 3>> triangles;
   PointChecker position_checker{false};
   PointChecker normal_checker{false};  ///< taken into position_checker only when the normals are kept
@@ -52,6 +62,15 @@ Vec3 parse_three(std::string_view file, std::size_t line, Fields& fields, std::s
   return parse_vec3(file, line, tokens.data(), names);
 }
 
+/// The colour after a vertex's z: true when exactly three numbers follow it.
+bool parse_color(Fields& fields, std::array<double, 3>& rgb) {
+  std::size_t count = 0;
+  for (std::string_view token; fields.next(token); ++count) {
+    if (count >= 3 || parse_double(token, rgb[count]) != NumberStatus::ok) return false;
+  }
+  return count == 3;
+}
+
 ObjContent parse_obj(std::string_view file, std::string_view content, bool faces) {
   ObjContent obj;
   LineScanner lines(file, content);
@@ -68,6 +87,15 @@ ObjContent parse_obj(std::string_view file, std::string_view content, bool faces
     if (keyword == "v") {
       obj.position_checker.position(obj.positions.emplace_back(parse_three(file, n, fields, keyword, position_names)),
                                     n, position_names);
+      if (obj.every_vertex_colored) {
+        std::array<double, 3> rgb{};
+        if (parse_color(fields, rgb)) {
+          obj.colors.add(rgb[0], rgb[1], rgb[2]);
+        } else {
+          obj.every_vertex_colored = false;
+          obj.colors = ColorReader(color_types);  // none kept
+        }
+      }
     } else if (keyword == "vn") {
       obj.normal_checker.normal(obj.normals.emplace_back(parse_three(file, n, fields, keyword, normal_names)), n,
                                 normal_names);
@@ -125,6 +153,7 @@ PointCloud read_obj_points(std::string_view file, std::string_view content) {
   PointCloud cloud;
   cloud.positions = std::move(obj.positions);
   if (keep_normals) cloud.normals = std::move(obj.normals);
+  cloud.colors = obj.colors.take();
   return cloud;
 }
 
@@ -135,6 +164,7 @@ Mesh read_obj_mesh(std::string_view file, std::string_view content) {
   Mesh mesh;
   mesh.vertices = std::move(obj.positions);
   mesh.triangles = std::move(obj.triangles);
+  mesh.colors = obj.colors.take();
   return mesh;
 }
 
@@ -146,9 +176,13 @@ void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
   out += " vertices, ";
   out += std::to_string(mesh.triangles.size());
   out += " triangles\n";
-  for (const Vec3& v : mesh.vertices) {
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     out += "v ";
-    append_vec3_text(out, v);
+    append_vec3_text(out, mesh.vertices[i]);
+    if (mesh.has_colors()) {
+      out += ' ';
+      append_color_unit(out, mesh.colors[i]);
+    }
     out += '\n';
     writer.flush_if_full();
   }

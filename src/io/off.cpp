@@ -8,7 +8,13 @@
 // (anything after the n indices, such as a colour, is ignored). '#' starts a
 // comment. 4OFF, nOFF and binary OFF are refused. Reading points stops after
 // the vertices; faces are neither read nor checked.
+//
+// A mesh with colours is written as COFF, "x y z r g b a" with each of
+// r g b a an integer 0 to 255 (alpha 255), as MeshLab and Open3D write and
+// read it. (Geomview's own COFF has floats in [0, 1]; readers tell the two
+// apart by the values.) Reading ignores the colours, as it always has.
 
+#include "colors.h"
 #include "formats.h"
 #include "io_detail.h"
 #include "text_scanner.h"
@@ -200,13 +206,19 @@ Mesh read_off_mesh(std::string_view file, std::string_view content) {
 void write_off_mesh(std::ostream& stream, const Mesh& mesh) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += "OFF\n# written by recon\n";
+  out += mesh.has_colors() ? "COFF\n" : "OFF\n";
+  out += "# written by recon\n";
   out += std::to_string(mesh.vertices.size());
   out += ' ';
   out += std::to_string(mesh.triangles.size());
   out += " 0\n";
-  for (const Vec3& v : mesh.vertices) {
-    append_vec3_text(out, v);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    append_vec3_text(out, mesh.vertices[i]);
+    if (mesh.has_colors()) {
+      out += ' ';
+      append_color_bytes(out, mesh.colors[i]);
+      out += " 255";
+    }
     out += '\n';
     writer.flush_if_full();
   }

@@ -5,10 +5,13 @@
 // One reader serves both read_points and read_mesh. It walks every element
 // of the body (so elements may come in any order and a truncated file is
 // always noticed), keeps the "vertex" element's x, y, z (and nx, ny, nz when
-// all three are declared) and, for meshes, the "face" element's
+// all three are declared, and red, green, blue or diffuse_red,
+// diffuse_green, diffuse_blue when all three are: colors.h says how each
+// type becomes 0-255) and, for meshes, the "face" element's
 // "vertex_indices" (or "vertex_index") list; every other property and
-// element is skipped.
+// element (alpha among them) is skipped.
 
+#include "colors.h"
 #include "formats.h"
 #include "io_detail.h"
 #include "text_scanner.h"
@@ -177,19 +180,32 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
   }
 }
 
+// The vertex properties the reader keeps: a slot each.
+constexpr std::size_t slot_count = 9;
+constexpr std::array<std::string_view, slot_count> slot_names = {"x",  "y",  "z",   "nx",   "ny",
+                                                                 "nz", "red", "green", "blue"};
+constexpr std::size_t first_normal_slot = 3, first_color_slot = 6;
+/// The colours' older names (MeshLab's), used when red, green, blue are not all there.
+constexpr std::array<std::string_view, 3> diffuse_names = {"diffuse_red", "diffuse_green", "diffuse_blue"};
+
 // What the reader keeps, and where it finds it.
 struct Wanted {
   std::size_t vertex_element = 0;
-  /// Per property of the vertex element: 0-2 for x, y, z, 3-5 for nx, ny,
-  /// nz, -1 for a property that is skipped.
+  /// Per property of the vertex element: its slot (0-2 for x, y, z, 3-5 for
+  /// nx, ny, nz, 6-8 for the colours), -1 for a property that is skipped.
   std::vector<int> slot;
   bool normals = false;
+  bool colors = false;
+  std::array<ScalarType, 3> color_types{};  ///< of red, green, blue (when colors)
   static constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
   std::size_t face_element = none;
   std::size_t face_property = none;
-};
 
-constexpr std::array<std::string_view, 6> slot_names = {"x", "y", "z", "nx", "ny", "nz"};
+  [[nodiscard]] bool used(std::size_t slot_index) const {
+    if (slot_index >= first_color_slot) return colors;
+    return slot_index < first_normal_slot || normals;
+  }
+};
 
 Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
   Wanted wanted;
@@ -199,8 +215,10 @@ Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
     fail_at_line(file, header.end_header_line, "the PLY header declares no 'vertex' element");
   wanted.vertex_element = static_cast<std::size_t>(vertex - header.elements.begin());
 
-  std::array<std::size_t, 6> found{};
+  std::array<std::size_t, slot_count> found{};
   found.fill(Wanted::none);
+  std::array<std::size_t, 3> diffuse{};
+  diffuse.fill(Wanted::none);
   for (std::size_t p = 0; p < vertex->properties.size(); ++p) {
     const PlyProperty& property = vertex->properties[p];
     if (property.is_list)
@@ -210,14 +228,28 @@ Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
     for (std::size_t s = 0; s < slot_names.size(); ++s) {
       if (property.name == slot_names[s] && found[s] == Wanted::none) found[s] = p;
     }
+    for (std::size_t c = 0; c < diffuse_names.size(); ++c) {
+      if (property.name == diffuse_names[c] && diffuse[c] == Wanted::none) diffuse[c] = p;
+    }
   }
   for (std::size_t s = 0; s < 3; ++s) {
     if (found[s] == Wanted::none)
       fail_at_line(file, vertex->line, "the vertex element has no " + excerpt(slot_names[s]) + " property");
   }
-  wanted.normals = found[3] != Wanted::none && found[4] != Wanted::none && found[5] != Wanted::none;
+  const auto all_found = [](const std::size_t* first) {
+    return std::all_of(first, first + 3, [](std::size_t p) { return p != Wanted::none; });
+  };
+  wanted.normals = all_found(&found[first_normal_slot]);
+  if (!all_found(&found[first_color_slot]) && all_found(diffuse.data()))
+    std::copy(diffuse.begin(), diffuse.end(), found.begin() + first_color_slot);
+  wanted.colors = all_found(&found[first_color_slot]);
   wanted.slot.assign(vertex->properties.size(), -1);
-  for (std::size_t s = 0; s < (wanted.normals ? 6U : 3U); ++s) wanted.slot[found[s]] = static_cast<int>(s);
+  for (std::size_t s = 0; s < slot_count; ++s) {
+    if (wanted.used(s)) wanted.slot[found[s]] = static_cast<int>(s);
+  }
+  if (wanted.colors) {
+    for (std::size_t c = 0; c < 3; ++c) wanted.color_types[c] = vertex->properties[found[first_color_slot + c]].type;
+  }
 
   if (faces) {
     if (vertex->count > std::numeric_limits<std::uint32_t>::max())
@@ -243,6 +275,7 @@ Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
 struct PlyContent {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;
+  std::vector<Color> colors;
   std::vector<std::array<std::uint32_t, 3>> triangles;
 };
 
@@ -274,6 +307,7 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
                      PlyContent& out) {
   TokenScanner tokens(file, content, header.body_offset, header.end_header_line + 1);
   PointChecker checker(false);
+  ColorReader colors(wanted.color_types);
   const std::uint64_t vertex_count = header.elements[wanted.vertex_element].count;
   std::string_view token;
   std::vector<std::uint32_t> corners;
@@ -290,10 +324,11 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
       const std::uint64_t room = tokens.bytes_left() / (2 * std::max<std::size_t>(element.properties.size(), 1));
       out.positions.reserve(static_cast<std::size_t>(std::min(element.count, room)));
       if (wanted.normals) out.normals.reserve(out.positions.capacity());
+      if (wanted.colors) colors.reserve(out.positions.capacity());
     }
 
     for (std::uint64_t i = 0; i < element.count; ++i) {
-      std::array<double, 6> values{};
+      std::array<double, slot_count> values{};
       for (std::size_t p = 0; p < element.properties.size(); ++p) {
         const PlyProperty& property = element.properties[p];
         if (!tokens.next(token)) fail_at_line(file, tokens.line_number(), ends_early(element, i));
@@ -339,6 +374,7 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
         checker.position(out.positions.emplace_back(values[0], values[1], values[2]), line, position_names);
         if (wanted.normals)
           checker.normal(out.normals.emplace_back(values[3], values[4], values[5]), line, normal_names);
+        if (wanted.colors) colors.add(values[6], values[7], values[8]);
       }
     }
   }
@@ -347,6 +383,7 @@ void read_ascii_body(std::string_view file, std::string_view content, const PlyH
                  "unexpected " + excerpt(token) +
                      " after the last element: the file holds more values than its header declares");
   checker.report(file, wanted.face_element != Wanted::none);
+  out.colors = colors.take();
 }
 
 void read_binary_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
@@ -356,6 +393,7 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
   std::size_t position = header.body_offset;
   std::vector<std::uint32_t> corners;
   PointChecker checker(true);
+  ColorReader colors(wanted.color_types);
 
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
@@ -372,9 +410,9 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
                          " bytes; the file has " + std::to_string(content.size()) + ")");
       const std::size_t count = static_cast<std::size_t>(element.count);
       if (e == wanted.vertex_element) {
-        // Where x, y, z (and nx, ny, nz) stand in a record, and their types.
-        std::array<std::size_t, 6> offsets{};
-        std::array<ScalarType, 6> types{};
+        // Where x, y, z (and nx, ny, nz, and the colours) stand in a record, and their types.
+        std::array<std::size_t, slot_count> offsets{};
+        std::array<ScalarType, slot_count> types{};
         std::size_t offset = 0;
         for (std::size_t p = 0; p < element.properties.size(); ++p) {
           if (const int s = wanted.slot[p]; s >= 0) {
@@ -383,19 +421,22 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
           }
           offset += scalar_size(element.properties[p].type);
         }
-        const std::size_t used_slots = wanted.normals ? 6 : 3;
         out.positions.reserve(count);
         if (wanted.normals) out.normals.reserve(count);
-        std::array<double, 6> values{};
+        if (wanted.colors) colors.reserve(count);
+        std::array<double, slot_count> values{};
         for (std::size_t i = 0; i < count; ++i) {
           const std::size_t start = position + i * record;
-          for (std::size_t s = 0; s < used_slots; ++s)
-            static_cast<void>(decode_scalar(content.data() + start + offsets[s], types[s], swap, values[s]));
+          for (std::size_t s = 0; s < slot_count; ++s) {
+            if (wanted.used(s))
+              static_cast<void>(decode_scalar(content.data() + start + offsets[s], types[s], swap, values[s]));
+          }
           checker.position(out.positions.emplace_back(values[0], values[1], values[2]), start, position_names,
                            offsets.data());
           if (wanted.normals)
             checker.normal(out.normals.emplace_back(values[3], values[4], values[5]), start, normal_names,
                            offsets.data() + 3);
+          if (wanted.colors) colors.add(values[6], values[7], values[8]);
         }
       }
       position += count * record;
@@ -449,6 +490,7 @@ void read_binary_body(std::string_view file, std::string_view content, const Ply
   }
   // Bytes after the last element are ignored (some writers end with a newline).
   checker.report(file, wanted.face_element != Wanted::none);
+  out.colors = colors.take();
 }
 
 PlyContent read_ply(std::string_view file, std::string_view content, bool faces) {
@@ -472,13 +514,25 @@ void append_vec3_binary(std::string& out, const Vec3& v) {
   append_little_endian(out, v.z());
 }
 
-std::string header_start(bool ascii, std::size_t vertices) {
+std::string header_start(bool ascii, std::size_t vertices, bool normals, bool colors) {
   std::string header = "ply\nformat ";
   header += ascii ? "ascii" : "binary_little_endian";
   header += " 1.0\ncomment written by recon\nelement vertex ";
   header += std::to_string(vertices);
   header += "\nproperty double x\nproperty double y\nproperty double z\n";
+  if (normals) header += "property double nx\nproperty double ny\nproperty double nz\n";
+  if (colors) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   return header;
+}
+
+/// A vertex's colour after its other properties ("r g b" in ascii, 3 bytes in binary).
+void append_color(std::string& out, const Color& color, bool ascii) {
+  if (ascii) {
+    out += ' ';
+    append_color_bytes(out, color);
+  } else {
+    for (const std::uint8_t c : color) append_little_endian(out, c);
+  }
 }
 
 }  // namespace
@@ -489,6 +543,7 @@ PointCloud read_ply_points(std::string_view file, std::string_view content) {
   PointCloud cloud;
   cloud.positions = std::move(ply.positions);
   cloud.normals = std::move(ply.normals);
+  cloud.colors = std::move(ply.colors);
   return cloud;
 }
 
@@ -498,14 +553,14 @@ Mesh read_ply_mesh(std::string_view file, std::string_view content) {
   Mesh mesh;
   mesh.vertices = std::move(ply.positions);
   mesh.triangles = std::move(ply.triangles);
+  mesh.colors = std::move(ply.colors);
   return mesh;
 }
 
 void write_ply_points(std::ostream& stream, const PointCloud& cloud, bool ascii) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += header_start(ascii, cloud.size());
-  if (cloud.has_normals()) out += "property double nx\nproperty double ny\nproperty double nz\n";
+  out += header_start(ascii, cloud.size(), cloud.has_normals(), cloud.has_colors());
   out += "end_header\n";
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (ascii) {
@@ -514,11 +569,12 @@ void write_ply_points(std::ostream& stream, const PointCloud& cloud, bool ascii)
         out += ' ';
         append_vec3_text(out, cloud.normals[i]);
       }
-      out += '\n';
     } else {
       append_vec3_binary(out, cloud.positions[i]);
       if (cloud.has_normals()) append_vec3_binary(out, cloud.normals[i]);
     }
+    if (cloud.has_colors()) append_color(out, cloud.colors[i], ascii);
+    if (ascii) out += '\n';
     writer.flush_if_full();
   }
   writer.finish();
@@ -531,18 +587,19 @@ void write_ply_mesh(std::ostream& stream, const Mesh& mesh, bool ascii) {
       mesh.vertices.size() <= static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += header_start(ascii, mesh.vertices.size());
+  out += header_start(ascii, mesh.vertices.size(), false, mesh.has_colors());
   out += "element face ";
   out += std::to_string(mesh.triangles.size());
   out += signed_indices ? "\nproperty list uchar int vertex_indices\n" : "\nproperty list uchar uint vertex_indices\n";
   out += "end_header\n";
-  for (const Vec3& v : mesh.vertices) {
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     if (ascii) {
-      append_vec3_text(out, v);
-      out += '\n';
+      append_vec3_text(out, mesh.vertices[i]);
     } else {
-      append_vec3_binary(out, v);
+      append_vec3_binary(out, mesh.vertices[i]);
     }
+    if (mesh.has_colors()) append_color(out, mesh.colors[i], ascii);
+    if (ascii) out += '\n';
     writer.flush_if_full();
   }
   for (const auto& triangle : mesh.triangles) {

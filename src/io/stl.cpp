@@ -2,7 +2,9 @@
 // readers take the file for ASCII STL), a little-endian uint32 triangle
 // count, then 50 bytes a triangle: facet normal, three corners (twelve
 // float32) and a zero uint16. The format has no shared vertices and stores
-// floats, so it is for export only.
+// floats, so it is for export only. Colours are not written: STL has no
+// standard place for them (the attribute word's colour is a vendor
+// extension that readers interpret differently).
 
 #include "formats.h"
 #include "io_detail.h"

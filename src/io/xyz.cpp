@@ -11,6 +11,7 @@
 //   "n", ...) is ignored, or plain columns read as xyz. The first record
 //   decides: a letter means Hoppe's format.
 
+#include "colors.h"
 #include "formats.h"
 #include "io_detail.h"
 #include "text_scanner.h"
@@ -193,6 +194,10 @@ void write_xyz_points(std::ostream& stream, const PointCloud& cloud) {
       const Vec3& v = cloud.normals[i];
       out += ' ';
       append_vec3_text(out, v);
+    }
+    if (cloud.has_colors()) {
+      out += ' ';
+      append_color_bytes(out, cloud.colors[i]);
     }
     out += '\n';
     writer.flush_if_full();

@@ -33,6 +33,10 @@ const u32 = (b64) => { const b = bytes(b64); return new Uint32Array(b.buffer, b.
 const u8 = (b64) => bytes(b64);
 // Normals are stored as int8 times 127.
 const normals8 = (b64) => { const b = bytes(b64); return Float32Array.from(new Int8Array(b.buffer, b.byteOffset, b.byteLength), (v) => v / 127); };
+// The input's colours are stored as r g b bytes, sRGB as in the file; three.js
+// blends vertex colours as linear values and encodes the picture as sRGB.
+const srgbToLinear = Float32Array.from({ length: 256 }, (_, v) => new THREE.Color().setRGB(v / 255, 0, 0, THREE.SRGBColorSpace).r);
+const colours8 = (b64) => Float32Array.from(bytes(b64), (v) => srgbToLinear[v]);
 
 const count = (n) => Math.round(n).toLocaleString('en-US');
 // "every 2nd", "every 11th", "every 23rd".
@@ -183,28 +187,37 @@ const subsample = (drawn, total, what, stride) =>
 
 // A layer's geometry is built the first time it is shown, so that a large
 // report opens as fast as its default layers allow. Its toggle goes into
-// the element `container` (the layers' section, or the lab panel's).
+// the element `container` (the layers' section, or the lab panel's). A
+// layer that can be coloured in more than one way has `colourings`, each
+// { id, label, legend }; the first is shown first, and build(colouring)
+// draws the one chosen.
 const layers = [];
-function addLayer(id, label, build, note, legend, visible, container = 'layers') {
+function addLayer(id, label, build, note, legend, visible, container = 'layers', colourings = null) {
   layers.push({ id, label, build, available: build !== null, visible: false, object: null, note, legend,
-    defaultVisible: visible && build !== null, container });
+    defaultVisible: visible && build !== null, container, colourings, colouring: colourings?.[0].id ?? null });
 }
 function layerObject(layer) {
   if (layer.object === null) {
-    layer.object = layer.build();
+    layer.object = layer.build(layer.colouring);
     scene.add(layer.object);
   }
   return layer.object;
 }
+const layerLegend = (layer) => layer.colourings?.find((c) => c.id === layer.colouring).legend ?? layer.legend;
 
-// 1. input points by component
-addLayer('points', '1. Input points', () => {
+// 1. input points by component, or in their own colours when the run had them
+const byComponent = 'coloured by component (piece of the data)';
+const inputColours = 'in the input\'s colours';
+addLayer('points', '1. Input points', (colouring) => {
+  if (colouring === 'input') return points(f32(P.position), colours8(P.color), 2);
   const component = u32(P.component);
   const c = new Float32Array(3 * drawnPoints);
   for (let i = 0; i < drawnPoints; ++i) palette[component[i] % palette.length].toArray(c, 3 * i);
   return points(f32(P.position), c, 2);
 }, subsample(drawnPoints, P.total, 'points', P.stride) + `; ${count(P.components)} component${P.components === 1 ? '' : 's'}`,
-'coloured by component (piece of the data)', !data.mesh);
+byComponent, !data.mesh, 'layers',
+P.color === undefined ? null : [{ id: 'input', label: 'their colours', legend: inputColours },
+  { id: 'component', label: 'component', legend: byComponent }]);
 
 // 2. kd-tree cells
 const K = data.kdtree;
@@ -372,15 +385,21 @@ const insideAndBoundary = `<span class="swatch" style="background:${css(colours.
   `<span class="swatch" style="background:${css(colours.boundary)}"></span>boundary edge`;
 
 const M = data.mesh, R = data.refinement;
-addLayer('mesh', R ? '7. Mesh of phase IV (the 1992 surface)' : '7. Mesh', M ? () => meshGroup(M) : null,
+// A mesh with colours (the final one of a run whose input had them) is drawn in them.
+addLayer('mesh', R ? '7. Mesh of phase IV (the 1992 surface)' : '7. Mesh',
+  M ? () => meshGroup(M, M.colors === undefined ? null : colours8(M.colors)) : null,
   M ? meshNote(M) : 'not available: this run made no mesh',
-  `<span class="swatch" style="background:${css(colours.meshFront)}"></span>outside ${insideAndBoundary}`,
+  (M?.colors === undefined ? `<span class="swatch" style="background:${css(colours.meshFront)}"></span>outside ` :
+    `outside ${inputColours} `) + insideAndBoundary,
   M !== undefined && !R);
 
 // 8. the refined mesh, coloured by each vertex's distance to the 1992 surface
 // (layer 7's mesh), on the ramp of layer 3 from 0 to the distance scale.
 const distanceScale = R ? (R.distance.scale > 0 ? R.distance.scale : R.distance.max > 0 ? R.distance.max : 1) : 1;
-addLayer('refinement', '8. Refined mesh (phase V)', R ? () => {
+const distanceLegend = R ? `distance to the 1992 surface: 0 <span class="ramp" style="background:${rampCss}"></span> ≥ ${formatNumber(distanceScale)}` +
+  (C?.cell > 0 ? ` (${formatNumber(distanceScale / C.cell)} cell)` : '') + `<br>${insideAndBoundary}` : null;
+addLayer('refinement', '8. Refined mesh (phase V)', R ? (colouring) => {
+  if (colouring === 'input') return meshGroup(R, colours8(R.colors));
   const distance = f32(R.distance.value);
   const c = new Float32Array(3 * distance.length);
   const colour = new THREE.Color();
@@ -389,9 +408,9 @@ addLayer('refinement', '8. Refined mesh (phase V)', R ? () => {
 } : null, R ? `${meshNote(R)}; its vertices lie ${formatNumber(R.distance.mean)} from the 1992 surface on average, ` +
   `${formatNumber(R.distance.max)} at most` : M ? 'not available: phase V runs in the refined method only (this run: hoppe92)'
   : 'not available: this run made no mesh',
-R ? `distance to the 1992 surface: 0 <span class="ramp" style="background:${rampCss}"></span> ≥ ${formatNumber(distanceScale)}` +
-  (C?.cell > 0 ? ` (${formatNumber(distanceScale / C.cell)} cell)` : '') + `<br>${insideAndBoundary}` : null,
-true);
+distanceLegend, true, 'layers',
+R?.colors === undefined ? null : [{ id: 'input', label: 'the input\'s colours', legend: `${inputColours} ${insideAndBoundary}` },
+  { id: 'distance', label: 'distance to the 1992 surface', legend: distanceLegend }]);
 
 // The lab's orientation graphs (data.lab.graphs), a layer each: the graph
 // as layer 4 draws it, and layer 1's points coloured by the piece of this
@@ -421,6 +440,23 @@ function setVisible(id, on) {
   return true;
 }
 
+// Draws a layer in another of its colourings (rebuilt when next shown).
+function setColouring(id, colouring) {
+  const layer = layers.find((l) => l.id === id);
+  if (!layer?.available || !layer.colourings?.some((c) => c.id === colouring)) return false;
+  layer.colouring = colouring;
+  if (layer.object !== null) {
+    scene.remove(layer.object);
+    layer.object.traverse((o) => { o.geometry?.dispose(); o.material?.dispose(); });
+    layer.object = null;
+    if (layer.visible) layerObject(layer).visible = true;
+  }
+  document.getElementById('colouring-' + id).value = colouring;
+  document.getElementById('legend-' + id).innerHTML = layerLegend(layer);
+  requestRender();
+  return true;
+}
+
 if (lab) {
   labPanel(lab, document.getElementById('lab'));
   document.body.classList.add('has-lab');
@@ -428,12 +464,16 @@ if (lab) {
 for (const layer of layers) {
   const div = document.createElement('div');
   div.className = 'layer';
+  const legend = layerLegend(layer);
   div.innerHTML = `<input type="checkbox" id="layer-${layer.id}"${layer.available ? '' : ' disabled'}>` +
     ` <label for="layer-${layer.id}">${layer.label}</label>` +
     `<div class="note" id="note-${layer.id}">${layer.note}</div>` +
-    (layer.legend && layer.available ? `<div class="legend">${layer.legend}</div>` : '');
+    (layer.colourings && layer.available ? `<div class="note">colour by <select id="colouring-${layer.id}">` +
+      layer.colourings.map((c) => `<option value="${c.id}">${c.label}</option>`).join('') + '</select></div>' : '') +
+    (legend && layer.available ? `<div class="legend" id="legend-${layer.id}">${legend}</div>` : '');
   document.getElementById(layer.container).appendChild(div);
   div.querySelector('input').addEventListener('change', (e) => setVisible(layer.id, e.target.checked));
+  div.querySelector('select')?.addEventListener('change', (e) => setColouring(layer.id, e.target.value));
   if (layer.id === 'kdtree') {
     const slider = document.createElement('div');
     slider.className = 'note';
@@ -526,6 +566,10 @@ window.reconReport = {
     return n;
   },
   setVisible,
+  // A layer's colourings (ids, the first shown first) and the one drawn; null without a choice.
+  colourings: (id) => layers.find((l) => l.id === id)?.colourings?.map((c) => c.id) ?? null,
+  colouring: (id) => layers.find((l) => l.id === id)?.colouring ?? null,
+  setColouring,
   setKdDepth,
   resetView,
   // Moves the camera towards the target: the distance times `factor`.

@@ -165,6 +165,9 @@ test('a reconstruction report opens offline, and every layer toggle changes the 
   // The page says what it drew: two components, closed meshes, and how far
   // phase V moved the surface.
   assert.match(await page.locator('#note-points').textContent(), /all 12,000 points; 2 components/);
+  // No colours in the input: the layers are drawn as ever, with no choice of colouring.
+  assert.equal(await page.locator('#layers select').count(), 0);
+  assert.equal(await page.evaluate(() => window.reconReport.colourings('points')), null);
   assert.match(await page.locator('#note-mesh').textContent(), /; 0 boundary edges/);
   assert.match(await page.locator('#note-refinement').textContent(), /; 0 boundary edges; its vertices lie [0-9.e-]+ from the 1992 surface on average/);
   assertOffline(opened);
@@ -231,6 +234,76 @@ test('a hoppe92 report has layers 1 to 7, and no refinement layer', async () => 
   assert.match(await opened.page.locator('#note-refinement').textContent(), /not available/);
   assert.equal(await opened.page.evaluate(() => window.reconReport.visible('mesh')), true, 'the 1992 mesh is shown first');
   await assertTogglesChangePicture(opened.page, layerIds.filter((id) => id !== 'refinement'));
+  assertOffline(opened);
+  await opened.context.close();
+});
+
+// Fractions of a snapshot's pixels that are plainly red and plainly blue
+// (the mesh's shading darkens a colour, it does not mix it with another).
+const hues = (page, name) => page.evaluate((name) => {
+  const x = window.snapshots[name];
+  let red = 0, blue = 0;
+  for (let i = 0; i < x.length; i += 4) {
+    if (x[i] > 100 && x[i + 1] < 50 && x[i + 2] < 50) ++red;
+    if (x[i + 2] > 100 && x[i] < 50 && x[i + 1] < 50) ++blue;
+  }
+  return { red: red / (x.length / 4), blue: blue / (x.length / 4) };
+}, name);
+// The hues of the picture as drawn now, kept as snapshot `name`.
+async function shownHues(page, name) {
+  await snapshot(page, name);
+  return hues(page, name);
+}
+
+// A sphere whose samples are red above the equator and blue below, as a
+// PLY with uchar colours: the run's page carries the colours and draws the
+// points and the mesh (layer 8, the final one) in them, and offers the
+// other colourings beside them.
+test('a run with colours draws its points and its mesh in them', async () => {
+  run('generate', 'sphere', '-n', '6000', '-o', 'globe.xyz', '-q');
+  const rows = readFileSync(join(work, 'globe.xyz'), 'utf8').trim().split('\n').map((line) => line.trim().split(/\s+/));
+  const header = ['ply', 'format ascii 1.0', `element vertex ${rows.length}`, 'property double x', 'property double y',
+    'property double z', 'property uchar red', 'property uchar green', 'property uchar blue', 'end_header'];
+  const body = rows.map(([x, y, z]) => `${x} ${y} ${z} ${Number(z) > 0 ? '255 0 0' : '0 0 255'}`);
+  writeFileSync(join(work, 'globe.ply'), [...header, ...body].join('\n') + '\n');
+  run('reconstruct', 'globe.ply', '-o', 'globe_mesh.ply', '--report', 'globe.html', '-q');
+  const opened = await open('globe.html');
+  const { page } = opened;
+  const arrays = await page.evaluate(() => {
+    const d = JSON.parse(document.getElementById('recon-data').textContent);
+    return { points: d.points.color, mesh: d.mesh.colors, refinement: d.refinement.colors };
+  });
+  assert.equal(typeof arrays.points, 'number', 'the points\' colours are in the page');
+  assert.equal(typeof arrays.refinement, 'number', 'the final mesh\'s colours are in the page');
+  assert.equal(arrays.mesh, undefined, 'phase IV\'s mesh of a refined run has none');
+  for (const [id, colourings] of [['points', ['input', 'component']], ['refinement', ['input', 'distance']]]) {
+    assert.deepEqual(await page.evaluate((id) => window.reconReport.colourings(id), id), colourings);
+    assert.equal(await page.evaluate((id) => window.reconReport.colouring(id), id), 'input', `layer ${id} opens in the input's colours`);
+  }
+  assert.equal(await page.evaluate(() => window.reconReport.colourings('mesh')), null);
+
+  // The final mesh alone: red above, blue below.
+  for (const id of layerIds) await setLayer(page, id, false);
+  await setLayer(page, 'refinement', true);
+  const mesh = await shownHues(page, 'mesh-colours');
+  assert.ok(mesh.red > 0.03 && mesh.blue > 0.03, `mesh: ${JSON.stringify(mesh)} of the picture red and blue`);
+  // Coloured by distance instead (the page's choice), and back.
+  await page.locator('#colouring-refinement').selectOption('distance');
+  assert.ok((await shownHues(page, 'mesh-distance')).blue < 0.001, 'the distance ramp has no plain blue');
+  assert.ok(await difference(page, 'mesh-colours', 'mesh-distance') > 0.03, 'the colouring changes the picture');
+  assert.match(await page.locator('#legend-refinement').textContent(), /distance to the 1992 surface/);
+  await page.locator('#colouring-refinement').selectOption('input');
+  await snapshot(page, 'mesh-colours-again');
+  assert.equal(await difference(page, 'mesh-colours', 'mesh-colours-again'), 0);
+
+  // The points alone, in their colours, then by component (one: no red, no blue).
+  await setLayer(page, 'refinement', false);
+  await setLayer(page, 'points', true);
+  const points = await shownHues(page, 'point-colours');
+  assert.ok(points.red > 0.002 && points.blue > 0.002, `points: ${JSON.stringify(points)} of the picture red and blue`);
+  await page.locator('#colouring-points').selectOption('component');
+  const components = await shownHues(page, 'point-components');
+  assert.ok(components.red < 0.0005 && components.blue < 0.0005, `by component: ${JSON.stringify(components)}`);
   assertOffline(opened);
   await opened.context.close();
 });

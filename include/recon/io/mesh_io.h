@@ -10,16 +10,28 @@
 // vertex_indices"; OBJ "v" and 1-based "f" lines and OFF, with the shortest
 // decimals that read back exactly; binary STL with float32 corners and a
 // unit facet normal computed from the corner order (zero when degenerate).
-// write_mesh throws InvalidInputError, before creating anything, for a
-// vertex coordinate that is not finite or beyond +-max_coordinate (it would
-// not read back), an index out of range, or (STL) a coordinate beyond float
-// range.
+// write_mesh throws InvalidInputError, before creating anything, for
+// colours present but not one per vertex, a vertex coordinate that is not
+// finite or beyond +-max_coordinate (it would not read back), an index out of
+// range, or (STL) a coordinate beyond float range.
 //
-// Reading: PLY takes the "vertex" element's x, y, z and the "face" element's
-// "vertex_indices" or "vertex_index" list (any integer count type, any index
-// type holding whole numbers); OBJ takes "v" and "f" lines (corners v, v/vt,
-// v/vt/vn, v//vn; negative numbers count back from the last vertex read);
-// OFF takes its vertices and faces. A file without a triangle, a face with
+// Colours (Mesh::colors, one per vertex) are written where the format has a
+// place for them: PLY "property uchar red", green, blue after x, y, z (three
+// bytes in binary); OBJ "v x y z r g b" with r g b in [0, 1] to 4 decimals
+// (the extension MeshLab, Open3D and many scanners read; the same bytes
+// read back); OFF as COFF, "x y z r g b a" with each 0 to 255 and alpha 255
+// (as MeshLab and Open3D write it). Binary STL has no standard place for
+// colours (the attribute word's colour is a vendor extension read in
+// incompatible ways): the colours are dropped and the file is the same as
+// without them.
+//
+// Reading: PLY takes the "vertex" element's x, y, z (and its colours, as
+// read_points does) and the "face" element's "vertex_indices" or
+// "vertex_index" list (any integer count type, any index type holding whole
+// numbers); OBJ takes "v" lines (with "v x y z r g b" colours when every one
+// has them) and "f" lines (corners v, v/vt, v/vt/vn, v//vn; negative numbers
+// count back from the last vertex read); OFF takes its vertices and faces
+// (COFF's colours are not read). A file without a triangle, a face with
 // fewer than three corners or an index out of range is a ParseError naming
 // the line or byte; reading STL is refused (InvalidInputError). Files are
 // mapped, not copied, and errors are reported as for read_points (see

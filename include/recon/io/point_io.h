@@ -4,9 +4,10 @@
 // Formats (chosen from the file extension unless named):
 //   ply  - PLY 1.0, ascii / binary_little_endian / binary_big_endian. The
 //          "vertex" element's x, y, z (and nx, ny, nz when all three are
-//          present) of any scalar type; every other property and element
-//          (faces, colours, ...) is skipped, so a mesh's vertices read as a
-//          cloud. Elements may come in any order; a list property on the
+//          present, and the colours red, green, blue, or diffuse_red,
+//          diffuse_green, diffuse_blue, when all three are) of any scalar
+//          type; every other property and element (faces, alpha, ...) is
+//          skipped, so a mesh's vertices read as a cloud. Elements may come in any order; a list property on the
 //          vertex element is refused. ASCII values may wrap across lines, but
 //          text after the last declared element is an error; bytes after the
 //          last element of a binary body are ignored.
@@ -17,8 +18,9 @@
 //   pts  - text, either Hoppe's format ("p x y z" records; other one-letter
 //          records such as d, s, g, n and '#' comments are ignored) or plain
 //          xyz columns; the first record decides (a letter: Hoppe's format).
-//   obj  - "v x y z" lines; numbers after z (the w weight, or a colour) are
-//          ignored. "vn" lines become the normals only when there are exactly
+//   obj  - "v x y z" lines, and "v x y z r g b" (r g b in [0, 1]) for the
+//          colours when every "v" line has them; other numbers after z (the
+//          w weight) are ignored. "vn" lines become the normals only when there are exactly
 //          as many as "v" lines (OBJ ties normals to face corners, so another
 //          count cannot be matched to the points; dropped normals are not
 //          checked). Other statements are ignored, but a statement keyword
@@ -51,6 +53,13 @@
 //          file is at most 255, else by their high byte; a note says which.
 //   laz  - compressed LAS (.laz, or LAS content with laszip's compression
 //          bit) is refused with a message naming tools that decompress it.
+//
+// Colours (PointCloud::colors) become 0 to 255 by the type they are stored
+// as: 8-bit integers as they are, 16-bit integers scaled (v / 257, rounded),
+// wider integers as they are, floating point in [0, 1] times 255, rounded
+// (or as they are, when some value of the file exceeds 1: 0-255 written as
+// floats); then clamped to 0-255, NaN as 0. When one of the three channels
+// is floating point, all three follow that rule. Alpha is ignored.
 //
 // The file is mapped into memory read-only (mmap), not copied; a pipe or
 // another file that cannot be mapped is read whole, up to a limit
@@ -148,13 +157,17 @@ struct WritePointsOptions {
   bool ascii = false;                           ///< PLY only: ascii instead of binary little-endian
 };
 
-/// Writes positions and, when present, normals, as ply or xyz (throws
-/// InvalidInputError for another format). Doubles are written losslessly
-/// (PLY: property double; text: the shortest decimal that reads back as the
-/// same double, at most 17 significant digits), so a written cloud reads
-/// back bit for bit. Throws InvalidInputError, before creating anything,
-/// when normals are present but not one per point, a value is not finite or
-/// a coordinate is beyond +-max_coordinate (it would not read back).
+/// Writes positions and, when present, normals and colours, as ply or xyz
+/// (throws InvalidInputError for another format). Doubles are written
+/// losslessly (PLY: property double; text: the shortest decimal that reads
+/// back as the same double, at most 17 significant digits), so a written
+/// cloud reads back bit for bit. Colours are written after the other
+/// properties: PLY "property uchar red", green, blue (three bytes in binary);
+/// xyz "x y z [nx ny nz] r g b" with r g b 0 to 255 (the delimited-text
+/// reader tells such columns by their values). Throws InvalidInputError,
+/// before creating anything, when normals or colours are present but not
+/// one per point, a value is not finite or a coordinate is beyond
+/// +-max_coordinate (it would not read back).
 /// The file is written to a temporary file in the same folder and renamed
 /// into place when complete: a failure leaves no partial file.
 void write_points(const std::filesystem::path& path, const PointCloud& cloud, const WritePointsOptions& options = {});

@@ -1,0 +1,522 @@
+// recon._recon: the compiled part of the Python package (python/recon/
+// __init__.py wraps it). It hands numpy arrays to the library as they are
+// and hands the library's results back as numpy arrays over recon's own
+// buffers:
+//
+//   points in:  a C-contiguous float64 n x 3 array is seen in place as
+//               std::span<const Vec3> (PointCloudView); other arrays
+//               (float32, strided) are converted once by numpy.
+//   arrays out: views of the vectors inside a Mesh or PointCloud object,
+//               which each array keeps alive (its `base`): no copy.
+//   while recon works the GIL is released; at each phase the run takes it
+//   back for a moment to call the progress callback, and between the
+//   phases' steps to check for signals (interruption.h: Ctrl-C raises
+//   KeyboardInterrupt out of the run).
+//   errors:     InvalidInputError, ParseError -> ValueError;
+//               ResourceLimitError -> recon.ResourceLimitError (a MemoryError);
+//               IoError -> FileNotFoundError, IsADirectoryError,
+//               PermissionError or OSError; the message is the program's.
+// Statistics are made by the program's own code (app/run_reports.h), so a
+// mesh's `stats` holds what `recon reconstruct --stats` writes.
+
+#include "run_reports.h"
+#include "summary.h"
+
+#include "recon/errors.h"
+#include "recon/estimate_normals.h"
+#include "recon/interruption.h"
+#include "recon/io/mesh_io.h"
+#include "recon/io/point_io.h"
+#include "recon/parallel.h"
+#include "recon/reconstruct.h"
+#include "recon/timer.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace recon::python {
+namespace {
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "a Vec3 is three packed doubles");
+static_assert(sizeof(Color) == 3, "a Color is three packed bytes");
+
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using ByteArray = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>;
+
+// ---------------------------------------------------------------------------
+// Arrays in
+
+std::string shape_of(const py::array& a) {
+  std::string text = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) text += (d > 0 ? ", " : "") + std::to_string(a.shape(d));
+  return text + (a.ndim() == 1 ? ",)" : ")");
+}
+
+// Checks that `a` is n x 3 (n = `rows` when given) and returns n.
+std::size_t rows_of(const py::array& a, const char* name, std::optional<std::size_t> rows) {
+  if (a.ndim() != 2 || a.shape(1) != 3)
+    throw InvalidInputError(std::string(name) + " must be an n x 3 array; got shape " + shape_of(a));
+  const auto n = static_cast<std::size_t>(a.shape(0));
+  if (rows && n != *rows)
+    throw InvalidInputError(std::string(name) + " must have one row per point: " + std::to_string(*rows) +
+                            " points, " + std::to_string(n) + " rows");
+  return n;
+}
+
+template <typename T, typename Array>
+bool aligned_for(const Array& a) {
+  return reinterpret_cast<std::uintptr_t>(a.data()) % alignof(T) == 0;
+}
+
+// The arrays of a cloud given from Python, seen in place. A float64 array
+// that numpy placed at an address no double may start at (a view into
+// bytes) is copied once instead.
+struct CloudArrays {
+  DoubleArray points, normals;
+  ByteArray colors;
+  PointCloud copies;  // only for misaligned input
+  PointCloudView view;
+
+  CloudArrays(DoubleArray p, std::optional<DoubleArray> n, std::optional<ByteArray> c) : points(std::move(p)) {
+    const std::size_t count = rows_of(points, "points", std::nullopt);
+    view.positions = vectors_of(points, count, copies.positions);
+    if (n) {
+      normals = std::move(*n);
+      rows_of(normals, "normals", count);
+      view.normals = vectors_of(normals, count, copies.normals);
+    }
+    if (c) {
+      colors = std::move(*c);
+      rows_of(colors, "colors", count);
+      view.colors = {reinterpret_cast<const Color*>(colors.data()), count};
+    }
+  }
+
+  static std::span<const Vec3> vectors_of(const DoubleArray& a, std::size_t count, std::vector<Vec3>& copy) {
+    if (count == 0) return {};
+    if (aligned_for<Vec3>(a)) return {reinterpret_cast<const Vec3*>(a.data()), count};
+    copy.resize(count);
+    std::memcpy(static_cast<void*>(copy.data()), a.data(), count * sizeof(Vec3));
+    return copy;
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Arrays out: views of a vector inside `owner` (a Python object that keeps it alive)
+
+py::array vectors_view(const std::vector<Vec3>& values, py::handle owner) {
+  return py::array_t<double>({static_cast<py::ssize_t>(values.size()), py::ssize_t{3}},
+                             {static_cast<py::ssize_t>(sizeof(Vec3)), static_cast<py::ssize_t>(sizeof(double))},
+                             reinterpret_cast<const double*>(values.data()), owner);
+}
+
+py::array colors_view(const std::vector<Color>& values, py::handle owner) {
+  return py::array_t<std::uint8_t>({static_cast<py::ssize_t>(values.size()), py::ssize_t{3}}, {py::ssize_t{3}, py::ssize_t{1}},
+                                   reinterpret_cast<const std::uint8_t*>(values.data()), owner);
+}
+
+py::array faces_view(const std::vector<std::array<std::uint32_t, 3>>& faces, py::handle owner) {
+  // Vertex indices are below 2^31 (checked when the mesh is made), so the
+  // unsigned indices read the same as int32.
+  return py::array_t<std::int32_t>({static_cast<py::ssize_t>(faces.size()), py::ssize_t{3}},
+                                   {py::ssize_t{12}, py::ssize_t{4}},
+                                   reinterpret_cast<const std::int32_t*>(faces.data()), owner);
+}
+
+// ---------------------------------------------------------------------------
+// The objects Python holds
+
+struct PyPointCloud {
+  PointCloud cloud;
+  std::vector<std::string> notes;  // what the reader chose or skipped
+};
+
+struct PyMesh {
+  Mesh mesh;
+  py::dict stats;
+};
+
+Mesh mesh_from_arrays(const DoubleArray& vertices, const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& faces,
+                      const std::optional<ByteArray>& colors) {
+  Mesh mesh;
+  const std::size_t n = rows_of(vertices, "vertices", std::nullopt);
+  const auto* v = vertices.data();
+  mesh.vertices.resize(n);
+  for (std::size_t i = 0; i < n; ++i) mesh.vertices[i] = Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+  const std::size_t f = rows_of(faces, "faces", std::nullopt);
+  const auto* t = faces.data();
+  mesh.triangles.resize(f);
+  for (std::size_t i = 0; i < 3 * f; ++i) {
+    if (t[i] < 0 || static_cast<std::uint64_t>(t[i]) >= n)
+      throw InvalidInputError("faces: index " + std::to_string(t[i]) + " in face " + std::to_string(i / 3) +
+                              " is not a vertex (there are " + std::to_string(n) + ")");
+    mesh.triangles[i / 3][i % 3] = static_cast<std::uint32_t>(t[i]);
+  }
+  if (colors) {
+    rows_of(*colors, "colors", n);
+    mesh.colors.resize(n);
+    std::memcpy(static_cast<void*>(mesh.colors.data()), colors->data(), 3 * n);
+  }
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------
+// Running: threads, the GIL, progress and Ctrl-C
+
+// Sets the thread count for one call and puts the previous one back.
+class ThreadsForOneCall {
+ public:
+  explicit ThreadsForOneCall(std::optional<int> threads) : previous_(thread_count()) {
+    if (!threads) return;
+    if (*threads < 1) throw InvalidInputError("threads must be at least 1, got " + std::to_string(*threads));
+    set_thread_count(*threads);
+  }
+  ~ThreadsForOneCall() { set_thread_count(previous_); }
+  ThreadsForOneCall(const ThreadsForOneCall&) = delete;
+  ThreadsForOneCall& operator=(const ThreadsForOneCall&) = delete;
+
+ private:
+  int previous_;
+};
+
+// Raises a pending KeyboardInterrupt (Ctrl-C) out of the run: installed on
+// the calling thread as the library's interruption check (interruption.h),
+// which the phases run between their steps, without the GIL.
+void check_signals() {
+  py::gil_scoped_acquire gil;
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
+// What a run does as each phase starts (called on the calling thread,
+// without the GIL): note the step for the memory peaks, then, holding the
+// GIL, raise a pending KeyboardInterrupt and call the progress callback.
+// `progress` is borrowed (the caller's reference keeps it alive): a handle,
+// so that copying the hook without the GIL touches no reference count.
+std::function<void(const char*)> phase_hook(StepPeaks& memory, py::handle progress) {
+  return [&memory, progress](const char* phase) {
+    memory.start(phase);
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (!progress.is_none()) progress(phase);
+  };
+}
+
+py::dict dict_of(const cli::Json& json) {
+  return py::module_::import("json").attr("loads")(json.dump(0)).cast<py::dict>();
+}
+
+void check_range(std::optional<double> value, const char* name, bool zero_allowed) {
+  if (!value) return;
+  if (zero_allowed ? !(*value >= 0.0) : !(*value > 0.0))
+    throw InvalidInputError(std::string(name) + " must be " + (zero_allowed ? "zero or more" : "positive") +
+                            ", got " + std::to_string(*value));
+}
+
+// The options `recon reconstruct` and `recon normals` share, checked as the
+// program checks them.
+struct PhaseParameters {
+  std::optional<int> k;
+  std::optional<double> rho;
+  std::size_t max_memory = 0;
+
+  [[nodiscard]] TangentPlaneOptions planes() const {
+    TangentPlaneOptions options;
+    if (k) {
+      if (*k < 3 || *k > 256) throw InvalidInputError("k must be between 3 and 256, got " + std::to_string(*k));
+      options.k = *k;
+      options.adapt_k = false;
+    }
+    check_range(rho, "rho", false);
+    options.rho = rho;
+    return options;
+  }
+};
+
+std::size_t memory_limit(const py::object& max_memory) {
+  if (max_memory.is_none()) return 0;
+  std::size_t bytes = 0;
+  const std::string text = py::isinstance<py::str>(max_memory) ? max_memory.cast<std::string>()
+                                                                : py::str(max_memory).cast<std::string>();
+  const std::string error = cli::parse_size(text, bytes);
+  if (!error.empty()) throw InvalidInputError("max_memory: " + error);
+  return bytes;
+}
+
+struct ReconstructParameters {
+  PhaseParameters phases;
+  std::optional<double> delta, cell;
+  std::optional<int> resolution;
+  std::string method = "refined";
+  bool keep_fragments = false;
+  std::optional<int> threads;
+  std::optional<std::filesystem::path> report;
+  py::object progress = py::none();
+
+  [[nodiscard]] ReconstructionOptions options(bool use_normals) const {
+    ReconstructionOptions o;
+    o.method = method_from_name(method);
+    o.planes = phases.planes();
+    check_range(delta, "delta", true);
+    check_range(cell, "cell", false);
+    if (resolution && (*resolution < 1 || *resolution > (1 << 20)))
+      throw InvalidInputError("resolution must be between 1 and 1048576, got " + std::to_string(*resolution));
+    if (cell && resolution) throw InvalidInputError("give cell or resolution, not both");
+    o.distance.delta = delta;
+    o.cell = cell;
+    o.resolution = resolution;
+    o.refinement.keep_fragments = keep_fragments;
+    o.use_input_normals = use_normals;
+    o.max_memory = phases.max_memory;
+    o.keep_graph = report.has_value();
+    o.keep_corners = report.has_value();
+    return o;
+  }
+};
+
+std::unique_ptr<PyMesh> run_reconstruct(const CloudArrays& input, const ReconstructParameters& p) {
+  const ReconstructionOptions checked = p.options(input.view.has_normals());
+  ThreadsForOneCall threads(p.threads);
+  auto result = std::make_unique<PyMesh>();
+  cli::Summary summary(true);
+  {
+    py::gil_scoped_release no_gil;
+    Timer total;
+    InterruptionCheck interruptible(check_signals);
+    StepPeaks memory;
+    ReconstructionOptions options = checked;
+    options.on_phase = phase_hook(memory, p.progress);
+    Reconstruction r = reconstruct(input.view, options);
+    memory.start("summary");
+    cli::Json& in = summary.stats()["input"];
+    in["points"] = input.view.size();
+    in["has_normals"] = input.view.has_normals();
+    in["has_colors"] = input.view.has_colors();
+    cli::report_reconstruction(r, options, input.view.size(), p.report.has_value(), summary);
+    cli::report_memory(memory, summary);
+    summary.stats()["threads"] = thread_count();
+    summary.stats()["seconds_total"] = total.elapsed();
+    if (p.report) cli::write_run_report(*p.report, report_input(r), "recon.reconstruct", summary);
+    if (r.refinement) {
+      result->mesh = std::move(r.refinement->mesh);
+    } else {
+      result->mesh = std::move(r.contour.mesh);
+    }
+  }
+  if (result->mesh.vertices.size() >= (std::size_t{1} << 31))
+    throw ResourceLimitError("the mesh has more than 2^31 vertices, more than int32 faces can index");
+  result->stats = dict_of(summary.stats());
+  return result;
+}
+
+py::tuple run_estimate_normals(const CloudArrays& input, const PhaseParameters& p, std::optional<int> threads_wanted,
+                               const py::object& progress) {
+  NormalEstimationOptions options;
+  options.planes = p.planes();
+  options.max_memory = p.max_memory;
+  ThreadsForOneCall threads(threads_wanted);
+  auto normals = std::make_unique<std::vector<Vec3>>();
+  cli::Summary summary(true);
+  {
+    py::gil_scoped_release no_gil;
+    InterruptionCheck interruptible(check_signals);
+    StepPeaks memory;
+    options.on_phase = phase_hook(memory, progress);
+    const NormalEstimation estimated = estimate_normals(input.view, options);
+    summary.stats()["input"]["points"] = input.view.size();
+    cli::report_phase_1(estimated.planes, input.view.size(), summary);
+    cli::report_phase_2(estimated.oriented, summary);
+    cli::report_memory(memory, summary);
+    summary.stats()["threads"] = thread_count();
+    *normals = estimated.normals_in_input_order();
+  }
+  // The array owns the vector through a capsule: no copy.
+  auto* held = normals.release();
+  py::capsule owner(held, [](void* v) { delete static_cast<std::vector<Vec3>*>(v); });
+  return py::make_tuple(vectors_view(*held, owner), dict_of(summary.stats()));
+}
+
+// ---------------------------------------------------------------------------
+// Exceptions
+
+void translate(std::exception_ptr failure) {
+  try {
+    if (failure) std::rethrow_exception(failure);
+  } catch (const IoError& e) {
+    PyObject* type = PyExc_OSError;
+    if (e.error_code() == ENOENT) type = PyExc_FileNotFoundError;
+    if (e.error_code() == EISDIR) type = PyExc_IsADirectoryError;
+    if (e.error_code() == EACCES || e.error_code() == EPERM) type = PyExc_PermissionError;
+    PyErr_SetString(type, e.what());
+  } catch (const InvalidInputError& e) {
+    PyErr_SetString(PyExc_ValueError, e.what());
+  } catch (const ParseError& e) {
+    PyErr_SetString(PyExc_ValueError, e.what());
+  }
+}
+
+// ---------------------------------------------------------------------------
+// The module's parts
+
+void bind_point_cloud(py::module_& m) {
+  py::class_<PyPointCloud>(m, "PointCloud")
+      .def(py::init([](DoubleArray points, std::optional<DoubleArray> normals, std::optional<ByteArray> colors) {
+             const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
+             auto result = std::make_unique<PyPointCloud>();
+             result->cloud.positions.assign(in.view.positions.begin(), in.view.positions.end());
+             result->cloud.normals.assign(in.view.normals.begin(), in.view.normals.end());
+             result->cloud.colors.assign(in.view.colors.begin(), in.view.colors.end());
+             return result;
+           }),
+           py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none())
+      .def_property_readonly("points", [](py::object self) {
+        return vectors_view(self.cast<PyPointCloud&>().cloud.positions, self);
+      })
+      .def_property_readonly("normals", [](py::object self) -> py::object {
+        const PointCloud& c = self.cast<PyPointCloud&>().cloud;
+        return c.has_normals() ? py::object(vectors_view(c.normals, self)) : py::none();
+      })
+      .def_property_readonly("colors", [](py::object self) -> py::object {
+        const PointCloud& c = self.cast<PyPointCloud&>().cloud;
+        return c.has_colors() ? py::object(colors_view(c.colors, self)) : py::none();
+      })
+      .def_readonly("notes", &PyPointCloud::notes)
+      .def("__len__", [](const PyPointCloud& c) { return c.cloud.size(); });
+}
+
+void bind_mesh(py::module_& m) {
+  py::class_<PyMesh>(m, "Mesh")
+      .def(py::init([](DoubleArray vertices, py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> faces,
+                       std::optional<ByteArray> colors) {
+             auto result = std::make_unique<PyMesh>();
+             result->mesh = mesh_from_arrays(vertices, faces, colors);
+             return result;
+           }),
+           py::arg("vertices"), py::arg("faces"), py::arg("colors") = py::none())
+      .def_property_readonly("vertices", [](py::object self) {
+        return vectors_view(self.cast<PyMesh&>().mesh.vertices, self);
+      })
+      .def_property_readonly("faces", [](py::object self) {
+        return faces_view(self.cast<PyMesh&>().mesh.triangles, self);
+      })
+      .def_property_readonly("colors", [](py::object self) -> py::object {
+        const Mesh& mesh = self.cast<PyMesh&>().mesh;
+        return mesh.has_colors() ? py::object(colors_view(mesh.colors, self)) : py::none();
+      })
+      .def_readonly("stats", &PyMesh::stats)
+      .def("save", [](const PyMesh& self, const std::filesystem::path& path, bool ascii) {
+             io::WriteMeshOptions options;
+             options.format = io::mesh_format_from_path(path);
+             options.ascii = ascii;
+             py::gil_scoped_release no_gil;
+             io::write_mesh(path, self.mesh, options);
+           },
+           py::arg("path"), py::arg("ascii") = false);
+}
+
+void bind_files(py::module_& m) {
+  m.def("read_points",
+        [](const std::filesystem::path& path, std::optional<std::string> format, std::optional<std::vector<std::string>> columns,
+           bool skip_invalid) {
+          io::ReadPointsOptions options;
+          if (format) options.format = io::point_format_from_name(*format);
+          if (columns) options.columns = *columns;
+          options.skip_invalid = skip_invalid;
+          auto result = std::make_unique<PyPointCloud>();
+          io::ReadNotes notes;
+          {
+            py::gil_scoped_release no_gil;
+            result->cloud = io::read_points(path, options, &notes);
+          }
+          result->notes = std::move(notes.lines);
+          return result;
+        },
+        py::arg("path"), py::arg("format") = py::none(), py::arg("columns") = py::none(),
+        py::arg("skip_invalid") = false);
+
+  m.def("write_points",
+        [](const std::filesystem::path& path, DoubleArray points, std::optional<DoubleArray> normals,
+           std::optional<ByteArray> colors, bool ascii) {
+          const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
+          PointCloud cloud;  // the writers take a PointCloud: one copy, for the file
+          cloud.positions.assign(in.view.positions.begin(), in.view.positions.end());
+          cloud.normals.assign(in.view.normals.begin(), in.view.normals.end());
+          cloud.colors.assign(in.view.colors.begin(), in.view.colors.end());
+          io::WritePointsOptions options;
+          options.ascii = ascii;
+          py::gil_scoped_release no_gil;
+          io::write_points(path, cloud, options);
+        },
+        py::arg("path"), py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none(),
+        py::arg("ascii") = false);
+}
+
+void bind_runs(py::module_& m) {
+  m.def("estimate_normals",
+        [](DoubleArray points, std::optional<int> k, std::optional<double> rho, std::optional<int> threads,
+           const py::object& max_memory, const py::object& progress) {
+          const CloudArrays in(std::move(points), std::nullopt, std::nullopt);
+          PhaseParameters p{k, rho, memory_limit(max_memory)};
+          return run_estimate_normals(in, p, threads, progress);
+        },
+        py::arg("points"), py::arg("k") = py::none(), py::arg("rho") = py::none(), py::arg("threads") = py::none(),
+        py::arg("max_memory") = py::none(), py::arg("progress") = py::none());
+
+  m.def("reconstruct",
+        [](DoubleArray points, std::optional<DoubleArray> normals, std::optional<ByteArray> colors, std::optional<int> k,
+           std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
+           std::optional<int> resolution, const std::string& method, bool keep_fragments,
+           const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
+           const py::object& progress) {
+          const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
+          ReconstructParameters p;
+          p.phases = PhaseParameters{k, rho, memory_limit(max_memory)};
+          p.delta = delta;
+          p.cell = cell;
+          p.resolution = resolution;
+          p.method = method;
+          p.keep_fragments = keep_fragments;
+          p.threads = threads;
+          p.report = std::move(report);
+          p.progress = progress;
+          return run_reconstruct(in, p);
+        },
+        py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none(), py::arg("k") = py::none(),
+        py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
+        py::arg("resolution") = py::none(), py::arg("method") = "refined", py::arg("keep_fragments") = false,
+        py::arg("max_memory") = py::none(), py::arg("threads") = py::none(), py::arg("report") = py::none(),
+        py::arg("progress") = py::none());
+
+  // For the tests: the address of the data the library would read for
+  // `points` (equal to the array's own when no copy was made).
+  m.def("_input_address", [](DoubleArray points) {
+    const CloudArrays in(std::move(points), std::nullopt, std::nullopt);
+    return reinterpret_cast<std::uintptr_t>(in.view.positions.data());
+  });
+}
+
+}  // namespace
+}  // namespace recon::python
+
+PYBIND11_MODULE(_recon, m) {
+  using namespace recon;
+  using namespace recon::python;
+  m.doc() = "The compiled part of recon (see the recon package for the documented interface).";
+  py::register_exception<ResourceLimitError>(m, "ResourceLimitError", PyExc_MemoryError);
+  py::register_exception_translator(translate);
+  bind_point_cloud(m);
+  bind_mesh(m);
+  bind_files(m);
+  bind_runs(m);
+}

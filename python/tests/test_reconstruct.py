@@ -1,0 +1,184 @@
+"""recon.reconstruct and recon.estimate_normals: the same results as the
+program, on the true surface, for any thread count, without copying the
+input, with the GIL released and Ctrl-C honoured."""
+
+import _thread
+import json
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import recon
+from conftest import run_cli, sphere
+
+
+def without_times(stats):
+    """`stats` without the figures that vary from run to run (times)."""
+    if not isinstance(stats, dict):
+        return stats
+    return {k: without_times(v) for k, v in stats.items() if not k.startswith("seconds")}
+
+
+def test_the_mesh_is_the_programs_mesh(torus_file, tmp_path):
+    for method in ("refined", "hoppe92"):
+        by_program = tmp_path / f"program-{method}.ply"
+        stats_file = tmp_path / f"stats-{method}.json"
+        run_cli("reconstruct", torus_file, "-o", by_program, "--method", method, "--stats", stats_file)
+        cloud = recon.read_points(torus_file)
+        mesh = recon.reconstruct(cloud.points, method=method)
+        by_package = tmp_path / f"package-{method}.ply"
+        mesh.save(by_package)
+        assert by_package.read_bytes() == by_program.read_bytes(), method
+        # The statistics hold the same figures (apart from times, memory and files).
+        program = json.loads(stats_file.read_text())
+        assert mesh.stats["mesh"] == program["mesh"]
+        assert mesh.stats["method"] == method
+        for phase in ("tangent_planes", "orientation", "signed_distance", "contouring", "refinement"):
+            assert without_times(mesh.stats.get(phase)) == without_times(program.get(phase)), phase
+        assert set(mesh.stats) == set(program) - {"output"}
+        assert mesh.stats["input"]["points"] == program["input"]["points"]
+        assert set(mesh.stats["memory"]["peak_mib"]) == set(program["memory"]["peak_mib"]) - {"read", "write"}
+
+
+def test_the_normals_are_the_programs_normals(torus_file, tmp_path):
+    oriented = tmp_path / "oriented.ply"
+    run_cli("normals", torus_file, "-o", oriented)
+    by_program = recon.read_points(oriented)
+    cloud = recon.read_points(torus_file)
+    normals, info = recon.estimate_normals(cloud.points)
+    assert normals.shape == cloud.points.shape
+    np.testing.assert_array_equal(normals, by_program.normals)
+    assert info["tangent_planes"]["k"] >= 20
+    assert info["orientation"]["components"] == 1
+
+
+def test_the_mesh_lies_on_the_true_surface():
+    points = sphere(20000, seed=3)
+    mesh = recon.reconstruct(points)
+    radius = np.linalg.norm(mesh.vertices, axis=1)
+    spacing = np.sqrt(4 * np.pi / 20000)
+    assert np.max(np.abs(radius - 1.0)) < 0.1 * spacing
+    assert mesh.stats["mesh"]["components"] == 1
+    assert mesh.stats["mesh"]["boundary_loops"] == 0
+    assert mesh.stats["mesh"]["euler_characteristic"] == 2
+    # Faces index vertices, counter-clockwise from outside: the volume is the ball's.
+    v, f = mesh.vertices, mesh.faces
+    volume = np.einsum("ij,ij->i", v[f[:, 0]], np.cross(v[f[:, 1]], v[f[:, 2]])).sum() / 6.0
+    assert volume == pytest.approx(4.0 / 3.0 * np.pi, rel=0.01)
+
+
+def test_any_thread_count_gives_the_same_mesh():
+    points = sphere(30000, seed=5)
+    one = recon.reconstruct(points, threads=1)
+    two = recon.reconstruct(points, threads=2)
+    np.testing.assert_array_equal(one.vertices, two.vertices)
+    np.testing.assert_array_equal(one.faces, two.faces)
+    assert one.stats["threads"] == 1 and two.stats["threads"] == 2
+
+
+def test_contiguous_float64_input_is_not_copied():
+    points = sphere(1000)
+    assert recon._recon._input_address(points) == points.__array_interface__["data"][0]
+    # float32 and strided arrays are converted (once), not refused.
+    as_float32 = points.astype(np.float32)
+    assert recon._recon._input_address(as_float32) != as_float32.__array_interface__["data"][0]
+    wide = np.zeros((1000, 4))
+    wide[:, :3] = points
+    assert recon._recon._input_address(wide[:, :3]) != wide.__array_interface__["data"][0]
+
+
+def test_float32_input_gives_the_mesh_of_its_values():
+    points = sphere(8000, seed=7).astype(np.float32)
+    a = recon.reconstruct(points)
+    b = recon.reconstruct(points.astype(np.float64))
+    np.testing.assert_array_equal(a.vertices, b.vertices)
+    np.testing.assert_array_equal(a.faces, b.faces)
+
+
+def test_the_arrays_out_are_recons_buffers():
+    mesh = recon.reconstruct(sphere(5000))
+    vertices = mesh.vertices
+    assert vertices.dtype == np.float64 and vertices.shape[1] == 3
+    assert mesh.faces.dtype == np.int32 and mesh.faces.shape[1] == 3
+    assert not vertices.flags.owndata  # a view of the C++ vector...
+    assert np.shares_memory(vertices, mesh.vertices)  # ... the same one every time
+    del mesh  # the array keeps the mesh's buffer alive
+    assert np.all(np.isfinite(vertices))
+    normals, _ = recon.estimate_normals(sphere(2000))
+    assert not normals.flags.owndata and normals.base is not None
+
+
+def test_progress_is_told_each_phase():
+    seen = []
+    recon.reconstruct(sphere(5000), progress=seen.append)
+    assert seen == ["tangent planes", "orientation", "signed distance", "contouring", "refinement"]
+    seen.clear()
+    recon.reconstruct(sphere(5000), method="hoppe92", progress=seen.append)
+    assert seen == ["tangent planes", "orientation", "signed distance", "contouring"]
+    seen.clear()
+    recon.estimate_normals(sphere(5000), progress=seen.append)
+    assert seen == ["tangent planes", "orientation"]
+
+
+def test_the_gil_is_released_while_recon_works():
+    points = sphere(200000, seed=11)
+    counted = []
+
+    def count():
+        n = 0
+        while not done.is_set():
+            n += 1
+        counted.append(n)
+
+    done = threading.Event()
+    counter = threading.Thread(target=count)
+    counter.start()
+    started = time.perf_counter()
+    recon.reconstruct(points, threads=1)
+    seconds = time.perf_counter() - started
+    done.set()
+    counter.join()
+    # A Python loop counts millions a second with the GIL to itself; held by
+    # recon it would count almost nothing for the whole run.
+    assert seconds > 0.2
+    assert counted[0] > 100000 * seconds
+
+
+def test_ctrl_c_stops_a_run_promptly():
+    points = sphere(400000, seed=13)
+    started = time.perf_counter()
+    recon.reconstruct(points, method="hoppe92", threads=1)
+    whole = time.perf_counter() - started
+
+    def interrupt():
+        time.sleep(0.25 * whole)
+        _thread.interrupt_main()  # what Ctrl-C does: a SIGINT for the main thread
+
+    threading.Thread(target=interrupt).start()
+    started = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        recon.reconstruct(points, method="hoppe92", threads=1)
+    stopped = time.perf_counter() - started
+    assert stopped < 0.85 * whole, (stopped, whole)
+
+
+def test_colours_reach_the_mesh(tmp_path):
+    points = sphere(20000, seed=17)
+    colors = np.where(points[:, 2:3] > 0, [255, 0, 0], [0, 0, 255]).astype(np.uint8)
+    seen = []
+    mesh = recon.reconstruct(points, colors=colors, progress=seen.append)
+    assert seen[-1] == "colours"
+    assert mesh.colors.shape == mesh.vertices.shape and mesh.colors.dtype == np.uint8
+    top, bottom = mesh.vertices[:, 2] > 0.1, mesh.vertices[:, 2] < -0.1
+    assert np.all(mesh.colors[top] == [255, 0, 0])
+    assert np.all(mesh.colors[bottom] == [0, 0, 255])
+    assert mesh.stats["mesh"]["has_colors"]
+    # Floats in [0, 1] mean the same colours; a cloud brings its own.
+    same = recon.reconstruct(recon.PointCloud(points, colors=colors / 255.0))
+    np.testing.assert_array_equal(same.colors, mesh.colors)
+    path = tmp_path / "coloured.ply"
+    mesh.save(path)
+    assert b"property uchar red" in path.read_bytes()[:400]
+    assert recon.reconstruct(points).colors is None

@@ -1,0 +1,32 @@
+#include "recon/estimate_normals.h"
+
+#include "recon/reconstruct.h"  // working_offset, check_memory_planes_and_graph
+#include "recon/resource_usage.h"
+
+namespace recon {
+
+std::vector<Vec3> NormalEstimation::normals_in_input_order() const {
+  std::vector<Vec3> normals(order.size());
+  for (std::size_t j = 0; j < order.size(); ++j) normals[order[j]] = oriented.normals[j];
+  return normals;
+}
+
+NormalEstimation estimate_normals(PointCloudView cloud, const NormalEstimationOptions& options) {
+  auto starting = [&](const char* phase) {
+    if (options.on_phase) options.on_phase(phase);
+  };
+  const std::size_t limit = options.max_memory > 0 ? options.max_memory : default_memory_limit();
+  check_memory_planes_and_graph(cloud.size(), options.planes.k, limit);
+  NormalEstimation result;
+  starting("tangent planes");
+  check_coordinates<3>(cloud.positions);  // before the bounding box of working_offset
+  result.offset = working_offset(cloud.positions);
+  KdTree<3> tree(cloud.positions, options.planes.tree, result.offset);
+  result.order = tree.renumber_by_leaf_order();
+  result.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
+  starting("orientation");
+  result.oriented = orient_normals<3>(result.planes, options.orientation);
+  return result;
+}
+
+}  // namespace recon
