@@ -7,7 +7,9 @@
 
 #include "recon/errors.h"
 
+#include <array>
 #include <cstdio>
+#include <iterator>
 #include <utility>
 
 namespace recon::io::detail {
@@ -69,7 +71,7 @@ char foreign_separator(std::string_view field, Separator separator) {
 /// In a file without a header the first line of numbers sets the column
 /// count: its fields must be whole (no empty field, one separator).
 void check_first_fields(std::string_view file, std::size_t line, std::string_view data, const TextLayout& layout) {
-  SeparatedFields fields(data, layout.separator);
+  Fields fields(data, layout.separator);
   for (std::string_view field; fields.next(field);)
     if (field.empty() || foreign_separator(field, layout.separator) != '\0')
       fail_text_field(file, line, field, "", NumberStatus::not_a_number, layout);
@@ -101,7 +103,7 @@ TextLayout find_text_layout(std::string_view file, std::string_view content) {
     }
     layout.first_line = lines.line_number();
     layout.separator = separator_of(data);
-    layout.columns = SeparatedFields(data, layout.separator).count_rest();
+    layout.columns = Fields(data, layout.separator).count_rest();
     layout.first_data = data;
     break;
   }
@@ -185,7 +187,9 @@ bool known_role(std::string_view name, ColumnRole& role) {
   return false;
 }
 
+/// The short name of each ColumnRole, in the enumeration's order.
 constexpr std::string_view role_text[] = {"_", "x", "y", "z", "nx", "ny", "nz", "r", "g", "b"};
+using RoleColumns = std::array<std::size_t, std::size(role_text)>;
 
 std::string_view text_of(ColumnRole role) { return role_text[static_cast<std::size_t>(role)]; }
 
@@ -193,10 +197,15 @@ ColumnRole role_plus(ColumnRole first, std::size_t k) {
   return static_cast<ColumnRole>(static_cast<std::size_t>(first) + k);
 }
 
+/// Which of a triple (x y z, nx ny nz, r g b) `role` is: 0, 1 or 2.
+std::uint8_t place_in_triple(ColumnRole role, ColumnRole first) {
+  return static_cast<std::uint8_t>(static_cast<int>(role) - static_cast<int>(first));
+}
+
 /// The columns holding each role (npos when none); throws when a role other
 /// than `ignored` is named twice.
-std::array<std::size_t, 10> columns_of_roles(const std::vector<ColumnRole>& roles, const auto& fail) {
-  std::array<std::size_t, 10> at;
+RoleColumns columns_of_roles(const std::vector<ColumnRole>& roles, const auto& fail) {
+  RoleColumns at;
   at.fill(std::string::npos);
   for (std::size_t c = 0; c < roles.size(); ++c) {
     const auto r = static_cast<std::size_t>(roles[c]);
@@ -210,7 +219,7 @@ std::array<std::size_t, 10> columns_of_roles(const std::vector<ColumnRole>& role
 }
 
 /// A triple (nx ny nz, or r g b) of which only some are named.
-bool partly_named(const std::array<std::size_t, 10>& at, ColumnRole first) {
+bool partly_named(const RoleColumns& at, ColumnRole first) {
   std::size_t named = 0;
   for (std::size_t k = 0; k < 3; ++k)
     if (at[static_cast<std::size_t>(role_plus(first, k))] != std::string::npos) ++named;
@@ -230,23 +239,23 @@ std::string drop_partial_triple(std::vector<ColumnRole>& roles, ColumnRole first
 }
 
 /// The plan for columns whose roles are named (by a header or --columns).
-ColumnPlan named_plan(std::vector<ColumnRole> roles, const std::vector<std::string>& names, std::string source) {
+ColumnPlan named_plan(std::vector<ColumnRole> roles, const std::vector<std::string>& names, ColumnPlan::Source source) {
   ColumnPlan plan;
-  plan.source = std::move(source);
+  plan.source = source;
   plan.fields.resize(roles.size());
   for (std::size_t c = 0; c < roles.size(); ++c) {
     const ColumnRole role = roles[c];
     FieldTarget& target = plan.fields[c];
     if (role >= ColumnRole::x && role <= ColumnRole::z) {
-      target = {FieldTarget::Kind::position, static_cast<std::uint8_t>(static_cast<int>(role) - 1)};
+      target = {FieldTarget::Kind::position, place_in_triple(role, ColumnRole::x)};
     } else if (role >= ColumnRole::nx && role <= ColumnRole::nz) {
-      target = {FieldTarget::Kind::normal, static_cast<std::uint8_t>(static_cast<int>(role) - 4)};
+      target = {FieldTarget::Kind::normal, place_in_triple(role, ColumnRole::nx)};
     } else if (role >= ColumnRole::r) {
-      target = {FieldTarget::Kind::held, static_cast<std::uint8_t>(static_cast<int>(role) - 7)};
+      target = {FieldTarget::Kind::held, place_in_triple(role, ColumnRole::r)};  // the held slots are r, g, b
     }
     plan.names.emplace_back(role == ColumnRole::ignored ? names[c] : std::string(text_of(role)));
   }
-  // The held slots are r, g, b in this order, whatever the column order.
+  // The columns of the held slots r, g, b, whatever the column order.
   for (const ColumnRole colour : {ColumnRole::r, ColumnRole::g, ColumnRole::b})
     for (std::size_t c = 0; c < roles.size(); ++c)
       if (roles[c] == colour) plan.held_columns.push_back(c);
@@ -271,17 +280,15 @@ ColumnPlan plan_from_option(const std::vector<std::string>& columns) {
   if (partly_named(at, ColumnRole::r)) fail("names only some of r, g, b: colours need all three");
   std::vector<std::string> names;
   for (std::size_t c = 0; c < columns.size(); ++c) names.push_back("column " + std::to_string(c + 1));
-  return named_plan(std::move(roles), names, "--columns");
+  return named_plan(std::move(roles), names, ColumnPlan::Source::option);
 }
 
 ColumnPlan plan_from_header(std::string_view file, const TextLayout& layout) {
-  const std::string header_line = std::to_string(layout.header_line);
   auto fail = [&](const std::string& what) { fail_at_line(file, layout.header_line, "the header line " + what); };
   std::vector<ColumnRole> roles;
   std::string ignored;
   for (const std::string& name : layout.header) {
-    ColumnRole role = ColumnRole::ignored;
-    if (!known_role(name, role)) role = ColumnRole::ignored;
+    const ColumnRole role = role_named(name);
     if (role == ColumnRole::ignored) ignored += (ignored.empty() ? "" : ", ") + name;
     roles.push_back(role);
   }
@@ -299,7 +306,8 @@ ColumnPlan plan_from_header(std::string_view file, const TextLayout& layout) {
   if (!ignored.empty()) remarks.push_back("ignored: " + ignored);
   if (partly_named(at, ColumnRole::nx)) remarks.push_back(drop_partial_triple(roles, ColumnRole::nx, "normals"));
   if (partly_named(at, ColumnRole::r)) remarks.push_back(drop_partial_triple(roles, ColumnRole::r, "colours"));
-  ColumnPlan plan = named_plan(std::move(roles), layout.header, "the header on line " + header_line);
+  ColumnPlan plan = named_plan(std::move(roles), layout.header, ColumnPlan::Source::header);
+  plan.header_line = layout.header_line;
   plan.remarks = std::move(remarks);
   return plan;
 }
@@ -320,7 +328,6 @@ ColumnPlan guessed_plan(std::string_view file, const TextLayout& layout) {
                               : "; name the columns in a header line or with --columns, e.g. --columns " + example));
   }
   ColumnPlan plan;
-  plan.guessed = true;
   for (std::size_t c = 0; c < n; ++c) {
     if (c < 3) {
       plan.roles.push_back(role_plus(ColumnRole::x, c));
@@ -479,7 +486,8 @@ void use_triple(ColumnPlan& plan, HeldUse& use, std::size_t slot, const TripleFi
   }
 }
 
-/// Six, seven or nine columns without names: see text_columns.h.
+/// Four, six, seven or nine columns without names (see text_columns.h):
+/// the reason the note gives.
 std::string decide_guessed(std::string_view file, ColumnPlan& plan, const std::vector<ColumnEvidence>& columns,
                            const std::vector<TripleEvidence>& triples, HeldUse& use) {
   const std::size_t n = plan.roles.size();
@@ -502,7 +510,8 @@ std::string decide_guessed(std::string_view file, ColumnPlan& plan, const std::v
   const TripleFit before = fit_triple(plan, columns, triples, 1);
   const TripleFit after = fit_triple(plan, columns, triples, 0);
   const bool value_first = !before.none() && after.none();
-  if (!value_first && !(!after.none() && before.none()))
+  const bool value_last = !after.none() && before.none();
+  if (!value_first && !value_last)
     refuse_guess(file, describe_fit(plan, 0, after) + ", and " + describe_fit(plan, 1, before), n);
   const std::size_t slot = value_first ? 1 : 0;
   use_triple(plan, use, slot, value_first ? before : after);
@@ -521,13 +530,15 @@ std::string roles_text(const ColumnPlan& plan) {
 HeldUse decide_columns(std::string_view file, ColumnPlan& plan, const std::vector<ColumnEvidence>& columns,
                        const std::vector<TripleEvidence>& triples, ReadNotes& notes) {
   HeldUse use;
-  if (plan.guessed) {
+  if (plan.guessed()) {
     if (plan.roles.size() == 3) return use;
     const std::string why = decide_guessed(file, plan, columns, triples, use);
     notes.lines.push_back("columns: " + roles_text(plan) + " (no header; " + why + ")");
     return use;
   }
-  std::string said = "from " + plan.source;
+  std::string said = plan.source == ColumnPlan::Source::option
+                         ? "from --columns"
+                         : "from the header on line " + std::to_string(plan.header_line);
   if (plan.held() == 3) {
     const ColourVerdict colour = colour_verdict(plan, columns, 0);
     if (colour.scale == 0.0)

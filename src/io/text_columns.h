@@ -20,7 +20,7 @@
 //     x y z; 4 are x y z and a value recon ignores (an intensity); 6 are
 //     x y z and a triple, 7 x y z, a value and a triple (before or after
 //     it), 9 x y z and two triples. Whether a triple holds normals or
-//     colours, the whole file's values decide (decide_guessed_columns);
+//     colours, the whole file's values decide (decide_columns);
 //     other counts, and values that leave doubt, are refused, naming
 //     --columns.
 //   - Colours are integers 0 to 255, or fractions 0 to 1 (scaled to 0-255),
@@ -118,10 +118,14 @@ struct ColumnPlan {
   std::vector<FieldTarget> fields;  ///< one per column
   std::vector<std::string> names;   ///< one per column, for messages ("x", "red", "column 5")
   std::vector<std::size_t> held_columns;  ///< the column of each held slot
-  bool guessed = false;     ///< no header, no --columns: the held values are columns 4 and on
-  std::string source;       ///< where the names came from, for the note ("the header on line 1")
+  /// Where the roles come from: --columns, the header line, or (no names)
+  /// the count and the values, the held values being columns 4 and on.
+  enum class Source : std::uint8_t { option, header, values };
+  Source source = Source::values;
+  std::size_t header_line = 0;       ///< the header's line (Source::header)
   std::vector<std::string> remarks;  ///< said after the columns in the note (ignored names, ...)
   [[nodiscard]] std::size_t held() const { return held_columns.size(); }
+  [[nodiscard]] bool guessed() const { return source == Source::values; }
 };
 
 /// The plan for a file: from `columns` (--columns) when given, else from the
@@ -147,6 +151,7 @@ struct ColumnEvidence {
   Found above_one;   ///< an integer 2 to 255
 
   void add(double value, std::size_t line) {
+    if (not_colour.line != 0) return;  // no colour column, whatever comes (a column of normals, soon)
     if (!std::isfinite(value) || value < 0.0 || value > 255.0) {
       note(not_colour, value, line);
     } else if (value != std::floor(value)) {

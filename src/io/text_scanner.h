@@ -1,8 +1,7 @@
 #pragma once
-// Walking text held in memory: line by line (LineScanner, Fields,
-// SeparatedFields) for the line-oriented formats, token by token across lines
-// (TokenScanner) for ASCII PLY. Nothing is copied; every piece is a view into
-// the file content.
+// Walking text held in memory: line by line (LineScanner, Fields) for the
+// line-oriented formats, token by token across lines (TokenScanner) for
+// ASCII PLY. Nothing is copied; every piece is a view into the file content.
 //
 // Both refuse, with ParseError "FILE:LINE: ...", a line longer than
 // max_line_length and a NUL byte: neither occurs in a text file, and
@@ -145,53 +144,28 @@ class LineScanner {
   LineEnds ends_;
 };
 
-/// The whitespace-separated fields of one line.
-class Fields {
- public:
-  explicit Fields(std::string_view line) : line_(line) {}
-
-  /// The next field; false when none is left.
-  bool next(std::string_view& field) {
-    while (position_ < line_.size() && is_blank(line_[position_])) ++position_;
-    if (position_ >= line_.size()) return false;
-    const std::size_t begin = position_;
-    while (position_ < line_.size() && !is_blank(line_[position_])) ++position_;
-    field = line_.substr(begin, position_ - begin);
-    return true;
-  }
-
-  /// Counts the fields left (consumes them).
-  std::size_t count_rest() {
-    std::size_t n = 0;
-    for (std::string_view ignored; next(ignored);) ++n;
-    return n;
-  }
-
- private:
-  std::string_view line_;
-  std::size_t position_ = 0;
-};
-
 /// How the columns of delimited text are separated: by blanks (spaces and
 /// tabs, any number of them), or by one comma or one semicolon with optional
 /// blanks around it.
 enum class Separator : std::uint8_t { blanks, comma, semicolon };
 
-/// The fields of one line of delimited text. With a comma or a semicolon a
-/// field may be empty ("1,,2" has three fields, the second empty); blanks
-/// around a field are not part of it.
-class SeparatedFields {
+/// The fields of one line: separated by blanks, or by commas or semicolons
+/// (delimited text). With a comma or a semicolon a field may be empty
+/// ("1,,2" has three fields, the second empty); blanks around a field are
+/// not part of it.
+class Fields {
  public:
-  SeparatedFields(std::string_view line, Separator separator)
+  explicit Fields(std::string_view line, Separator separator = Separator::blanks)
       : line_(line), mark_(separator == Separator::comma ? ',' : separator == Separator::semicolon ? ';' : '\0') {}
 
   /// The next field; false when none is left.
   bool next(std::string_view& field) {
-    if (mark_ == '\0') return next_between_blanks(field);
-    if (position_ > line_.size()) return false;
-    const std::size_t end = std::min(line_.find(mark_, position_), line_.size());
-    field = trim(line_.substr(position_, end - position_));
-    position_ = end + 1;
+    if (mark_ != '\0') return next_before_mark(field);
+    while (position_ < line_.size() && is_blank(line_[position_])) ++position_;
+    if (position_ >= line_.size()) return false;
+    const std::size_t begin = position_;
+    while (position_ < line_.size() && !is_blank(line_[position_])) ++position_;
+    field = line_.substr(begin, position_ - begin);
     return true;
   }
 
@@ -203,12 +177,11 @@ class SeparatedFields {
   }
 
  private:
-  bool next_between_blanks(std::string_view& field) {
-    while (position_ < line_.size() && is_blank(line_[position_])) ++position_;
-    if (position_ >= line_.size()) return false;
-    const std::size_t begin = position_;
-    while (position_ < line_.size() && !is_blank(line_[position_])) ++position_;
-    field = line_.substr(begin, position_ - begin);
+  bool next_before_mark(std::string_view& field) {
+    if (position_ > line_.size()) return false;
+    const std::size_t end = std::min(line_.find(mark_, position_), line_.size());
+    field = trim(line_.substr(position_, end - position_));
+    position_ = end + 1;
     return true;
   }
 

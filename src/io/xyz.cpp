@@ -41,7 +41,7 @@ class ColumnReader {
         columns_(plan.held()) {
     has_normals_ = std::any_of(plan.fields.begin(), plan.fields.end(),
                                [](const FieldTarget& t) { return t.kind == FieldTarget::Kind::normal; });
-    if (plan.guessed && plan.held() >= 3) {
+    if (plan.guessed() && plan.held() >= 3) {
       triples_.resize(plan.held() - 2);
       triple_checks_.assign(plan.held() - 2, PointChecker(false));
     }
@@ -62,7 +62,7 @@ class ColumnReader {
                               ? "no points: the file holds only comments and blank lines"
                               : "no points: the file holds only a header line, comments and blank lines");
     const HeldUse use = decide_columns(file_, plan_, columns_, triples_, notes);
-    if (use.normals >= 0 && plan_.guessed)
+    if (use.normals >= 0 && plan_.guessed())
       checker_.take_normals(triple_checks_[static_cast<std::size_t>(use.normals)]);
     checker_.report(file_);
     if (use.normals >= 0) cloud_.normals = held_triple(static_cast<std::size_t>(use.normals));
@@ -74,8 +74,10 @@ class ColumnReader {
  private:
   static constexpr std::size_t max_held = 6;
 
+  /// One data line (its comment removed): every field in its place, the
+  /// count checked against the plan's.
   void read_line(std::string_view data, std::size_t line) {
-    SeparatedFields fields(data, layout_.separator);
+    Fields fields(data, layout_.separator);
     Vec3 position = Vec3::Zero(), normal = Vec3::Zero();
     std::array<double, max_held> held{};
     const std::size_t columns = plan_.fields.size();
@@ -99,6 +101,8 @@ class ColumnReader {
     if (!columns_.empty()) hold(held, line);
   }
 
+  /// Keeps a line's held values and adds them to the evidence: per column
+  /// (colours?) and, in a guessed plan, per triple (unit vectors?).
   void hold(const std::array<double, max_held>& values, std::size_t line) {
     for (std::size_t s = 0; s < columns_.size(); ++s) columns_[s].add(values[s], line);
     for (std::size_t s = 0; s < triples_.size(); ++s) {
@@ -114,6 +118,7 @@ class ColumnReader {
     return held_[point * triples_per_point_ + slot / 3][static_cast<Eigen::Index>(slot % 3)];
   }
 
+  /// The held triple at `slot` of every point (moved out when it is all that is held).
   std::vector<Vec3> held_triple(std::size_t slot) {
     if (slot == 0 && triples_per_point_ == 1) return std::move(held_);
     std::vector<Vec3> triple(cloud_.size());
@@ -133,9 +138,10 @@ class ColumnReader {
   [[noreturn]] void fail_count(std::size_t line, std::size_t found) const {
     const std::string columns = std::to_string(plan_.fields.size());
     const std::string has = ", but this line has " + std::to_string(found);
-    if (plan_.source == "--columns") fail_at_line(file_, line, "--columns names " + columns + " columns" + has);
-    if (layout_.header_line != 0) {
-      const std::string header = "the header on line " + std::to_string(layout_.header_line);
+    if (plan_.source == ColumnPlan::Source::option)
+      fail_at_line(file_, line, "--columns names " + columns + " columns" + has);
+    if (plan_.source == ColumnPlan::Source::header) {
+      const std::string header = "the header on line " + std::to_string(plan_.header_line);
       fail_at_line(file_, line, header + " names " + columns + " columns" + has);
     }
     fail_at_line(file_, line,
@@ -191,7 +197,7 @@ std::size_t split_xy(std::string_view file, std::size_t line_number, std::string
                      std::array<std::string_view, 2>& numbers) {
   std::size_t count = 0;
   if (layout.separator == Separator::semicolon) {
-    SeparatedFields fields(line, layout.separator);
+    Fields fields(line, layout.separator);
     for (std::string_view field; fields.next(field); ++count)
       if (count < 2) numbers[count] = field;
     return count;
