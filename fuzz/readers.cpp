@@ -4,6 +4,7 @@
 
 #include "recon/errors.h"
 
+#include <string>
 #include <utility>
 
 namespace recon::fuzz {
@@ -31,13 +32,33 @@ void run_with_notes(std::string_view content) {
   }
 }
 
+// Delimited text as read_points reads it. A first line "#columns NAMES"
+// (a comment to the reader) gives NAMES, split at commas, as --columns
+// would, so that the fuzzer reaches the plans named by --columns too.
+recon::PointCloud read_text_columns(std::string_view file, std::string_view content) {
+  recon::io::ReadPointsOptions options;
+  constexpr std::string_view mark = "#columns ";
+  if (content.starts_with(mark)) {
+    std::string_view names = content.substr(mark.size());
+    names = names.substr(0, names.find('\n'));
+    for (std::size_t start = 0;;) {
+      const std::size_t comma = names.find(',', start);
+      options.columns.emplace_back(names.substr(start, comma - start));
+      if (comma == std::string_view::npos) break;
+      start = comma + 1;
+    }
+  }
+  recon::io::ReadNotes notes;
+  return recon::io::detail::read_xyz_points(file, content, options, notes);
+}
+
 }  // namespace
 
 Reader reader_named(std::string_view name) {
   using namespace recon::io::detail;
   static constexpr std::pair<std::string_view, Reader> readers[] = {
       {"ply_points", run<read_ply_points>}, {"ply_mesh", run<read_ply_mesh>},
-      {"xyz_points", run_with_notes<read_xyz_points>}, {"pts_points", run<read_pts_points>},
+      {"xyz_points", run<read_text_columns>}, {"pts_points", run<read_pts_points>},
       {"obj_points", run<read_obj_points>}, {"obj_mesh", run<read_obj_mesh>},
       {"off_points", run<read_off_points>}, {"off_mesh", run<read_off_mesh>},
       {"pcd_points", run_with_notes<read_pcd_points>}, {"xy_points", run<read_xy_points>},

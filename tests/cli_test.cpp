@@ -251,6 +251,7 @@ using CliReconstruct = CliTest;
 using CliOutput = CliTest;
 using CliLattice = CliTest;
 using CliInfo = CliTest;
+using CliTextColumns = CliTest;
 using CliDeterminism = CliTest;
 using CliRealData = CliTest;
 using CliReport = CliTest;
@@ -904,6 +905,40 @@ TEST_F(CliErrors, UseNormalsSaysTheReaderDroppedThem) {
   EXPECT_TRUE(
       refused(recon({"info", "scan.laz"}), {"scan.laz: LAZ (compressed LAS) is not read", "laszip -i scan.laz"}));
   EXPECT_EQ(entries(), (std::vector<std::string>{"n.pcd", "scan.laz"}));
+}
+
+// ---------------------------------------------------------------- text columns
+
+TEST_F(CliTextColumns, ColoursAreSaidNotTakenForNormals) {
+  write_file(at("rgb.xyz"), "0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n0 0 1 10 20 30\n");
+  const RunResult run = recon({"info", "rgb.xyz"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_NE(run.out.find("read      rgb.xyz: 4 points with colours ("), std::string::npos) << describe(run);
+  EXPECT_NE(run.out.find("\n          columns: x y z r g b (no header; the last three are integers 0-255: colours)\n"),
+            std::string::npos)
+      << describe(run);
+  // A CloudCompare export with "\r\n" line ends, named by its header.
+  write_file(at("cc.csv"), "//X,Y,Z,R,G,B\r\n0,0,0,255,0,0\r\n1,0,0,0,255,0\r\n");
+  const RunResult cc = recon({"info", "cc.csv"});
+  ASSERT_TRUE(succeeded(cc));
+  EXPECT_NE(cc.out.find("columns: x y z r g b (from the header on line 1; colours: integers 0-255)"), std::string::npos)
+      << describe(cc);
+}
+
+TEST_F(CliTextColumns, ColumnsOptionNamesWhatTheValuesLeaveInDoubt) {
+  write_file(at("seven.txt"), "0 0 0 7 1 2 3\n1 0 0 7 4 5 6\n0 1 0 7 7 8 9\n0 0 1 7 1 2 3\n");
+  EXPECT_TRUE(refused(recon({"info", "seven.txt"}),
+                      {"seven.txt: the columns after x y z leave doubt", "--columns x,y,z,_,r,g,b"}));
+  const RunResult run = recon({"info", "seven.txt", "--columns", "x,y,z,_,r,g,b"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_NE(run.out.find("4 points with colours"), std::string::npos) << describe(run);
+  EXPECT_NE(run.out.find("columns: x y z _ r g b (from --columns; colours: integers 0-255)"), std::string::npos)
+      << describe(run);
+  EXPECT_TRUE(refused(recon({"info", "seven.txt", "--columns", "x,y,z,q,r,g,b"}),
+                      {"--columns names an unknown column 'q'"}));
+  EXPECT_TRUE(refused(recon({"info", "seven.txt", "--columns", "x,y,z"}),
+                      {"seven.txt:1: --columns names 3 columns, but this line has 7"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"seven.txt"});
 }
 
 // ---------------------------------------------------------------- determinism

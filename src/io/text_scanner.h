@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <string_view>
@@ -47,15 +48,59 @@ namespace recon::io::detail {
                    ": this is binary data, not text (is the format or the extension wrong?)");
 }
 
-/// Lines of a text, numbered from 1. "\n" and "\r\n" both end a line; the
-/// last line needs no newline.
+/// The length of a UTF-8 byte-order mark at the start of `text` (3), or 0.
+/// Editors on Windows and some exporters begin text files with one.
+[[nodiscard]] inline std::size_t byte_order_mark_length(std::string_view text) {
+  return text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
+}
+
+/// How the lines of a text end: '\n' (with or without '\r' before it), or
+/// '\r' alone (classic Mac OS; some exporters still write it).
+enum class LineEnds : std::uint8_t { newline, carriage_return };
+
+/// True when `bytes` read as a line of text: printable ASCII, tabs and
+/// well-formed UTF-8 sequences, no control character.
+[[nodiscard]] inline bool looks_like_text(std::string_view bytes) {
+  for (std::size_t i = 0; i < bytes.size();) {
+    const auto c = static_cast<unsigned char>(bytes[i]);
+    if (c == '\t' || (c >= 0x20 && c < 0x7f)) {
+      ++i;
+      continue;
+    }
+    // A UTF-8 lead byte and how many continuation bytes (10xxxxxx) follow it.
+    const std::size_t follow = c >= 0xc2 && c <= 0xdf ? 1 : c >= 0xe0 && c <= 0xef ? 2 : c >= 0xf0 && c <= 0xf4 ? 3 : 0;
+    if (follow == 0 || bytes.size() - i <= follow) return false;
+    for (std::size_t k = 1; k <= follow; ++k)
+      if ((static_cast<unsigned char>(bytes[i + k]) & 0xc0) != 0x80) return false;
+    i += follow + 1;
+  }
+  return true;
+}
+
+/// The line ends of the text from byte `start`: carriage_return when its
+/// first line end is a '\r' not followed by '\n' and the bytes before it read
+/// as text (binary data holds '\r' bytes too, and must not be cut into short
+/// "lines" at them); newline otherwise.
+[[nodiscard]] inline LineEnds detect_line_ends(std::string_view text, std::size_t start = 0) {
+  const std::string_view head = text.substr(std::min(start, text.size()), max_line_length + 1);
+  const std::size_t end = head.find_first_of("\r\n");
+  if (end == std::string_view::npos || head[end] == '\n') return LineEnds::newline;
+  if (end + 1 < head.size() && head[end + 1] == '\n') return LineEnds::newline;
+  if (end + 1 == head.size() && start + end + 1 < text.size() && text[start + end + 1] == '\n')
+    return LineEnds::newline;
+  return looks_like_text(head.substr(0, end)) ? LineEnds::carriage_return : LineEnds::newline;
+}
+
+/// Lines of a text, numbered from 1. With LineEnds::newline, "\n" and
+/// "\r\n" end a line; with LineEnds::carriage_return, "\r" alone ends one
+/// too. The last line needs no line end.
 class LineScanner {
  public:
   /// Starts at byte `start`, which is the beginning of line `first_line`;
   /// `file` names the file in error messages.
   explicit LineScanner(std::string_view file, std::string_view text, std::size_t start = 0,
-                       std::size_t first_line = 1)
-      : file_(file), text_(text), position_(start), line_number_(first_line - 1) {}
+                       std::size_t first_line = 1, LineEnds ends = LineEnds::newline)
+      : file_(file), text_(text), position_(start), line_number_(first_line - 1), ends_(ends) {}
 
   /// The next line without its line end; false at the end of the text.
   bool next(std::string_view& line) {
@@ -63,13 +108,18 @@ class LineScanner {
     const char* begin = text_.data() + position_;
     // Look for the line end no further than the longest line allowed.
     const std::size_t left = std::min(text_.size() - position_, max_line_length + 1);
-    const void* newline = std::memchr(begin, '\n', left);
+    const char* end = ends_ == LineEnds::newline ? static_cast<const char*>(std::memchr(begin, '\n', left))
+                                                 : find_either_line_end(begin, left);
     ++line_number_;
-    if (newline == nullptr && left > max_line_length) fail_long_line(file_, line_number_);
-    const std::size_t length = newline ? static_cast<std::size_t>(static_cast<const char*>(newline) - begin) : left;
+    if (end == nullptr && left > max_line_length) fail_long_line(file_, line_number_);
+    const std::size_t length = end ? static_cast<std::size_t>(end - begin) : left;
     if (const void* nul = std::memchr(begin, '\0', length))
       fail_nul_byte(file_, line_number_, static_cast<std::size_t>(static_cast<const char*>(nul) - begin) + 1);
-    position_ += newline ? length + 1 : length;
+    position_ += length;
+    if (end != nullptr) {
+      ++position_;
+      if (*end == '\r' && position_ < text_.size() && text_[position_] == '\n') ++position_;
+    }
     line = std::string_view(begin, length);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     return true;
@@ -82,19 +132,35 @@ class LineScanner {
   [[nodiscard]] bool at_end() const { return position_ >= text_.size(); }
 
  private:
+  static const char* find_either_line_end(const char* begin, std::size_t size) {
+    const char* end = std::find_if(begin, begin + size, [](char c) { return c == '\n' || c == '\r'; });
+    return end == begin + size ? nullptr : end;
+  }
+
   std::string_view file_;
   std::string_view text_;
   std::size_t position_;
   std::size_t line_number_;
+  LineEnds ends_;
 };
 
-/// The whitespace-separated fields of one line.
+/// How the columns of delimited text are separated: by blanks (spaces and
+/// tabs, any number of them), or by one comma or one semicolon with optional
+/// blanks around it.
+enum class Separator : std::uint8_t { blanks, comma, semicolon };
+
+/// The fields of one line: separated by blanks, or by commas or semicolons
+/// (delimited text). With a comma or a semicolon a field may be empty
+/// ("1,,2" has three fields, the second empty); blanks around a field are
+/// not part of it.
 class Fields {
  public:
-  explicit Fields(std::string_view line) : line_(line) {}
+  explicit Fields(std::string_view line, Separator separator = Separator::blanks)
+      : line_(line), mark_(separator == Separator::comma ? ',' : separator == Separator::semicolon ? ';' : '\0') {}
 
   /// The next field; false when none is left.
   bool next(std::string_view& field) {
+    if (mark_ != '\0') return next_before_mark(field);
     while (position_ < line_.size() && is_blank(line_[position_])) ++position_;
     if (position_ >= line_.size()) return false;
     const std::size_t begin = position_;
@@ -111,7 +177,16 @@ class Fields {
   }
 
  private:
+  bool next_before_mark(std::string_view& field) {
+    if (position_ > line_.size()) return false;
+    const std::size_t end = std::min(line_.find(mark_, position_), line_.size());
+    field = trim(line_.substr(position_, end - position_));
+    position_ = end + 1;
+    return true;
+  }
+
   std::string_view line_;
+  char mark_;  ///< ',' or ';'; '\0' for blanks
   std::size_t position_ = 0;
 };
 

@@ -1,11 +1,14 @@
-// Plain text point lists: .xyz (also .txt, .asc, .pwn) and .pts.
+// Plain text point lists: .xyz (also .txt, .asc, .pwn, .csv) and .pts.
 //
-// xyz: one point a line, "x y z" or "x y z nx ny nz". The first data line
-//   decides which, and every other line must have the same count. Numbers
-//   are separated by blanks, or by a single comma with optional blanks around
-//   it ("1.5, 2, 3" as exported by spreadsheets). '#' starts a comment, on its
-//   own line or after the numbers; blank lines are skipped.
-// xy (2D, read by read_points_2d): the same text with two numbers a line.
+// xyz: delimited text, one point a line. What each column holds comes from
+//   a header line, from --columns, or from the column count and the values
+//   (text_columns.h states the rules); the separator (blanks, commas or
+//   semicolons) from the first line of numbers. '#' starts a comment, on its
+//   own line or after the numbers; blank lines are skipped; a UTF-8
+//   byte-order mark is skipped; lines end with "\n", "\r\n" or "\r".
+//   The file is parsed once, straight from its memory map.
+// xy (2D, read by read_points_2d): the same text with two numbers a line,
+//   x y (a header naming them is allowed).
 // pts: either Hoppe's format, records of one letter and numbers where
 //   "p x y z" is a point and every other one-letter record ("d", "s", "g",
 //   "n", ...) is ignored, or plain columns read as xyz. The first record
@@ -14,9 +17,12 @@
 #include "colors.h"
 #include "formats.h"
 #include "io_detail.h"
+#include "text_columns.h"
 #include "text_scanner.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,13 +30,178 @@
 namespace recon::io::detail {
 namespace {
 
-constexpr std::size_t max_numbers = 8;
-using Numbers = std::array<std::string_view, max_numbers>;
+/// Reads the data lines of a delimited text file as `plan` says, in one
+/// pass: positions (and named normals) go straight into the cloud; held
+/// values (colours, the undecided columns of a file without a header) are
+/// kept as doubles, with the evidence about them, until the end decides.
+class ColumnReader {
+ public:
+  ColumnReader(std::string_view file, const TextLayout& layout, ColumnPlan& plan)
+      : file_(file), layout_(layout), plan_(plan), triples_per_point_((plan.held() + 2) / 3),
+        columns_(plan.held()) {
+    has_normals_ = std::any_of(plan.fields.begin(), plan.fields.end(),
+                               [](const FieldTarget& t) { return t.kind == FieldTarget::Kind::normal; });
+    if (plan.guessed() && plan.held() >= 3) {
+      triples_.resize(plan.held() - 2);
+      triple_checks_.assign(plan.held() - 2, PointChecker(false));
+    }
+  }
 
-/// Splits a data line (comment removed) into its numbers and returns how
-/// many there are; the first max_numbers are stored in `numbers`.
-std::size_t split_numbers(std::string_view file, std::size_t line_number, std::string_view line, Numbers& numbers) {
+  void read(std::string_view content) {
+    LineScanner lines = layout_lines(file_, content, layout_);
+    for (std::string_view line; lines.next(line);) {
+      const std::string_view data = without_comment(line);
+      if (lines.line_number() == layout_.header_line || is_blank_line(data)) continue;
+      read_line(data, lines.line_number());
+    }
+  }
+
+  PointCloud finish(ReadNotes& notes) {
+    if (cloud_.positions.empty())
+      fail_in_file(file_, layout_.header_line == 0
+                              ? "no points: the file holds only comments and blank lines"
+                              : "no points: the file holds only a header line, comments and blank lines");
+    const HeldUse use = decide_columns(file_, plan_, columns_, triples_, notes);
+    if (use.normals >= 0 && plan_.guessed())
+      checker_.take_normals(triple_checks_[static_cast<std::size_t>(use.normals)]);
+    checker_.report(file_);
+    if (use.normals >= 0) cloud_.normals = held_triple(static_cast<std::size_t>(use.normals));
+    if (use.colours >= 0) cloud_.colors = held_colours(static_cast<std::size_t>(use.colours), use.colour_scale);
+    held_ = {};
+    return std::move(cloud_);
+  }
+
+ private:
+  static constexpr std::size_t max_held = 6;
+
+  /// One data line (its comment removed): every field in its place, the
+  /// count checked against the plan's.
+  void read_line(std::string_view data, std::size_t line) {
+    Fields fields(data, layout_.separator);
+    Vec3 position = Vec3::Zero(), normal = Vec3::Zero();
+    std::array<double, max_held> held{};
+    const std::size_t columns = plan_.fields.size();
+    std::size_t i = 0;
+    for (std::string_view field; fields.next(field); ++i) {
+      if (i == columns) fail_count(line, columns + 1 + fields.count_rest());
+      const FieldTarget target = plan_.fields[i];
+      if (target.kind == FieldTarget::Kind::skip) continue;
+      const double value = parse_text_field(file_, line, field, plan_.names[i], layout_);
+      if (target.kind == FieldTarget::Kind::position) {
+        position[target.index] = value;
+      } else if (target.kind == FieldTarget::Kind::normal) {
+        normal[target.index] = value;
+      } else {
+        held[target.index] = value;
+      }
+    }
+    if (i != columns) fail_count(line, i);
+    checker_.position(cloud_.positions.emplace_back(position), line, position_names);
+    if (has_normals_) checker_.normal(cloud_.normals.emplace_back(normal), line, normal_names);
+    if (!columns_.empty()) hold(held, line);
+  }
+
+  /// Keeps a line's held values and adds them to the evidence: per column
+  /// (colours?) and, in a guessed plan, per triple (unit vectors?).
+  void hold(const std::array<double, max_held>& values, std::size_t line) {
+    for (std::size_t s = 0; s < columns_.size(); ++s) columns_[s].add(values[s], line);
+    for (std::size_t s = 0; s < triples_.size(); ++s) {
+      triples_[s].add(values[s], values[s + 1], values[s + 2], line);
+      triple_checks_[s].normal(Vec3(values[s], values[s + 1], values[s + 2]), line, normal_names);
+    }
+    for (std::size_t t = 0; t < triples_per_point_; ++t)
+      held_.emplace_back(values[3 * t], values[3 * t + 1], values[3 * t + 2]);
+  }
+
+  /// The held value of point `point` in slot `slot`.
+  [[nodiscard]] double held_value(std::size_t point, std::size_t slot) const {
+    return held_[point * triples_per_point_ + slot / 3][static_cast<Eigen::Index>(slot % 3)];
+  }
+
+  /// The held triple at `slot` of every point (moved out when it is all that is held).
+  std::vector<Vec3> held_triple(std::size_t slot) {
+    if (slot == 0 && triples_per_point_ == 1) return std::move(held_);
+    std::vector<Vec3> triple(cloud_.size());
+    for (std::size_t i = 0; i < triple.size(); ++i)
+      triple[i] = Vec3(held_value(i, slot), held_value(i, slot + 1), held_value(i, slot + 2));
+    return triple;
+  }
+
+  std::vector<Color> held_colours(std::size_t slot, double scale) const {
+    std::vector<Color> colours(cloud_.size());
+    for (std::size_t i = 0; i < colours.size(); ++i)
+      for (std::size_t k = 0; k < 3; ++k)
+        colours[i][k] = static_cast<std::uint8_t>(std::lround(held_value(i, slot + k) * scale));
+    return colours;
+  }
+
+  [[noreturn]] void fail_count(std::size_t line, std::size_t found) const {
+    const std::string columns = std::to_string(plan_.fields.size());
+    const std::string has = ", but this line has " + std::to_string(found);
+    if (plan_.source == ColumnPlan::Source::option)
+      fail_at_line(file_, line, "--columns names " + columns + " columns" + has);
+    if (plan_.source == ColumnPlan::Source::header) {
+      const std::string header = "the header on line " + std::to_string(plan_.header_line);
+      fail_at_line(file_, line, header + " names " + columns + " columns" + has);
+    }
+    fail_at_line(file_, line,
+                 "found " + std::to_string(found) + " numbers, but line " + std::to_string(layout_.first_line) +
+                     " has " + columns + "; every line must have the same count");
+  }
+
+  std::string_view file_;
+  const TextLayout& layout_;
+  ColumnPlan& plan_;
+  std::size_t triples_per_point_;  ///< Vec3s of held_ per point
+  bool has_normals_ = false;
+  PointCloud cloud_;
+  PointChecker checker_{false};
+  std::vector<Vec3> held_;
+  std::vector<ColumnEvidence> columns_;   ///< per held slot
+  std::vector<TripleEvidence> triples_;   ///< per held slot where a triple starts (guessed plans)
+  std::vector<PointChecker> triple_checks_;  ///< those triples as normals (guessed plans)
+};
+
+}  // namespace
+
+PointCloud read_xyz_points(std::string_view file, std::string_view content, const ReadPointsOptions& options,
+                           ReadNotes& notes) {
+  const TextLayout layout = find_text_layout(file, content);
+  if (layout.first_line == 0)
+    fail_in_file(file, layout.header_line == 0
+                           ? "no points: the file holds only comments and blank lines"
+                           : "no points: the file holds only a header line, comments and blank lines");
+  ColumnPlan plan = plan_columns(file, layout, options.columns);
+  ColumnReader reader(file, layout, plan);
+  reader.read(content);
+  return reader.finish(notes);
+}
+
+PointCloud read_xyz_points(std::string_view file, std::string_view content) {
+  ReadNotes ignored;
+  return read_xyz_points(file, content, ReadPointsOptions{}, ignored);
+}
+
+std::size_t xyz_column_count(std::string_view file, std::string_view content) {
+  return find_text_layout(file, content).columns;
+}
+
+namespace {
+
+/// Splits a line of 2D points (comment removed) into its numbers and
+/// returns how many there are; the first two are stored in `numbers`.
+/// Blanks separate numbers, and so does a single comma with optional blanks
+/// around it, on any line (2D files have mixed them: a wrong count is
+/// refused anyway); in a file separated by semicolons, a semicolon does.
+std::size_t split_xy(std::string_view file, std::size_t line_number, std::string_view line, const TextLayout& layout,
+                     std::array<std::string_view, 2>& numbers) {
   std::size_t count = 0;
+  if (layout.separator == Separator::semicolon) {
+    Fields fields(line, layout.separator);
+    for (std::string_view field; fields.next(field); ++count)
+      if (count < 2) numbers[count] = field;
+    return count;
+  }
   std::size_t i = 0;
   bool after_comma = false;
   for (;;) {
@@ -47,77 +218,34 @@ std::size_t split_numbers(std::string_view file, std::size_t line_number, std::s
     }
     const std::size_t begin = i;
     while (i < line.size() && !is_blank(line[i]) && line[i] != ',') ++i;
-    if (count < max_numbers) numbers[count] = line.substr(begin, i - begin);
+    if (count < 2) numbers[count] = line.substr(begin, i - begin);
     ++count;
     after_comma = false;
   }
 }
 
-
 }  // namespace
 
-PointCloud read_xyz_points(std::string_view file, std::string_view content) {
-  PointCloud cloud;
-  PointChecker checker(false);
-  LineScanner lines(file, content);
-  std::string_view line;
-  Numbers numbers;
-  std::size_t columns = 0;
-  std::size_t first_line = 0;
-  while (lines.next(line)) {
-    const std::size_t n = lines.line_number();
-    const std::size_t count = split_numbers(file, n, without_comment(line), numbers);
-    if (count == 0) continue;
-    if (columns == 0) {
-      if (count != 3 && count != 6)
-        fail_at_line(file, n,
-                     "expected 3 numbers (x y z) or 6 (x y z nx ny nz) on a line, found " + std::to_string(count) +
-                         (count == 2 ? " (two columns are 2D points: recon reconstruct makes curves of them)" : ""));
-      columns = count;
-      first_line = n;
-    } else if (count != columns) {
-      fail_at_line(file, n,
-                   "found " + std::to_string(count) + " numbers, but line " + std::to_string(first_line) + " has " +
-                       std::to_string(columns) + "; every line must have the same count");
-    }
-    checker.position(cloud.positions.emplace_back(parse_vec3(file, n, numbers.data(), position_names)), n,
-                     position_names);
-    if (columns == 6)
-      checker.normal(cloud.normals.emplace_back(parse_vec3(file, n, numbers.data() + 3, normal_names)), n,
-                     normal_names);
-  }
-  if (cloud.positions.empty()) fail_in_file(file, "no points: the file holds only comments and blank lines");
-  checker.report(file);
-  return cloud;
-}
-
-std::size_t xyz_column_count(std::string_view file, std::string_view content) {
-  LineScanner lines(file, content);
-  std::string_view line;
-  Numbers numbers;
-  while (lines.next(line)) {
-    const std::size_t count = split_numbers(file, lines.line_number(), without_comment(line), numbers);
-    if (count != 0) return count;
-  }
-  return 0;
-}
-
 std::vector<Vec2> read_xy_points(std::string_view file, std::string_view content) {
+  const TextLayout layout = find_text_layout(file, content);
+  if (layout.header_line != 0 && (layout.header.size() != 2 || role_named(layout.header[0]) != ColumnRole::x ||
+                                  role_named(layout.header[1]) != ColumnRole::y))
+    fail_at_line(file, layout.header_line, "the header line of 2D points must name two columns, x y");
   std::vector<Vec2> points;
   PointChecker checker(false);
-  LineScanner lines(file, content);
-  std::string_view line;
-  Numbers numbers;
-  while (lines.next(line)) {
+  LineScanner lines = layout_lines(file, content, layout);
+  std::array<std::string_view, 2> xy;
+  for (std::string_view line; lines.next(line);) {
     const std::size_t n = lines.line_number();
-    const std::size_t count = split_numbers(file, n, without_comment(line), numbers);
-    if (count == 0) continue;
+    const std::string_view data = without_comment(line);
+    if (n == layout.header_line || is_blank_line(data)) continue;
+    const std::size_t count = split_xy(file, n, data, layout, xy);
     if (count != 2)
       fail_at_line(file, n,
                    "expected 2 numbers (x y) on a line, found " + std::to_string(count) +
                        " (the first line of points has 2, so the file was read as 2D points)");
-    const Vec2 p(parse_coordinate(file, n, numbers[0], position_names[0]),
-                 parse_coordinate(file, n, numbers[1], position_names[1]));
+    const Vec2 p(parse_text_field(file, n, xy[0], position_names[0], layout),
+                 parse_text_field(file, n, xy[1], position_names[1], layout));
     checker.position(Vec3(p.x(), p.y(), 0.0), n, position_names);
     points.push_back(p);
   }
@@ -129,34 +257,36 @@ std::vector<Vec2> read_xy_points(std::string_view file, std::string_view content
 namespace {
 bool is_letter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
 
-// The first field of the first record of a .pts file and its line (an
-// empty field when the file has none).
-std::pair<std::string_view, std::size_t> first_pts_field(std::string_view file, std::string_view content) {
-  LineScanner lines(file, content);
-  std::string_view line, first;
-  while (lines.next(line))
-    if (Fields(without_comment(line)).next(first)) return {first, lines.line_number()};
+/// The lines of a .pts file, after a byte-order mark, with their line ends.
+LineScanner pts_lines(std::string_view file, std::string_view content) {
+  const std::size_t start = byte_order_mark_length(content);
+  return LineScanner(file, content, start, 1, detect_line_ends(content, start));
+}
+
+// The first record of a .pts file, without its comment, and its line (an
+// empty record when the file has none).
+std::pair<std::string_view, std::size_t> first_pts_record(std::string_view file, std::string_view content) {
+  LineScanner lines = pts_lines(file, content);
+  for (std::string_view line; lines.next(line);)
+    if (!is_blank_line(without_comment(line))) return {without_comment(line), lines.line_number()};
   return {{}, 0};
 }
 }  // namespace
 
 bool pts_has_records(std::string_view file, std::string_view content) {
-  const std::string_view first = first_pts_field(file, content).first;
-  return !first.empty() && is_letter(first[0]);
-}
-
-PointCloud read_xyz_points(std::string_view file, std::string_view content, const ReadPointsOptions& /*options*/,
-                           ReadNotes& /*notes*/) {
-  return read_xyz_points(file, content);
+  // "p 1 2 3" is a record; "x y z" (no number) is a header of plain columns.
+  const std::string_view record = first_pts_record(file, content).first;
+  std::string_view first;
+  return Fields(record).next(first) && is_letter(first[0]) && !is_header_line(record);
 }
 
 PointCloud read_pts_points(std::string_view file, std::string_view content) {
   if (!pts_has_records(file, content)) return read_xyz_points(file, content);
-  const std::size_t first_line = first_pts_field(file, content).second;
+  const std::size_t first_line = first_pts_record(file, content).second;
 
   PointCloud cloud;
   PointChecker checker(false);
-  LineScanner lines(file, content);
+  LineScanner lines = pts_lines(file, content);
   std::string_view line;
   while (lines.next(line)) {
     const std::size_t n = lines.line_number();

@@ -217,11 +217,16 @@ TEST(BadCoordinates, ExactlyTheBoundIsAccepted) {
 }
 
 TEST(BadCoordinates, NormalsThatAreNotFinite) {
-  // Normals only need to be finite (their length does not matter); a bad
-  // position and a bad normal are both reported.
+  // Named normals only need to be finite (their length does not matter); a
+  // bad position and a bad normal are both reported. Without a header, the
+  // last three of six columns are normals when they are unit vectors on
+  // every line, a NaN one counting as a bad normal, not against the rule.
   const std::vector<std::pair<const char*, BadFile>> cases = {
       {"n.xyz",
-       {"0 0 0 0 0 1\n1 1 1 nan 0 1\n2 2 2 0 1e300 0\n", ": ",
+       {"x y z nx ny nz\n0 0 0 0 0 1\n1 1 1 nan 0 1\n2 2 2 0 1e300 0\n", ": ",
+        "1 point has a normal that is not finite (NaN or infinity); the first at line 3 (nx = nan)"}},
+      {"u.xyz",
+       {"0 0 0 0 0 1\n1 1 1 nan 0 1\n2 2 2 0 -1 0\n", ": ",
         "1 point has a normal that is not finite (NaN or infinity); the first at line 2 (nx = nan)"}},
       {"n.off",
        {"NOFF\n2 0 0\n0 0 0 0 0 1\n1 1 1 0 -inf 0\n", ": ",

@@ -201,7 +201,7 @@ TEST(PointIoXyz, Errors) {
   };
   const Case errors[] = {
       {"1 2 3\n4 5 6 7 8 9\n", "e.xyz:2:", "every line must have the same count"},
-      {"1 2 3 4\n", "e.xyz:1:", "found 4"},
+      {"1 2 3 4 5\n", "e.xyz:1:", "found 5"},
       {"1 2 3\n\n1 2 x\n", "e.xyz:3:", "expected a number for z, found 'x'"},
       {"# c\n1 2 1e999\n", "e.xyz:2:", "too large for a double"},
       {"1,,2,3\n", "e.xyz:1:", "comma"},

@@ -11,13 +11,52 @@
 //          vertex element is refused. ASCII values may wrap across lines, but
 //          text after the last declared element is an error; bytes after the
 //          last element of a binary body are ignored.
-//   xyz  - text, 3 or 6 numbers a line (x y z [nx ny nz]), the same count on
-//          every line; blank lines and '#' comments (also after the numbers)
-//          allowed. Numbers are separated by blanks or by single commas.
-//          Extensions .xyz, .txt, .asc, .pwn.
+//   xyz  - delimited text, one point a line, the same number of fields on
+//          every line. Extensions .xyz, .txt, .asc, .pwn, .csv.
+//          Separators: blanks (spaces, tabs), commas or semicolons, with
+//          blanks around them allowed. The first line of numbers decides for
+//          the whole file; another separator later is an error. Between
+//          semicolons a comma inside a number is its decimal mark ("1,5;2;3"):
+//          the only decimal comma read. Lines end with \n, \r\n or \r; a
+//          UTF-8 byte-order mark is skipped; blank lines and '#' comments
+//          (also after the numbers) are allowed.
+//          What the columns hold, in this order of precedence:
+//          1. ReadPointsOptions::columns (--columns): x y z nx ny nz r g b
+//             (or normal_x ..., red ...) and _ for a column to skip. It must
+//             name x, y and z, a triple whole or not at all, and as many
+//             columns as the file has. A header line is then skipped (the
+//             note says so).
+//          2. A header: the first line that is not a comment, when it
+//             starts with "//" (CloudCompare) or holds no number. Its names,
+//             in any case and separated by any of the separators, are the
+//             same; any other name (intensity, scalar_*, ...) is a column
+//             recon ignores. It must name x, y and z; normals and colours
+//             are used only when all three are named (a note says what was
+//             ignored). Named normals may have any length.
+//          3. Neither: 3 columns are x y z; 4 are x y z and a value recon
+//             ignores (an intensity); 6 are x y z and a triple; 7 x y z, a
+//             value and a triple, in either order; 9 x y z and two triples
+//             (normals and colours, in either order). A triple holds normals
+//             when its length is 1 (within 1 %) on every line (a NaN or
+//             infinite triple does not count against it: it is then a bad
+//             normal), else colours when its values fit colours; the whole
+//             file's values decide, and what does not decide is refused
+//             (ParseError "FILE: the columns after x y z leave doubt: ...",
+//             naming --columns), as is any other count.
+//          Colours are integers 0 to 255, or fractions 0 to 1 (scaled to
+//          0-255 and rounded), one or the other in the whole file (only 0s
+//          and 1s: fractions, 1 is 255). A named colour value that fits
+//          neither is an error at its line.
+//          ReadNotes says what the columns hold whenever --columns, a header
+//          or the values decided it, e.g. "columns: x y z r g b (no header;
+//          the last three are integers 0-255: colours)".
+//          The file is parsed once from its map: values whose meaning waits
+//          on the whole file are held as doubles until the end.
 //   pts  - text, either Hoppe's format ("p x y z" records; other one-letter
 //          records such as d, s, g, n and '#' comments are ignored) or plain
-//          xyz columns; the first record decides (a letter: Hoppe's format).
+//          columns read as xyz (above); the first record decides (a letter
+//          and numbers: Hoppe's format; a line of names: a header of plain
+//          columns).
 //   obj  - "v x y z" lines, and "v x y z r g b" (r g b in [0, 1]) for the
 //          colours when every "v" line has them; other numbers after z (the
 //          w weight) are ignored. "vn" lines become the normals only when there are exactly
@@ -60,6 +99,9 @@
 // (or as they are, when some value of the file exceeds 1: 0-255 written as
 // floats); then clamped to 0-255, NaN as 0. When one of the three channels
 // is floating point, all three follow that rule. Alpha is ignored.
+// Delimited text (xyz), whose values have no declared type, has a stricter
+// rule of its own (above): integers 0 to 255 or fractions 0 to 1 for the
+// whole file, and any other value is an error, not clamped.
 //
 // The file is mapped into memory read-only (mmap), not copied; a pipe or
 // another file that cannot be mapped is read whole, up to a limit
@@ -75,8 +117,10 @@
 // text where a number belongs, a number too large for a double or for its
 // declared type (values too small become 0), a header promising more than
 // the file holds, a text line longer than 1 MiB ("line N is longer than
-// 1048576 bytes"), a NUL byte in text (binary data read as text). Element
-// and point numbers in messages count from 0.
+// 1048576 bytes"), a NUL byte in text (binary data read as text); in
+// delimited text also mixed separators, an empty field, a line with another
+// number of fields, a header without x, y and z, and a colour value out of
+// range. Element and point numbers in messages count from 0.
 // Coordinates that are NaN, infinite or beyond +-max_coordinate (1e15), and
 // normal components that are NaN or infinite, are not a stop: the reader
 // reads on and then throws one ParseError that counts them and places the
@@ -94,10 +138,12 @@
 // folder or unreadable, "FILE: cannot read: reason" when reading fails,
 // "FILE: more than N bytes from a stream ..." beyond max_stream_bytes;
 // InvalidInputError for an unknown format name or extension (the message
-// lists the known ones and the --format option) and for .laz ("FILE: LAZ
+// lists the known ones and the --format option), for .laz ("FILE: LAZ
 // (compressed LAS) is not read by recon ...: decompress it first, e.g.
-// 'laszip -i FILE -o out.las', ..."); LAS content with the compression bit
-// gives the same words as a ParseError at byte 104.
+// 'laszip -i FILE -o out.las', ..."; LAS content with the compression bit
+// gives the same words as a ParseError at byte 104), and for
+// ReadPointsOptions::columns naming an unknown column, one twice, part of a
+// triple, or no x, y or z ("--columns names an unknown column 'q' ...").
 
 #include "recon/point_cloud.h"
 
@@ -121,9 +167,10 @@ struct ReadPointsOptions {
   /// A stream (pipe, device) is held whole in memory: IoError "FILE: more
   /// than N bytes from a stream ..." beyond this; 0: half the physical memory.
   std::size_t max_stream_bytes = 0;
-  /// Text columns without a header: what each column holds, in order
-  /// ("x", "y", "z", "nx", "ny", "nz", "r", "g", "b", "_" for a column to
-  /// skip); empty: from the header line, or from the values (see xyz above).
+  /// Text columns: what each column holds, in order ("x", "y", "z", "nx",
+  /// "ny", "nz", "r", "g", "b", "_" for a column to skip); it wins over a
+  /// header line. Empty: from the header line, or from the values (see xyz
+  /// above).
   std::vector<std::string> columns;
   /// Skip points with a coordinate that is not finite or beyond
   /// +-max_coordinate instead of refusing the file (ReadNotes says how many).
@@ -131,10 +178,9 @@ struct ReadPointsOptions {
 };
 
 /// What a reader chose or skipped that the user should hear about, one line
-/// each, e.g. "columns x y z r g b (no header: integers 0 to 255 after the
-/// position are read as colours)" or "skipped 1200 points with no position
-/// (NaN x y z in an organized cloud); the first at byte 356 (row 0,
-/// column 3)".
+/// each, e.g. "columns: x y z r g b (no header; the last three are integers
+/// 0-255: colours)" or "skipped 1200 points with no position (NaN x y z in
+/// an organized cloud); the first at byte 356 (row 0, column 3)".
 struct ReadNotes {
   std::vector<std::string> lines;
   std::size_t skipped_points = 0;  ///< points left out (invalid or no measurement)
