@@ -340,6 +340,9 @@ class PointChecker {
     if (skip_ != nullptr && last_position_bad_) return;  // the point is left out
     static_cast<void>(check(n, location, names, offsets, false, normals_));
   }
+  /// True when the last position checked was bad and is to be left out
+  /// (ReadPointsOptions::skip_invalid): the rest of that point needs no check.
+  [[nodiscard]] bool skips_last_point() const { return skip_ != nullptr && last_position_bad_; }
   /// Adopts what `other` found in normals (OBJ checks its normals apart and
   /// keeps them only when there is one per point).
   void take_normals(const PointChecker& other) { normals_ = other.normals_; }

@@ -102,12 +102,15 @@ class ColumnReader {
   }
 
   /// Keeps a line's held values and adds them to the evidence: per column
-  /// (colours?) and, in a guessed plan, per triple (unit vectors?).
+  /// (colours?) and, in a guessed plan, per triple (unit vectors?). A point
+  /// left out for its position (skip_invalid) is no evidence.
   void hold(const std::array<double, max_held>& values, std::size_t line) {
-    for (std::size_t s = 0; s < columns_.size(); ++s) columns_[s].add(values[s], line);
-    for (std::size_t s = 0; s < triples_.size(); ++s) {
-      triples_[s].add(values[s], values[s + 1], values[s + 2], line);
-      triple_checks_[s].normal(Vec3(values[s], values[s + 1], values[s + 2]), line, normal_names);
+    if (!checker_.skips_last_point()) {
+      for (std::size_t s = 0; s < columns_.size(); ++s) columns_[s].add(values[s], line);
+      for (std::size_t s = 0; s < triples_.size(); ++s) {
+        triples_[s].add(values[s], values[s + 1], values[s + 2], line);
+        triple_checks_[s].normal(Vec3(values[s], values[s + 1], values[s + 2]), line, normal_names);
+      }
     }
     for (std::size_t t = 0; t < triples_per_point_; ++t)
       held_.emplace_back(values[3 * t], values[3 * t + 1], values[3 * t + 2]);
