@@ -14,6 +14,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -381,6 +382,26 @@ TEST(PointIoTextColumns, TheWholeFileDecidesNotItsFirstLines) {
   for (int i = 0; i < 5000; ++i) text += std::to_string(i) + " 0 0 0.5 0.25 0\n";
   EXPECT_CONTAINS(text_error(folder, "c.xyz", text + "1 2 3 255 0 0\n"),
                   "nor colours (line 5001: 255 for column 4 is above 1, but line 1 has a fraction (0.5 for column 4))");
+}
+
+TEST(PointIoTextColumns, WrittenColoursReadBack) {
+  // write_points writes "x y z [nx ny nz] r g b", r g b in 0-255, without a
+  // header: the values tell the columns apart when the file is read back.
+  TempFolder folder;
+  PointCloud cloud = testing::random_cloud(300, true, 5);
+  std::mt19937 random(5);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    cloud.colors.push_back({static_cast<std::uint8_t>(byte(random)), static_cast<std::uint8_t>(byte(random)),
+                            static_cast<std::uint8_t>(byte(random))});
+  for (const bool normals : {true, false}) {
+    if (!normals) cloud.normals.clear();
+    write_points(folder / "c.xyz", cloud);
+    const PointCloud back = read_points(folder / "c.xyz");
+    EXPECT_EQ(back.positions, cloud.positions);
+    EXPECT_EQ(back.normals, cloud.normals);
+    EXPECT_EQ(back.colors, cloud.colors);
+  }
 }
 
 // --------------------------------------------------------------------------
