@@ -182,3 +182,19 @@ def test_colours_reach_the_mesh(tmp_path):
     mesh.save(path)
     assert b"property uchar red" in path.read_bytes()[:400]
     assert recon.reconstruct(points).colors is None
+
+
+def test_given_normals_are_used_instead_of_phase_two():
+    points = sphere(20000, seed=19)
+    seen = []
+    mesh = recon.reconstruct(points, points.copy(), progress=seen.append)  # a unit sphere's outward normals
+    assert "orientation" not in seen and "orientation" not in mesh.stats
+    assert mesh.stats["input"]["has_normals"]
+    assert np.max(np.abs(np.linalg.norm(mesh.vertices, axis=1) - 1.0)) < 0.01
+    v, f = mesh.vertices, mesh.faces
+    volume = np.einsum("ij,ij->i", v[f[:, 0]], np.cross(v[f[:, 1]], v[f[:, 2]])).sum() / 6.0
+    assert volume > 0  # the given (outward) side is kept
+    # Inward normals give the same surface facing the other way.
+    inward = recon.reconstruct(points, -points)
+    w, g = inward.vertices, inward.faces
+    assert np.einsum("ij,ij->i", w[g[:, 0]], np.cross(w[g[:, 1]], w[g[:, 2]])).sum() < 0
