@@ -113,3 +113,21 @@ def test_open3d_conversions():
     np.testing.assert_array_equal(back.vertices, mesh.vertices)
     np.testing.assert_array_equal(back.faces, mesh.faces)
     np.testing.assert_array_equal(np.asarray(cloud.to_open3d().points), cloud.points)
+
+
+def test_reader_options_and_notes(tmp_path):
+    seven = tmp_path / "seven.txt"
+    seven.write_text("0 0 0 7 1 2 3\n1 0 0 7 4 5 6\n0 1 0 7 7 8 9\n0 0 1 7 1 2 3\n")
+    with pytest.raises(ValueError, match="--columns"):
+        recon.read_points(seven)
+    cloud = recon.read_points(seven, columns=["x", "y", "z", "_", "r", "g", "b"])
+    np.testing.assert_array_equal(cloud.colors[1], [4, 5, 6])
+    assert any("from --columns" in note for note in cloud.notes)
+    assert recon.read_points(seven, columns="x y z _ r g b".split(), colors=False).colors is None
+    bad = tmp_path / "bad.csv"
+    bad.write_text("x,y,z\n0,0,0\n1,nan,0\n2,2,2\n")
+    with pytest.raises(ValueError, match="not finite"):
+        recon.read_points(bad)
+    kept = recon.read_points(bad, skip_invalid=True)
+    np.testing.assert_array_equal(kept.points, [[0, 0, 0], [2, 2, 2]])
+    assert any("skipped" in note for note in kept.notes)
