@@ -43,27 +43,11 @@ void add_input(CLI::App& app, InputOptions& in) {
   app.add_flag("--no-colors", in.no_colors, "Drop the input's colours (the mesh or cloud is written without)");
 }
 
-namespace {
-// "x,y,z,_,r,g,b" -> {"x", "y", "z", "_", "r", "g", "b"}.
-std::vector<std::string> split_columns(const std::string& text) {
-  std::vector<std::string> names;
-  std::size_t start = 0;
-  while (start <= text.size() && !text.empty()) {
-    const std::size_t comma = text.find(',', start);
-    const std::size_t end = comma == std::string::npos ? text.size() : comma;
-    names.push_back(text.substr(start, end - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return names;
-}
-}  // namespace
-
 PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* said) {
   Timer timer;
   io::ReadPointsOptions options;
   if (!in.format.empty()) options.format = io::point_format_from_name(in.format);
-  options.columns = split_columns(in.columns);
+  options.columns = io::column_names(in.columns);
   options.skip_invalid = in.skip_invalid;
   io::ReadNotes notes;
   PointCloud cloud = io::read_points(in.path, options, &notes);

@@ -39,14 +39,8 @@ recon::PointCloud read_text_columns(std::string_view file, std::string_view cont
   recon::io::ReadPointsOptions options;
   constexpr std::string_view mark = "#columns ";
   if (content.starts_with(mark)) {
-    std::string_view names = content.substr(mark.size());
-    names = names.substr(0, names.find('\n'));
-    for (std::size_t start = 0;;) {
-      const std::size_t comma = names.find(',', start);
-      options.columns.emplace_back(names.substr(start, comma - start));
-      if (comma == std::string_view::npos) break;
-      start = comma + 1;
-    }
+    const std::string_view names = content.substr(mark.size());
+    options.columns = recon::io::column_names(names.substr(0, names.find('\n')));
   }
   recon::io::ReadNotes notes;
   return recon::io::detail::read_xyz_points(file, content, options, notes);

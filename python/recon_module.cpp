@@ -113,6 +113,16 @@ struct CloudArrays {
   }
 };
 
+// A PointCloud holding copies of the view's arrays (for the objects made
+// from arrays, and the writers, which take a PointCloud).
+PointCloud copy_of(const PointCloudView& view) {
+  PointCloud cloud;
+  cloud.positions.assign(view.positions.begin(), view.positions.end());
+  cloud.normals.assign(view.normals.begin(), view.normals.end());
+  cloud.colors.assign(view.colors.begin(), view.colors.end());
+  return cloud;
+}
+
 // ---------------------------------------------------------------------------
 // Arrays out: views of a vector inside `owner` (a Python object that keeps it alive)
 
@@ -247,8 +257,7 @@ struct PhaseParameters {
 std::size_t memory_limit(const py::object& max_memory) {
   if (max_memory.is_none()) return 0;
   std::size_t bytes = 0;
-  const std::string text = py::isinstance<py::str>(max_memory) ? max_memory.cast<std::string>()
-                                                                : py::str(max_memory).cast<std::string>();
+  const auto text = py::str(max_memory).cast<std::string>();  // "8G", or a count of bytes
   const std::string error = cli::parse_size(text, bytes);
   if (!error.empty()) throw InvalidInputError("max_memory: " + error);
   return bytes;
@@ -374,9 +383,7 @@ void bind_point_cloud(py::module_& m) {
       .def(py::init([](DoubleArray points, std::optional<DoubleArray> normals, std::optional<ByteArray> colors) {
              const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
              auto result = std::make_unique<PyPointCloud>();
-             result->cloud.positions.assign(in.view.positions.begin(), in.view.positions.end());
-             result->cloud.normals.assign(in.view.normals.begin(), in.view.normals.end());
-             result->cloud.colors.assign(in.view.colors.begin(), in.view.colors.end());
+             result->cloud = copy_of(in.view);
              return result;
            }),
            py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none())
@@ -449,10 +456,7 @@ void bind_files(py::module_& m) {
         [](const std::filesystem::path& path, DoubleArray points, std::optional<DoubleArray> normals,
            std::optional<ByteArray> colors, bool ascii) {
           const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
-          PointCloud cloud;  // the writers take a PointCloud: one copy, for the file
-          cloud.positions.assign(in.view.positions.begin(), in.view.positions.end());
-          cloud.normals.assign(in.view.normals.begin(), in.view.normals.end());
-          cloud.colors.assign(in.view.colors.begin(), in.view.colors.end());
+          const PointCloud cloud = copy_of(in.view);  // the writers take a PointCloud: one copy, for the file
           io::WritePointsOptions options;
           options.ascii = ascii;
           py::gil_scoped_release no_gil;

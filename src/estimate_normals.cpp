@@ -1,6 +1,6 @@
 #include "recon/estimate_normals.h"
 
-#include "recon/reconstruct.h"  // working_offset, check_memory_planes_and_graph
+#include "recon/reconstruct.h"  // working_tree, check_memory_planes_and_graph
 #include "recon/resource_usage.h"
 
 namespace recon {
@@ -19,11 +19,10 @@ NormalEstimation estimate_normals(PointCloudView cloud, const NormalEstimationOp
   check_memory_planes_and_graph(cloud.size(), options.planes.k, limit);
   NormalEstimation result;
   starting("tangent planes");
-  check_coordinates<3>(cloud.positions);  // before the bounding box of working_offset
-  result.offset = working_offset(cloud.positions);
-  KdTree<3> tree(cloud.positions, options.planes.tree, result.offset);
-  result.order = tree.renumber_by_leaf_order();
-  result.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
+  WorkingTree working = working_tree(cloud.positions, options.planes.tree);
+  result.offset = working.offset;
+  result.order = std::move(working.order);
+  result.planes = estimate_tangent_planes<3>(std::move(working.tree), options.planes);
   starting("orientation");
   result.oriented = orient_normals<3>(result.planes, options.orientation);
   return result;

@@ -319,6 +319,15 @@ void color_mesh(Reconstruction& r, const VertexColorOptions& options, Starting& 
 }
 }  // namespace
 
+WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options) {
+  check_coordinates<3>(points);  // before the bounding box of working_offset
+  WorkingTree w;
+  w.offset = working_offset(points);
+  w.tree = KdTree<3>(points, options, w.offset);
+  w.order = w.tree.renumber_by_leaf_order();
+  return w;
+}
+
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
   return reconstruct(PointCloudView(cloud), options);
 }
@@ -339,10 +348,11 @@ namespace {
 // more is read from `cloud`.
 Reconstruction take_the_cloud(PointCloudView cloud, const ReconstructionOptions& options,
                               const std::function<void()>& release, KdTree<3>& tree) {
+  WorkingTree working = working_tree(cloud.positions, options.planes.tree);
   Reconstruction r;
-  r.offset = working_offset(cloud.positions);
-  tree = KdTree<3>(cloud.positions, options.planes.tree, r.offset);
-  r.order = tree.renumber_by_leaf_order();
+  r.offset = working.offset;
+  r.order = std::move(working.order);
+  tree = std::move(working.tree);
   if (options.use_input_normals) r.input_normals = permuted<Vec3>(cloud.normals, r.order);
   if (cloud.has_colors()) r.colors = permuted<Color>(cloud.colors, r.order);
   release();
@@ -361,7 +371,6 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   auto starting = [&](const char* phase) {
     if (options.on_phase) options.on_phase(phase);
   };
-  check_coordinates<3>(cloud.positions);  // before the bounding box below
   const std::size_t limit = options.max_memory > 0 ? options.max_memory : default_memory_limit();
   check_memory_planes_and_graph(cloud.size(), options.planes.k, limit, options.method);
   starting("tangent planes");

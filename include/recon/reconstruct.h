@@ -159,6 +159,18 @@ struct Reconstruction {
 /// expressed in the input's own coordinates).
 [[nodiscard]] Vec3 working_offset(std::span<const Vec3> points);
 
+/// Phase I's kd-tree as reconstruct() and estimate_normals() start from it:
+/// over the points moved by working_offset (subtracted as the tree copies
+/// them), renumbered by leaf order; order[j] is the input index of point j.
+struct WorkingTree {
+  Vec3 offset = Vec3::Zero();
+  std::vector<std::uint32_t> order;
+  KdTree<3> tree;
+};
+/// Throws InvalidInputError for coordinates that are not finite or beyond
+/// +-max_coordinate (check_coordinates), before anything else.
+[[nodiscard]] WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options);
+
 /// Memory limits. reconstruct() estimates what phases I-II (neighbourhoods,
 /// planes, the graph) and the lattice walk will hold before they allocate,
 /// from peaks measured on this implementation (the colours' 3 bytes a point

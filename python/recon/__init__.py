@@ -72,41 +72,42 @@ def _colors_as_bytes(colors: Any, rows: Optional[int] = None) -> Optional[np.nda
     raise ValueError(f"colors must be numbers, got dtype {array.dtype}")
 
 
-class PointCloud:
+class _Wraps:
+    """A package object around one of the compiled module's (``_made``),
+    whose arrays it hands out as they are: views of recon's buffers."""
+
+    __slots__ = ("_made",)
+
+    @classmethod
+    def _of(cls, made: Any) -> Any:
+        wrapper = cls.__new__(cls)
+        wrapper._made = made
+        return wrapper
+
+
+def _passed_on(name: str, doc: str) -> property:
+    """A read-only attribute of the wrapped object, passed on as it is."""
+    return property(lambda self: getattr(self._made, name), doc=doc)
+
+
+class PointCloud(_Wraps):
     """A point cloud: ``points`` (n x 3 float64), and ``normals`` (n x 3) and
     ``colors`` (n x 3 uint8) or None. ``notes`` lists what the reader chose
     or skipped (the lines the program prints under "read"). Made from arrays,
     it holds copies of them; read from a file, its arrays are recon's."""
 
-    __slots__ = ("_cloud",)
+    __slots__ = ()
 
     def __init__(self, points: Any, normals: Any = None, colors: Any = None) -> None:
-        self._cloud = _recon.PointCloud(points, normals, _colors_as_bytes(colors, np.shape(points)[0]))
+        self._made = _recon.PointCloud(points, normals, _colors_as_bytes(colors, np.shape(points)[0]))
 
-    @classmethod
-    def _of(cls, made: Any) -> "PointCloud":
-        cloud = cls.__new__(cls)
-        cloud._cloud = made
-        return cloud
-
-    @property
-    def points(self) -> np.ndarray:
-        return self._cloud.points
-
-    @property
-    def normals(self) -> Optional[np.ndarray]:
-        return self._cloud.normals
-
-    @property
-    def colors(self) -> Optional[np.ndarray]:
-        return self._cloud.colors
-
-    @property
-    def notes(self) -> list:
-        return list(self._cloud.notes)
+    points = _passed_on("points", "n x 3 float64")
+    normals = _passed_on("normals", "n x 3 float64, or None")
+    colors = _passed_on("colors", "n x 3 uint8, or None")
+    notes = _passed_on("notes", "what the reader chose or skipped, one line each")
 
     def __len__(self) -> int:
-        return len(self._cloud)
+        return len(self._made)
 
     def __repr__(self) -> str:
         extras = [name for name in ("normals", "colors") if getattr(self, name) is not None]
@@ -124,39 +125,22 @@ class PointCloud:
         return o3d
 
 
-class Mesh:
+class Mesh(_Wraps):
     """A triangle mesh: ``vertices`` (m x 3 float64), ``faces`` (f x 3 int32,
     counter-clockwise seen from outside), ``colors`` (m x 3 uint8) or None,
     and, for a mesh made by reconstruct(), ``stats``: what
     ``recon reconstruct --stats`` records (an empty dict otherwise). The
     arrays of a reconstructed mesh are recon's own buffers, not copies."""
 
-    __slots__ = ("_mesh",)
+    __slots__ = ()
 
     def __init__(self, vertices: Any, faces: Any, colors: Any = None) -> None:
-        self._mesh = _recon.Mesh(vertices, faces, _colors_as_bytes(colors, np.shape(vertices)[0]))
+        self._made = _recon.Mesh(vertices, faces, _colors_as_bytes(colors, np.shape(vertices)[0]))
 
-    @classmethod
-    def _of(cls, made: Any) -> "Mesh":
-        mesh = cls.__new__(cls)
-        mesh._mesh = made
-        return mesh
-
-    @property
-    def vertices(self) -> np.ndarray:
-        return self._mesh.vertices
-
-    @property
-    def faces(self) -> np.ndarray:
-        return self._mesh.faces
-
-    @property
-    def colors(self) -> Optional[np.ndarray]:
-        return self._mesh.colors
-
-    @property
-    def stats(self) -> dict:
-        return self._mesh.stats
+    vertices = _passed_on("vertices", "m x 3 float64")
+    faces = _passed_on("faces", "f x 3 int32, counter-clockwise seen from outside")
+    colors = _passed_on("colors", "m x 3 uint8, or None")
+    stats = _passed_on("stats", "what recon reconstruct --stats records ({} for a mesh made from arrays)")
 
     def __repr__(self) -> str:
         return f"recon.Mesh({len(self.vertices)} vertices, {len(self.faces)} faces)"
@@ -164,7 +148,7 @@ class Mesh:
     def save(self, path: PathLike, ascii: bool = False) -> None:
         """Writes the mesh as PLY, OBJ, OFF or STL (from the extension),
         atomically: a temporary file renamed into place."""
-        self._mesh.save(os.fspath(path), ascii)
+        self._made.save(os.fspath(path), ascii)
 
     def to_open3d(self) -> Any:
         """This mesh as an ``open3d.geometry.TriangleMesh`` (needs python3-open3d)."""

@@ -104,7 +104,10 @@ def test_the_arrays_out_are_recons_buffers():
     assert mesh.faces.dtype == np.int32 and mesh.faces.shape[1] == 3
     assert not vertices.flags.owndata  # a view of the C++ vector...
     assert np.shares_memory(vertices, mesh.vertices)  # ... the same one every time
-    del mesh  # the array keeps the mesh's buffer alive
+    owner = vertices.base
+    assert isinstance(owner, recon._recon.Mesh) and owner is mesh._made  # ... which the array keeps alive
+    del mesh, owner
+    assert isinstance(vertices.base, recon._recon.Mesh)
     assert np.all(np.isfinite(vertices))
     normals, _ = recon.estimate_normals(sphere(2000))
     assert not normals.flags.owndata and normals.base is not None

@@ -177,6 +177,19 @@ struct ReadPointsOptions {
   bool skip_invalid = false;
 };
 
+/// "x,y,z,_,r,g,b" (as --columns takes them) -> {"x", "y", "z", "_", "r",
+/// "g", "b"}: the text split at commas, nothing checked; "" -> {}.
+[[nodiscard]] inline std::vector<std::string> column_names(std::string_view text) {
+  std::vector<std::string> names;
+  if (text.empty()) return names;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = text.find(',', start);
+    names.emplace_back(text.substr(start, comma - start));
+    if (comma == std::string_view::npos) return names;
+    start = comma + 1;
+  }
+}
+
 /// What a reader chose or skipped that the user should hear about, one line
 /// each, e.g. "columns: x y z r g b (no header; the last three are integers
 /// 0-255: colours)" or "skipped 1200 points with no position (NaN x y z in
