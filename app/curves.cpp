@@ -5,8 +5,7 @@
 #include "recon/errors.h"
 #include "recon/io/curve_io.h"
 #include "recon/parallel.h"
-#include "recon/reconstruct.h"  // check_memory_planes_and_graph
-#include "recon/resource_usage.h"  // default_memory_limit
+#include "recon/memory_budget.h"
 #include "recon/reconstruct_curve.h"
 #include "recon/timer.h"
 
@@ -16,11 +15,6 @@
 
 namespace recon::cli {
 namespace {
-
-// Bytes the lattice walk holds per visited square (the corner table's node,
-// the queue, the vertices), rounded up; it sets the walk's limit from
-// --max-memory.
-constexpr double bytes_per_square = 200.0;
 
 io::ReadPointsOptions read_options(const std::string& format) {
   io::ReadPointsOptions options;
@@ -140,9 +134,9 @@ void reconstruct_curves(const CurveRun& run) {
   options.distance.delta = run.delta;
   options.cell = run.cell;
   options.resolution = run.resolution;
-  const std::size_t limit = run.max_memory > 0 ? run.max_memory : default_memory_limit();
+  const std::size_t limit = memory_limit_or_default(run.max_memory);
   check_memory_planes_and_graph(points.size(), options.planes.k, limit);
-  options.max_squares = static_cast<std::size_t>(static_cast<double>(limit) / bytes_per_square);
+  options.max_squares = max_squares_within(limit);
   const CurveReconstruction r = reconstruct_curve(points, options);
   report(r, points.size(), summary);
 

@@ -1,7 +1,7 @@
 #include "recon/estimate_normals.h"
 
-#include "recon/reconstruct.h"  // working_tree, check_memory_planes_and_graph
-#include "recon/resource_usage.h"
+#include "recon/memory_budget.h"
+#include "recon/reconstruct.h"  // working_tree
 
 namespace recon {
 
@@ -15,8 +15,7 @@ NormalEstimation estimate_normals(PointCloudView cloud, const NormalEstimationOp
   auto starting = [&](const char* phase) {
     if (options.on_phase) options.on_phase(phase);
   };
-  const std::size_t limit = options.max_memory > 0 ? options.max_memory : default_memory_limit();
-  check_memory_planes_and_graph(cloud.size(), options.planes.k, limit);
+  check_memory_planes_and_graph(cloud.size(), options.planes.k, memory_limit_or_default(options.max_memory));
   NormalEstimation result;
   starting("tangent planes");
   WorkingTree working = working_tree(cloud.positions, options.planes.tree);

@@ -1,23 +1,20 @@
 #include "recon/reconstruct.h"
 
+#include "recon/detail/first_wave.h"
 #include "recon/errors.h"
+#include "recon/memory_budget.h"
 #include "recon/parallel.h"
 #include "recon/resource_usage.h"
 #include "recon/spatial_order.h"  // permuted
 #include "recon/timer.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
-#include <future>
-#include <limits>
 #include <numbers>
 #include <optional>
 #include <span>
 #include <sstream>
 #include <string>
-#include <thread>
 
 
 namespace recon {
@@ -51,28 +48,6 @@ Method method_from_name(std::string_view name) {
 const char* method_name(Method method) { return method == Method::hoppe92 ? "hoppe92" : "refined"; }
 
 namespace {
-// Measured peaks (docs/benchmarks.md), rounded up: a million points at k = 20
-// peak at about 230 MB in phase I and 350 MB in phase II; a lattice walk
-// holds under 250 bytes a visited cube, besides about 190 bytes a point
-// still held from phases I and II.
-constexpr double bytes_per_point_planes = 170.0, bytes_per_neighbour_planes = 4.0;
-constexpr double bytes_per_point_graph = 210.0, bytes_per_neighbour_graph = 8.0;
-constexpr double bytes_per_point_held = 190.0, bytes_per_cube = 250.0;
-// The refined method: the fits' curvature (12 bytes), misfit (4), crease
-// flags (1) and single-precision guide normals (12) during phase II, where
-// a million points peak at 390 MB; 40 rounds that up.
-constexpr double bytes_per_point_refined = 40.0;
-
-std::string megabytes_or_gigabytes(double bytes) {
-  std::ostringstream out;
-  out.precision(3);
-  if (bytes < 1e9) {
-    out << bytes / 1e6 << " MB";
-  } else {
-    out << bytes / 1e9 << " GB";
-  }
-  return out.str();
-}
 
 // The side of the square of surface each sample stands for: k samples
 // cover a disc of the neighbourhood radius (its median over the points).
@@ -82,126 +57,6 @@ double surface_spacing(const TangentPlanes<3>& planes) {
   const auto middle = radius.begin() + static_cast<std::ptrdiff_t>(radius.size() / 2);
   std::nth_element(radius.begin(), middle, radius.end());
   return std::sqrt(std::numbers::pi / planes.k) * static_cast<double>(*middle);
-}
-
-// Phase III beside phase II. Prim's algorithm runs on one thread; meanwhile
-// another evaluates f at the corners of the walk's first wave (every cube
-// holding a sample: most of the corners the walk will need), with the
-// unoriented PCA normals. Orientation only turns normals round, and f turns
-// with them exactly: (p - o).(-n) is -((p - o).n) in floating point, and
-// the foot point and the tests of definedness are unchanged. So the value
-// with the PCA normal, negated where the orientation flipped that plane, is
-// the value phase III gives, and the mesh is the same as without this.
-class FirstWave {
- public:
-  // The origin tree, the lattice and the first wave's cubes and corners: a
-  // few tenths of the work.
-  void prepare(Reconstruction& r, double cell, const SignedDistanceOptions& options) {
-    r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
-    unoriented_ = make_signed_distance<3>(r.planes, r.planes.normals, r.origin_tree, options);
-    wave_.emplace(r.points(), cell);
-    plane_.resize(wave_->corner_count());
-  }
-  // Evaluates corners until none is left unclaimed; from any number of
-  // threads at once, after prepare().
-  void drain() {
-    const std::size_t count = plane_.size();
-    const Lattice& lattice = wave_->lattice();
-    for (;;) {
-      const std::size_t begin = next_.fetch_add(chunk, std::memory_order_relaxed);
-      if (begin >= count) return;
-      std::uint32_t hint = SignedDistance<3>::no_hint;  // the corners come in spatial order
-      for (std::size_t c = begin; c < std::min(begin + chunk, count); ++c) {
-        const auto e = unoriented_.evaluate(lattice.position(wave_->corner(c)), hint);
-        hint = e.plane;
-        plane_[c] = e.plane;
-        // (A value that depends on the normals' signs beyond a flip is left
-        // to the walk, which evaluates it with the oriented normals.)
-        if (!e.by_orientation) wave_->set_value(c, e.value ? *e.value : std::numeric_limits<double>::quiet_NaN());
-      }
-    }
-  }
-  // Leaves the corners no thread has claimed yet unevaluated (on failure).
-  void abandon() { next_.store(std::numeric_limits<std::size_t>::max() / 2, std::memory_order_relaxed); }
-  // Turns the values to the oriented normals' (negated where the plane
-  // they came from was flipped); then the wave is the walk's.
-  void orient(std::span<const std::uint8_t> flipped) {
-    const auto count = static_cast<std::int64_t>(plane_.size());
-#pragma omp parallel for schedule(static)
-    for (std::int64_t s = 0; s < count; ++s) {
-      const auto c = static_cast<std::size_t>(s);
-      const double v = wave_->value(c);
-      if (flipped[plane_[c]] && !std::isnan(v)) wave_->set_value(c, -v);
-    }
-    plane_ = {};
-  }
-  [[nodiscard]] bool ready() const { return wave_.has_value(); }
-  [[nodiscard]] SeedWave take_wave() { return std::move(*wave_); }
-
- private:
-  static constexpr std::size_t chunk = 256;
-  SignedDistance<3> unoriented_;
-  std::optional<SeedWave> wave_;      // holds f's values at its corners as they are evaluated
-  std::vector<std::uint32_t> plane_;  // the plane each value came from
-  std::atomic<std::size_t> next_{0};  // the first corner not yet claimed
-};
-
-// Phase II's orientation with the first wave beside it (see FirstWave):
-// one thread of its own while Prim runs, then every thread. With one
-// thread, the same work one after the other.
-void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, double cell,
-                            const OrientationOptions& options, const SignedDistanceOptions& distance,
-                            FirstWave& wave, double& seconds_after) {
-  const int threads = thread_count();
-  if (threads <= 1) {
-    r.oriented = orient_normals<3>(r.planes, std::move(graph), options);
-    Timer timer;
-    wave.prepare(r, cell, distance);
-    wave.drain();
-    wave.orient(r.oriented->flipped);
-    seconds_after = timer.lap();
-    return;
-  }
-  std::promise<void> prepared;
-  std::future<void> ready = prepared.get_future();
-  std::exception_ptr failure;
-  Timer beside;
-  std::thread helper([&] {
-    set_thread_count(1);  // this thread's own parallel regions (the refit): Prim has the other core
-    try {
-      wave.prepare(r, cell, distance);
-    } catch (...) {
-      prepared.set_exception(std::current_exception());
-      return;
-    }
-    prepared.set_value();
-    try {
-      wave.drain();
-    } catch (...) {
-      failure = std::current_exception();
-    }
-    r.seconds_distance_beside = beside.elapsed();
-  });
-  try {
-    r.oriented = orient_normals<3>(r.planes, std::move(graph), options);
-  } catch (...) {
-    wave.abandon();
-    helper.join();
-    throw;
-  }
-  Timer timer;
-  try {
-    ready.get();
-  } catch (...) {
-    helper.join();
-    throw;
-  }
-#pragma omp parallel num_threads(std::max(1, threads - 1))
-  wave.drain();
-  helper.join();
-  if (failure) std::rethrow_exception(failure);
-  wave.orient(r.oriented->flipped);
-  seconds_after = timer.lap();
 }
 
 // Phase I's second order (refined): the quadrics, whose origins and normals
@@ -228,33 +83,6 @@ void fit_second_order(Reconstruction& r, const ReconstructionOptions& options, d
 }
 
 }  // namespace
-
-double estimated_bytes_planes_and_graph(std::size_t points, int k, Method method) {
-  const auto n = static_cast<double>(points);
-  const double per_point = std::max(bytes_per_point_planes + bytes_per_neighbour_planes * k,
-                                    bytes_per_point_graph + bytes_per_neighbour_graph * k);
-  return n * (per_point + (method == Method::refined ? bytes_per_point_refined : 0.0));
-}
-
-double estimated_bytes_lattice(std::size_t points, double cubes) {
-  return static_cast<double>(points) * bytes_per_point_held + cubes * bytes_per_cube;
-}
-
-void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit, Method method) {
-  check_memory(estimated_bytes_planes_and_graph(points, k, method), limit,
-               "tangent planes and orientation of " + std::to_string(points) + " points at k = " + std::to_string(k),
-               "lower --k or thin the cloud");
-}
-
-void check_memory(double bytes, std::size_t limit, std::string_view what, std::string_view remedy) {
-  if (bytes <= static_cast<double>(limit)) return;
-  std::string message(what);
-  message += " would need about " + megabytes_or_gigabytes(bytes) + ", more than the " + megabytes_or_gigabytes(static_cast<double>(limit)) +
-             " allowed (--max-memory; default half the physical memory): ";
-  message += remedy;
-  message += ", or raise --max-memory";
-  throw ResourceLimitError(message);
-}
 
 namespace {
 // Phase III's options for a run: the refined method weighs 8 planes where
@@ -309,9 +137,9 @@ namespace {
 // The final mesh's colours from the samples' (vertex_colors.h). Called
 // before the mesh moves back to the input's coordinates: its vertices and
 // phase I's tree over the samples are both in working coordinates then.
-template <class Starting>
-void color_mesh(Reconstruction& r, const VertexColorOptions& options, Starting& starting) {
-  starting("colours");
+template <class Run>
+void color_mesh(Reconstruction& r, const VertexColorOptions& options, const Run& run) {
+  run.starting("colours");
   Timer timer;
   Mesh& mesh = r.refinement ? r.refinement->mesh : r.contour.mesh;
   mesh.colors = vertex_colors(mesh.vertices, r.planes.point_tree, r.colors, options);
@@ -359,109 +187,155 @@ Reconstruction take_the_cloud(PointCloudView cloud, const ReconstructionOptions&
   return r;
 }
 
-}  // namespace
-
-Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
-                                const std::function<void()>& release) {
+void check_cloud(PointCloudView cloud, const ReconstructionOptions& options) {
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
   if (cloud.has_colors() && cloud.colors.size() != cloud.size())
     throw InvalidInputError("the cloud has " + std::to_string(cloud.colors.size()) + " colours for " +
                             std::to_string(cloud.size()) + " points");
-  auto starting = [&](const char* phase) {
+}
+
+// One run's state besides the result: its options, memory limit and timers.
+struct Run {
+  const ReconstructionOptions& options;
+  std::size_t limit;
+  void starting(const char* phase) const {
     if (options.on_phase) options.on_phase(phase);
-  };
-  const std::size_t limit = options.max_memory > 0 ? options.max_memory : default_memory_limit();
-  check_memory_planes_and_graph(cloud.size(), options.planes.k, limit, options.method);
-  starting("tangent planes");
+  }
+  [[nodiscard]] bool refined() const { return options.method == Method::refined; }
+};
+
+// Phase I: the planes (and the refined method's second-order fits).
+Reconstruction phase_1(PointCloudView cloud, const Run& run, const std::function<void()>& release) {
+  check_memory_planes_and_graph(cloud.size(), run.options.planes.k, run.limit, run.refined());
+  run.starting("tangent planes");
   Timer tree_timer;
   KdTree<3> tree;
-  Reconstruction r = take_the_cloud(cloud, options, release, tree);
+  Reconstruction r = take_the_cloud(cloud, run.options, release, tree);
   const double seconds_tree = tree_timer.lap();
-  r.planes = estimate_tangent_planes<3>(std::move(tree), options.planes);
+  r.planes = estimate_tangent_planes<3>(std::move(tree), run.options.planes);
   r.planes.seconds_tree += seconds_tree;
-  r.method = options.method;
-  if (options.method == Method::refined) fit_second_order(r, options, lattice_cell(r.points(), r.planes, options));
+  r.method = run.options.method;
+  if (run.refined()) fit_second_order(r, run.options, lattice_cell(r.points(), r.planes, run.options));
+  return r;
+}
 
-  // Refuse a lattice that would not fit before building anything large.
-  const double cell = lattice_cell(r.points(), r.planes, options);
+// Refuse a lattice (or a phase II raised k) that would not fit, before
+// building anything large.
+void check_memory_after_phase_1(const Reconstruction& r, const Run& run, double cell) {
   const double cubes = estimate_visited_cubes(r.order.size(), surface_spacing(r.planes), cell);
-  {
-    std::ostringstream what;
-    what.precision(3);
-    what << "a lattice cell of " << cell << " (about " << cubes << " cubes visited)";
-    check_memory(estimated_bytes_lattice(r.order.size(), cubes), limit, what.str(),
-                 "use a larger --cell or a smaller --resolution");
-  }
-  if (!options.use_input_normals)  // phase I may have raised k
-    check_memory_planes_and_graph(r.order.size(), r.planes.k, limit, options.method);
+  std::ostringstream what;
+  what.precision(3);
+  what << "a lattice cell of " << cell << " (about " << cubes << " cubes visited)";
+  check_memory(estimated_bytes_lattice(r.order.size(), cubes), run.limit, what.str(),
+               "use a larger --cell or a smaller --resolution");
+  if (!run.options.use_input_normals)  // phase I may have raised k
+    check_memory_planes_and_graph(r.order.size(), r.planes.k, run.limit, run.refined());
+}
 
-  if (options.use_input_normals) {
-    for (Vec3& n : r.input_normals) {
-      const double norm = n.norm();
-      if (!(norm > 0.0) || !std::isfinite(norm))
-        throw InvalidInputError("the input normals include a zero or non-finite one; run without using them");
-      n /= norm;
-    }
-    r.planes.neighbors = {};
+// The input's own normals, made unit, take phase II's place.
+void use_input_normals(Reconstruction& r) {
+  for (Vec3& n : r.input_normals) {
+    const double norm = n.norm();
+    if (!(norm > 0.0) || !std::isfinite(norm))
+      throw InvalidInputError("the input normals include a zero or non-finite one; run without using them");
+    n /= norm;
   }
-  // The refined method decides each component's side at its best extreme
-  // (orientation.h), and phase III's f picks its plane among 8 (signed_distance.h).
+  r.planes.neighbors = {};
+}
+
+// The refined method decides each component's side at its best extreme
+// (orientation.h) and walks with the fits' guide normals and misfits.
+OrientationOptions phase_2_options(const Reconstruction& r, const ReconstructionOptions& options) {
   OrientationOptions orientation = options.orientation;
   if (options.method == Method::refined) orientation.sign_by_extremes = true;
   if (r.quadrics) {
     orientation.sheet_misfit = r.quadrics->residual;
     orientation.guide = r.quadrics->guide;
   }
-  const SignedDistanceOptions distance = phase_3_options(options.method, options.distance, r.quadrics);
-  FirstWave wave;  // phase III's values at the first wave's corners, computed beside phase II
-  double seconds_known = 0.0;
-  if (!options.use_input_normals) {
-    starting("orientation");
-    RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
-    r.planes.neighbors = {};  // the graph's source, no longer needed
-    orient_with_first_wave(r, std::move(graph), cell, orientation, distance, wave, seconds_known);
-    if (r.quadrics) r.quadrics->guide = {};
-    if (!options.keep_graph) {
-      r.oriented->graph.graph = {};
-      r.oriented->graph.emst = {};
-      r.oriented->tree = {};
-    }
-  }
+  return orientation;
+}
 
-  starting("signed distance");
+// Phase II, with phase III's first wave beside it (detail/first_wave.h).
+void phase_2(Reconstruction& r, const Run& run, double cell, const SignedDistanceOptions& distance,
+             detail::FirstWave& wave, double& seconds_wave) {
+  run.starting("orientation");
+  const OrientationOptions orientation = phase_2_options(r, run.options);
+  RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
+  r.planes.neighbors = {};  // the graph's source, no longer needed
+  detail::orient_with_first_wave(r, std::move(graph), cell, orientation, distance, wave, seconds_wave);
+  if (r.quadrics) r.quadrics->guide = {};
+  if (!run.options.keep_graph) {
+    r.oriented->graph.graph = {};
+    r.oriented->graph.emst = {};
+    r.oriented->tree = {};
+  }
+}
+
+// Phase III: f over the oriented planes.
+SignedDistance<3> phase_3(Reconstruction& r, const Run& run, const SignedDistanceOptions& distance,
+                          double seconds_wave) {
+  run.starting("signed distance");
   Timer timer;
-  // (Computed beside phase II, once the graph's construction has passed
-  // its peak of memory: the two need not add up.)
-  if (options.use_input_normals) r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
-  const SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, distance);
+  // (Built beside phase II otherwise, once the graph's construction had
+  // passed its peak of memory: the two need not add up.)
+  if (run.options.use_input_normals) r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
+  SignedDistance<3> f = make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, distance);
   r.delta = f.delta();
   r.delta_given = f.delta_given();
-  r.seconds_distance_setup = timer.lap() + seconds_known;
+  r.seconds_distance_setup = timer.lap() + seconds_wave;
+  return f;
+}
 
-  starting("contouring");
+// Phase IV, from the first wave when phase II computed one.
+void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell, detail::FirstWave& wave) {
+  run.starting("contouring");
   MarchingCubesOptions mc;
   mc.cell = cell;
-  // The walk stops where the estimate would have: a lattice estimated
-  // wrongly cannot run on until memory is exhausted.
-  mc.max_cubes = static_cast<std::size_t>(
-      std::max(0.0, (static_cast<double>(limit) - static_cast<double>(r.order.size()) * bytes_per_point_held) /
-                        bytes_per_cube));
-  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc, options.keep_corners)
-                           : marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
-  if (options.method == Method::refined) {
-    starting("refinement");
-    const RefinementInput input = refinement_input_of(r, f);
-    RefinementOptions refinement = options.refinement;
-    if (refinement.max_move <= 0.0) refinement.max_move = cell;
-    r.refinement = refine_mesh(r.contour.mesh, input, refinement);
+  mc.max_cubes = max_cubes_within(run.limit, r.order.size());
+  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc, run.options.keep_corners)
+                           : marching_cubes(std::cref(f), r.points(), mc, run.options.keep_corners);
+}
+
+// Phase V (refined): the mesh moved onto the fits, creases sharpened.
+void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell) {
+  run.starting("refinement");
+  const RefinementInput input = refinement_input_of(r, f);
+  RefinementOptions refinement = run.options.refinement;
+  if (refinement.max_move <= 0.0) refinement.max_move = cell;
+  r.refinement = refine_mesh(r.contour.mesh, input, refinement);
+}
+
+void move_back_to_input_coordinates(Reconstruction& r) {
+  if (r.offset == Vec3::Zero()) return;
+  for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
+  if (r.refinement)
+    for (Vec3& v : r.refinement->mesh.vertices) v += r.offset;
+}
+
+}  // namespace
+
+Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
+                                const std::function<void()>& release) {
+  check_cloud(cloud, options);
+  const Run run{options, memory_limit_or_default(options.max_memory)};
+  Reconstruction r = phase_1(cloud, run, release);
+  const double cell = lattice_cell(r.points(), r.planes, options);
+  check_memory_after_phase_1(r, run, cell);
+
+  const SignedDistanceOptions distance = phase_3_options(options.method, options.distance, r.quadrics);
+  detail::FirstWave wave;  // phase III's values at the first wave's corners, computed beside phase II
+  double seconds_wave = 0.0;
+  if (options.use_input_normals) {
+    use_input_normals(r);
+  } else {
+    phase_2(r, run, cell, distance, wave, seconds_wave);
   }
-  if (options.mesh_colors && !r.colors.empty()) color_mesh(r, options.colors, starting);
-  if (r.offset != Vec3::Zero()) {
-    for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
-    if (r.refinement)
-      for (Vec3& v : r.refinement->mesh.vertices) v += r.offset;
-  }
+  const SignedDistance<3> f = phase_3(r, run, distance, seconds_wave);
+  phase_4(r, run, f, cell, wave);
+  if (run.refined()) phase_5(r, run, f, cell);
+  if (options.mesh_colors && !r.colors.empty()) color_mesh(r, options.colors, run);
+  move_back_to_input_coordinates(r);
   return r;
 }
 

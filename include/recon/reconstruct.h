@@ -12,6 +12,7 @@
 
 #include "recon/local_quadrics.h"
 #include "recon/marching_cubes.h"
+#include "recon/memory_budget.h"  // what reconstruct() refuses with ResourceLimitError
 #include "recon/orientation.h"
 #include "recon/refinement.h"
 #include "recon/resource_usage.h"  // default_memory_limit
@@ -45,7 +46,7 @@ struct ReconstructionOptions {
   std::optional<int> resolution;           ///< or: cubes along the longest side of the bounding box
   bool use_input_normals = false;          ///< orient with the cloud's own normals, skipping phase II
   /// Refuse, before allocating, work estimated to need more memory (bytes);
-  /// 0: default_memory_limit(). See check_memory.
+  /// 0: default_memory_limit(). The estimates are memory_budget.h's.
   std::size_t max_memory = 0;
   bool keep_corners = false;               ///< keep the evaluated lattice corners in the result
   /// Keep phase II's graph, EMST and spanning tree in the result (for
@@ -123,11 +124,13 @@ struct Reconstruction {
   double seconds_colors = 0.0;                 ///< giving the mesh its colours (0 when it has none)
 };
 
-/// The phases run in order, except that with more than one thread phase
-/// III's values at the corners of the cubes holding a sample are computed
-/// on a thread of their own while phase II's Prim (serial) runs, from the
-/// unoriented planes; the result is the same bit for bit (reconstruct.cpp,
-/// FirstWave).
+/// The phases run in order (reference.h writes them out plainly), except
+/// that with more than one thread phase III's values at the corners of the
+/// cubes holding a sample are computed on a thread of their own while phase
+/// II's Prim (serial) runs, from the unoriented planes; the result is the
+/// same bit for bit (detail/first_wave.h). Before phases I-II and before
+/// the lattice, the memory they will hold is estimated (memory_budget.h)
+/// and ResourceLimitError thrown when it exceeds max_memory.
 /// Throws what the phases throw (InvalidInputError for unusable data or
 /// parameters, ResourceLimitError for a lattice too large), and
 /// InvalidInputError when use_input_normals is set but the cloud has none,
@@ -170,24 +173,6 @@ struct WorkingTree {
 /// Throws InvalidInputError for coordinates that are not finite or beyond
 /// +-max_coordinate (check_coordinates), before anything else.
 [[nodiscard]] WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options);
-
-/// Memory limits. reconstruct() estimates what phases I-II (neighbourhoods,
-/// planes, the graph) and the lattice walk will hold before they allocate,
-/// from peaks measured on this implementation (the colours' 3 bytes a point
-/// and a mesh vertex are under 1 % of that, and left out), and refuses with
-/// ResourceLimitError when the estimate exceeds ReconstructionOptions::
-/// max_memory: the message gives the estimate, the limit and what to change.
-/// The default limit is default_memory_limit() (resource_usage.h).
-/// Bytes phases I and II hold at their peak for `points` points at k.
-[[nodiscard]] double estimated_bytes_planes_and_graph(std::size_t points, int k);
-/// Bytes held during the lattice walk: what phases I-II leave plus the cubes.
-[[nodiscard]] double estimated_bytes_lattice(std::size_t points, double cubes);
-/// Throws ResourceLimitError "WHAT would need about X GB, more than the Y GB
-/// allowed (--max-memory...): REMEDY, or raise --max-memory" when bytes > limit.
-void check_memory(double bytes, std::size_t limit, std::string_view what, std::string_view remedy);
-/// check_memory for phases I-II of `points` points at k (the refined
-/// method also holds its fits' curvature, misfit and guide normals).
-void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit, Method method = Method::hoppe92);
 
 /// A lattice cell a run asks for: `cell` when given; the longest side of
 /// the data's bounding box (computed only then) over `resolution` when that
