@@ -52,5 +52,17 @@ struct PhaseOptions {
 void add_phase_options(CLI::App& app, PhaseOptions& p);
 TangentPlaneOptions phase_1_options(const PhaseOptions& p);
 
+/// `recon reconstruct`'s options, for 3D runs (commands.cpp) and 2D ones
+/// (curves.cpp) alike.
+struct ReconstructCommandOptions {
+  InputOptions in;
+  PhaseOptions phases;
+  std::filesystem::path output, stats, report;
+  std::optional<double> delta, cell;
+  std::optional<int> resolution;
+  bool ascii = false, use_normals = false, keep_fragments = false;
+  std::string method = "refined";
+};
+
 
 }  // namespace recon::cli

@@ -26,7 +26,6 @@
 #include <cmath>
 #include <memory>
 #include <optional>
-#include <random>
 #include <sstream>
 
 namespace recon::cli {
@@ -157,17 +156,69 @@ void refuse_dropped_normals(const io::ReadNotes& notes) {
 
 }  // namespace
 
-Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
-  struct Options {
-    InputOptions in;
-    PhaseOptions phases;
-    std::filesystem::path output, stats, report;
-    std::optional<double> delta, cell;
-    std::optional<int> resolution;
-    bool ascii = false, use_normals = false, keep_fragments = false;
-    std::string method = "refined";
+namespace {
+
+// The library's options for a 3D run of `recon reconstruct`.
+ReconstructionOptions reconstruction_options(const ReconstructCommandOptions& o) {
+  ReconstructionOptions options;
+  options.method = method_from_name(o.method);
+  options.refinement.keep_fragments = o.keep_fragments;
+  options.planes = phase_1_options(o.phases);
+  options.distance.delta = o.delta;
+  options.cell = o.cell;
+  options.resolution = o.resolution;
+  options.use_input_normals = o.use_normals;
+  options.max_memory = o.phases.max_memory;
+  // Without a report only the counts are reported; the report draws the
+  // graph and the evaluated corners.
+  options.keep_graph = !o.report.empty();
+  options.keep_corners = !o.report.empty();
+  return options;
+}
+
+// Progress on the terminal and the peak memory of each phase.
+std::function<void(const char*)> on_phase(Progress& progress, StepPeaks& memory) {
+  return [&progress, &memory](const char* phase) {
+    progress.phase(phase);
+    memory.start(phase);
   };
-  auto o = std::make_shared<Options>();
+}
+
+void run_reconstruct(const ReconstructCommandOptions& o, const GlobalOptions& global) {
+  Timer total;
+  Summary summary(global.quiet);
+  io::WriteMeshOptions write_options;
+  write_options.format = io::mesh_format_from_path(o.output);  // fail early on a bad extension
+  write_options.ascii = o.ascii;
+  check_outputs(o.in.path, {o.output, o.stats, o.report});
+  StepPeaks memory;
+  memory.start("read");
+  io::ReadNotes notes;
+  PointCloud cloud = read_input(o.in, summary, &notes);
+  const std::size_t points = cloud.size();
+  if (o.use_normals && !cloud.has_normals()) refuse_dropped_normals(notes);
+
+  ReconstructionOptions options = reconstruction_options(o);
+  Progress progress(!global.quiet);
+  options.on_phase = on_phase(progress, memory);
+  Reconstruction r = reconstruct(std::move(cloud), options);
+  progress.stop();
+  memory.start("summary");  // the mesh's topology, for the report below
+  report_reconstruction(r, options, points, !o.report.empty(), summary);
+
+  memory.start("write");
+  Timer timer;
+  io::write_mesh(o.output, r.mesh(), write_options);
+  report_memory(memory, summary);
+  finish_run(summary, o.output, timer.elapsed(), total.elapsed());
+  if (!o.report.empty()) write_run_report(o.report, report_input(r), o.in.path, summary);
+  if (!o.stats.empty()) summary.write_stats(o.stats);
+}
+
+}  // namespace
+
+Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
+  auto o = std::make_shared<ReconstructCommandOptions>();
   add_input(app, o->in);
   app.add_option("-o,--output", o->output, "Mesh to write (.ply .obj .off .stl); for 2D points, curves (.svg .obj .txt)")
       ->required();
@@ -191,173 +242,124 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   add_report_option(app, o->report);
   return [o, &global] {
     if (wants_curves(o->in.path, o->in.format, o->output)) {  // 2D points: curves (curves.cpp)
-      if (!o->report.empty())
-        throw InvalidInputError("--report draws 3D reconstructions; for curves, the SVG output shows the points, "
-                                "their normals and the curves (and the playground, web/playground, every phase)");
-      check_outputs(o->in.path, {o->output, o->stats});
-      const auto& p = o->phases;
-      reconstruct_curves({o->in.path, o->output, o->stats, o->in.format,
-                          p.k_option->count() > 0 ? std::optional<int>(p.k) : std::nullopt, p.rho, o->delta, o->cell,
-                          o->resolution, p.max_memory, o->use_normals, global.quiet});
-      return;
+      reconstruct_curves(*o, global.quiet);
+    } else {
+      run_reconstruct(*o, global);
     }
-    Timer total;
-    Summary summary(global.quiet);
-    io::WriteMeshOptions write_options;
-    write_options.format = io::mesh_format_from_path(o->output);  // fail early on a bad extension
-    write_options.ascii = o->ascii;
-    check_outputs(o->in.path, {o->output, o->stats, o->report});
-    StepPeaks memory;
-    memory.start("read");
-    io::ReadNotes notes;
-    PointCloud cloud = read_input(o->in, summary, &notes);
-    const std::size_t points = cloud.size();
-    if (o->use_normals && !cloud.has_normals()) refuse_dropped_normals(notes);
-
-    ReconstructionOptions options;
-    options.method = method_from_name(o->method);
-    options.refinement.keep_fragments = o->keep_fragments;
-    options.planes = phase_1_options(o->phases);
-    options.distance.delta = o->delta;
-    options.cell = o->cell;
-    options.resolution = o->resolution;
-    options.use_input_normals = o->use_normals;
-    options.max_memory = o->phases.max_memory;
-    // Without a report only the counts are reported; the report draws the
-    // graph and the evaluated corners.
-    options.keep_graph = !o->report.empty();
-    options.keep_corners = !o->report.empty();
-    Progress progress(!global.quiet);
-    options.on_phase = [&progress, &memory](const char* phase) {
-      progress.phase(phase);
-      memory.start(phase);
-    };
-    Reconstruction r = reconstruct(std::move(cloud), options);
-    progress.stop();
-    memory.start("summary");  // the mesh's topology, for the report below
-
-    report_reconstruction(r, options, points, !o->report.empty(), summary);
-    memory.start("write");
-    Timer timer;
-    io::write_mesh(o->output, r.mesh(), write_options);
-    report_memory(memory, summary);
-    summary.say("wrote     " + o->output.string() + " (" + format_seconds(timer.elapsed()) + "); total " +
-                format_seconds(total.elapsed()));
-    summary.stats()["output"]["file"] = o->output.string();
-    summary.stats()["output"]["seconds"] = timer.elapsed();
-    summary.stats()["threads"] = thread_count();
-    summary.stats()["seconds_total"] = total.elapsed();
-    if (!o->report.empty()) write_run_report(o->report, report_input(r), o->in.path, summary);
-    if (!o->stats.empty()) summary.write_stats(o->stats);
-  };
-}
-
-Command add_info(CLI::App& app, const GlobalOptions& global) {
-  auto in = std::make_shared<InputOptions>();
-  auto k = std::make_shared<int>(TangentPlaneOptions{}.k);
-  add_input(app, *in);
-  app.add_option("-k,--k", *k, "Neighbourhood size used to estimate rho")->default_val(*k)->check(CLI::Range(3, 256));
-  return [in, k, &global] {
-    Summary summary(global.quiet);
-    const PointCloud cloud = read_input(*in, summary);
-    Box<3> box;
-    for (const auto& p : cloud.positions) box.extend(p);
-    std::ostringstream out;
-    out << "points        " << cloud.size() << (cloud.has_normals() ? " (with normals)" : "") << "\n";
-    out << "bounding box  [" << format_length(box.min.x()) << ", " << format_length(box.min.y()) << ", "
-        << format_length(box.min.z()) << "] .. [" << format_length(box.max.x()) << ", " << format_length(box.max.y())
-        << ", " << format_length(box.max.z()) << "]\n";
-    out << "diagonal      " << format_length(box.diagonal()) << "\n";
-    TangentPlaneOptions options;
-    options.k = *k;
-    try {
-      const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
-      out << "duplicates    " << cloud.size() - planes.distinct_points << " (exact copies of an earlier point)\n";
-      out << "rho           " << format_length(planes.rho) << " (median of the local estimates, k = " << *k << ")\n";
-      out << "degenerate    " << planes.degenerate << " neighbourhoods with no unique normal\n";
-      out << "isolated      " << planes.isolated << " (samples far from all others: outliers, which draw no surface)";
-    } catch (const InvalidInputError& e) {
-      out << "rho           not available: " << e.what();
-    }
-    std::cout << out.str() << std::endl;
-  };
-}
-
-Command add_normals(CLI::App& app, const GlobalOptions& global) {
-  auto in = std::make_shared<InputOptions>();
-  auto phases = std::make_shared<PhaseOptions>();
-  auto output = std::make_shared<std::filesystem::path>();
-  auto ascii = std::make_shared<bool>(false);
-  auto stats = std::make_shared<std::filesystem::path>();
-  auto report = std::make_shared<std::filesystem::path>();
-  add_input(app, *in);
-  app.add_option("-o,--output", *output, "Oriented cloud to write (.ply or .xyz), with the input's colours if any")
-      ->required();
-  app.add_flag("--ascii", *ascii, "Write ASCII PLY instead of binary");
-  app.add_option("--stats", *stats, "Also write the run's figures as JSON to this file");
-  add_report_option(app, *report);
-  add_phase_options(app, *phases);
-  return [=, &global] {
-    Timer total;
-    Summary summary(global.quiet);
-    io::WritePointsOptions write_options;
-    write_options.format = writable_point_format(*output);  // fail early on a bad extension
-    write_options.ascii = *ascii;
-    check_outputs(in->path, {*output, *stats, *report});
-    StepPeaks memory;
-    memory.start("read");
-    PointCloud cloud = read_input(*in, summary);
-    Progress progress(!global.quiet);
-    NormalEstimationOptions options;
-    options.planes = phase_1_options(*phases);
-    options.max_memory = phases->max_memory;
-    options.on_phase = [&progress, &memory](const char* phase) {
-      progress.phase(phase);
-      memory.start(phase);
-    };
-    const NormalEstimation estimated = estimate_normals(cloud, options);
-    progress.stop();
-    const TangentPlanes<3>& planes = estimated.planes;
-    const OrientedNormals<3>& oriented = estimated.oriented;
-    report_phase_1(planes, cloud.size(), summary);
-    report_phase_2(oriented, summary);
-    memory.start("write");
-    cloud.normals = estimated.normals_in_input_order();
-    Timer timer;
-    io::write_points(*output, cloud, write_options);
-    report_memory(memory, summary);
-    summary.say("wrote     " + output->string() + " (" + format_seconds(timer.elapsed()) + "); total " +
-                format_seconds(total.elapsed()));
-    summary.stats()["output"]["file"] = output->string();
-    summary.stats()["threads"] = thread_count();
-    summary.stats()["seconds_total"] = total.elapsed();
-    if (!report->empty()) {
-      ReportInput input;
-      input.points = estimated.points();
-      input.offset = estimated.offset;
-      input.planes = &planes;
-      input.oriented = &oriented;
-      input.normals = oriented.normals;
-      const std::vector<Color> colors =
-          cloud.has_colors() ? permuted<Color>(cloud.colors, estimated.order) : std::vector<Color>{};
-      input.colors = colors;
-      write_run_report(*report, input, in->path, summary);
-    }
-    if (!stats->empty()) summary.write_stats(*stats);
   };
 }
 
 namespace {
 
-// Gaussian noise of standard deviation `fraction` of the cloud's bounding-box
-// diagonal, reproducible from the seed.
-void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed) {
-  Box<3> box;
-  for (const auto& p : cloud.positions) box.extend(p);
-  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ULL);
-  std::normal_distribution<double> gauss(0.0, fraction * box.diagonal());
-  for (auto& p : cloud.positions) p += Vec3(gauss(rng), gauss(rng), gauss(rng));
+struct InfoCommandOptions {
+  InputOptions in;
+  int k = TangentPlaneOptions{}.k;
+};
+
+// The bounding box and what phase I says of the sampling.
+std::string describe_cloud(const PointCloud& cloud, int k) {
+  const Box<3> box = bounding_box<3>(cloud.positions);
+  std::ostringstream out;
+  out << "points        " << cloud.size() << (cloud.has_normals() ? " (with normals)" : "") << "\n";
+  out << "bounding box  [" << format_length(box.min.x()) << ", " << format_length(box.min.y()) << ", "
+      << format_length(box.min.z()) << "] .. [" << format_length(box.max.x()) << ", " << format_length(box.max.y())
+      << ", " << format_length(box.max.z()) << "]\n";
+  out << "diagonal      " << format_length(box.diagonal()) << "\n";
+  TangentPlaneOptions options;
+  options.k = k;
+  try {
+    const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
+    out << "duplicates    " << cloud.size() - planes.distinct_points << " (exact copies of an earlier point)\n";
+    out << "rho           " << format_length(planes.rho) << " (median of the local estimates, k = " << k << ")\n";
+    out << "degenerate    " << planes.degenerate << " neighbourhoods with no unique normal\n";
+    out << "isolated      " << planes.isolated << " (samples far from all others: outliers, which draw no surface)";
+  } catch (const InvalidInputError& e) {
+    out << "rho           not available: " << e.what();
+  }
+  return out.str();
 }
+
+}  // namespace
+
+Command add_info(CLI::App& app, const GlobalOptions& global) {
+  auto o = std::make_shared<InfoCommandOptions>();
+  add_input(app, o->in);
+  app.add_option("-k,--k", o->k, "Neighbourhood size used to estimate rho")->default_val(o->k)->check(CLI::Range(3, 256));
+  return [o, &global] {
+    Summary summary(global.quiet);
+    const PointCloud cloud = read_input(o->in, summary);
+    std::cout << describe_cloud(cloud, o->k) << std::endl;
+  };
+}
+
+namespace {
+
+struct NormalsCommandOptions {
+  InputOptions in;
+  PhaseOptions phases;
+  std::filesystem::path output, stats, report;
+  bool ascii = false;
+};
+
+void write_normals_report(const std::filesystem::path& path, const NormalEstimation& estimated,
+                          const PointCloud& cloud, const std::filesystem::path& source, Summary& summary) {
+  ReportInput input;
+  input.points = estimated.points();
+  input.offset = estimated.offset;
+  input.planes = &estimated.planes;
+  input.oriented = &estimated.oriented;
+  input.normals = estimated.oriented.normals;
+  const std::vector<Color> colors =
+      cloud.has_colors() ? permuted<Color>(cloud.colors, estimated.order) : std::vector<Color>{};
+  input.colors = colors;
+  write_run_report(path, input, source, summary);
+}
+
+void run_normals(const NormalsCommandOptions& o, const GlobalOptions& global) {
+  Timer total;
+  Summary summary(global.quiet);
+  io::WritePointsOptions write_options;
+  write_options.format = writable_point_format(o.output);  // fail early on a bad extension
+  write_options.ascii = o.ascii;
+  check_outputs(o.in.path, {o.output, o.stats, o.report});
+  StepPeaks memory;
+  memory.start("read");
+  PointCloud cloud = read_input(o.in, summary);
+  Progress progress(!global.quiet);
+  NormalEstimationOptions options;
+  options.planes = phase_1_options(o.phases);
+  options.max_memory = o.phases.max_memory;
+  options.on_phase = on_phase(progress, memory);
+  const NormalEstimation estimated = estimate_normals(cloud, options);
+  progress.stop();
+  summary.add(phase_1_report(estimated.planes, cloud.size()), "tangent_planes");
+  summary.add(phase_2_report(estimated.oriented), "orientation");
+
+  memory.start("write");
+  cloud.normals = estimated.normals_in_input_order();
+  Timer timer;
+  io::write_points(o.output, cloud, write_options);
+  report_memory(memory, summary);
+  finish_run(summary, o.output, timer.elapsed(), total.elapsed());
+  if (!o.report.empty()) write_normals_report(o.report, estimated, cloud, o.in.path, summary);
+  if (!o.stats.empty()) summary.write_stats(o.stats);
+}
+
+}  // namespace
+
+Command add_normals(CLI::App& app, const GlobalOptions& global) {
+  auto o = std::make_shared<NormalsCommandOptions>();
+  add_input(app, o->in);
+  app.add_option("-o,--output", o->output, "Oriented cloud to write (.ply or .xyz), with the input's colours if any")
+      ->required();
+  app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
+  app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
+  add_report_option(app, o->report);
+  add_phase_options(app, o->phases);
+  return [o, &global] { run_normals(*o, global); };
+}
+
+namespace {
 
 // How many points `recon generate SHAPE` writes without -n: the course's
 // data set at its own size, every other shape at 100,000.
@@ -375,20 +377,21 @@ void write_truth(const Shape& shape, const std::filesystem::path& path, std::siz
               " of the true surface, with normals");
 }
 
+struct GenerateCommandOptions {
+  std::string shape;
+  std::size_t count = 0;  // 0: default_point_count(shape)
+  std::uint64_t seed = 1;
+  double noise = 0.0;
+  bool with_normals = false;
+  std::filesystem::path output;
+  std::filesystem::path truth;
+  std::size_t truth_count = 300000;
+};
+
 }  // namespace
 
 Command add_generate(CLI::App& app, const GlobalOptions& global) {
-  struct Options {
-    std::string shape;
-    std::size_t count = 0;  // 0: default_point_count(shape)
-    std::uint64_t seed = 1;
-    double noise = 0.0;
-    bool with_normals = false;
-    std::filesystem::path output;
-    std::filesystem::path truth;
-    std::size_t truth_count = 300000;
-  };
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<GenerateCommandOptions>();
   app.add_option("shape", o->shape,
                  "sphere, torus, ellipsoid, box, two (a sphere beside a torus), terrain (a scan-like open "
                  "height field on a jittered grid), part (a slab with three holes: sharp creases, genus 3), handle "

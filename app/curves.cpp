@@ -1,5 +1,6 @@
 #include "curves.h"
 
+#include "run_reports.h"
 #include "summary.h"
 
 #include "recon/errors.h"
@@ -22,80 +23,80 @@ io::ReadPointsOptions read_options(const std::string& format) {
   return options;
 }
 
-void report(const CurveReconstruction& r, std::size_t points, Summary& summary) {
-  const TangentPlanes<2>& planes = r.planes;
+StepReport phase_4_report(const MarchingSquaresResult& c) {
   std::ostringstream line;
-  line << "phase I   tangent lines: k = " << planes.k;
-  if (planes.k != planes.k_requested)
-    line << " (raised from " << planes.k_requested << ": noise " << format_length(planes.noise) << " is large)";
-  line << ", rho = " << format_length(planes.rho) << (planes.rho_given ? " (given)" : " (estimated)") << ", "
-       << plural(points - planes.distinct_points, "duplicate") << ", "
-       << plural(planes.isolated, "isolated point") << " ("
-       << format_seconds(planes.seconds_tree + planes.seconds_knn_pca + planes.seconds_spacing) << ")";
-  summary.say(line.str());
-  Json& s1 = summary.stats()["tangent_planes"];
-  s1["k"] = planes.k;
-  s1["k_requested"] = planes.k_requested;
-  s1["rho"] = planes.rho;
-  s1["rho_estimated"] = !planes.rho_given;
-  s1["noise"] = planes.noise;
-  s1["distinct_points"] = planes.distinct_points;
-  s1["isolated_points"] = planes.isolated;
-  s1["seconds"] = planes.seconds_tree + planes.seconds_knn_pca + planes.seconds_spacing;
-
-  const OrientedNormals<2>& o = r.oriented;
-  line.str("");
-  line << "phase II  orientation: " << plural(o.component_count(), "component") << ", graph of "
-       << plural(o.graph.edge_count, "edge") << ", " << plural(o.flip_count, "flip") << " ("
-       << format_seconds(o.graph.seconds_emst + o.graph.seconds_graph + o.seconds_mst) << ")";
-  summary.say(line.str());
-  Json& s2 = summary.stats()["orientation"];
-  s2["components"] = o.component_count();
-  s2["graph_edges"] = o.graph.edge_count;
-  s2["flips"] = o.flip_count;
-  s2["seconds"] = o.graph.seconds_emst + o.graph.seconds_graph + o.seconds_mst;
-
-  const MarchingSquaresResult& c = r.contour;
-  line.str("");
-  line << "phase III signed distance: delta = " << format_length(r.delta) << (r.delta_given ? " (given)" : " (estimated)")
-       << ", " << c.evaluated_corners << " lattice corners evaluated, " << c.undefined_corners << " undefined ("
-       << format_seconds(r.seconds_distance_setup + c.seconds_field) << ")";
-  summary.say(line.str());
-  Json& s3 = summary.stats()["signed_distance"];
-  s3["delta"] = r.delta;
-  s3["delta_estimated"] = !r.delta_given;
-  s3["corners_evaluated"] = c.evaluated_corners;
-  s3["corners_undefined"] = c.undefined_corners;
-  s3["seconds"] = r.seconds_distance_setup + c.seconds_field;
-
-  line.str("");
   line << "phase IV  marching squares: cell = " << format_length(c.cell) << ", " << c.visited_squares
        << " squares visited of " << static_cast<double>(c.size[0]) * c.size[1] << " in the lattice (" << c.size[0]
        << " x " << c.size[1] << "), " << plural(c.saddle_squares, "saddle") << " ("
        << format_seconds(c.seconds - c.seconds_field) << ")";
-  summary.say(line.str());
-  Json& s4 = summary.stats()["contouring"];
-  s4["cell"] = c.cell;
-  s4["lattice_size"] = Json(Json::Array{Json(static_cast<std::size_t>(c.size[0])), Json(static_cast<std::size_t>(c.size[1]))});
-  s4["visited_squares"] = c.visited_squares;
-  s4["undefined_squares"] = c.undefined_squares;
-  s4["saddle_squares"] = c.saddle_squares;
-  s4["seconds"] = c.seconds - c.seconds_field;
+  StepReport report{{line.str()}, {}};
+  Json& s = report.stats;
+  s["cell"] = c.cell;
+  s["lattice_size"] = lattice_size_json(c.size);
+  s["visited_squares"] = c.visited_squares;
+  s["undefined_squares"] = c.undefined_squares;
+  s["saddle_squares"] = c.saddle_squares;
+  s["seconds"] = c.seconds - c.seconds_field;
+  return report;
+}
 
-  const PolylineSet& curves = c.curves;
+StepReport curves_report(const PolylineSet& curves) {
   double total_length = 0.0;
   for (const Polyline& p : curves.polylines) total_length += length(curves, p);
-  line.str("");
-  line << "curves    " << plural(curves.polylines.size(), "curve") << ": " << curves.closed_count()
-       << " closed, " << curves.open_count() << " open; " << plural(curves.vertices.size(), "vertex")
-       << ", length " << format_length(total_length);
-  summary.say(line.str());
-  Json& s5 = summary.stats()["curves"];
-  s5["count"] = curves.polylines.size();
-  s5["closed"] = curves.closed_count();
-  s5["open"] = curves.open_count();
-  s5["vertices"] = curves.vertices.size();
-  s5["length"] = total_length;
+  std::ostringstream line;
+  line << "curves    " << plural(curves.polylines.size(), "curve") << ": " << curves.closed_count() << " closed, "
+       << curves.open_count() << " open; " << plural(curves.vertices.size(), "vertex") << ", length "
+       << format_length(total_length);
+  StepReport report{{line.str()}, {}};
+  Json& s = report.stats;
+  s["count"] = curves.polylines.size();
+  s["closed"] = curves.closed_count();
+  s["open"] = curves.open_count();
+  s["vertices"] = curves.vertices.size();
+  s["length"] = total_length;
+  return report;
+}
+
+void report(const CurveReconstruction& r, std::size_t points, Summary& summary) {
+  summary.add(phase_1_report(r.planes, points), "tangent_planes");
+  summary.add(phase_2_report(r.oriented), "orientation");
+  const MarchingSquaresResult& c = r.contour;
+  summary.add(phase_3_report({r.delta, r.delta_given, c.evaluated_corners, c.undefined_corners,
+                              r.seconds_distance_setup + c.seconds_field, 0.0}),
+              "signed_distance");
+  summary.add(phase_4_report(c), "contouring");
+  summary.add(curves_report(c.curves), "curves");
+}
+
+// The library's options for a 2D run: the curve defaults (k = 8, raised for
+// noisy data) unless k is given.
+CurveReconstructionOptions curve_options(const ReconstructCommandOptions& o, std::size_t points) {
+  CurveReconstructionOptions options;
+  if (o.phases.k_option->count() > 0) {
+    options.planes.k = o.phases.k;
+    options.planes.adapt_k = false;
+  }
+  options.planes.rho = o.phases.rho;
+  options.distance.delta = o.delta;
+  options.cell = o.cell;
+  options.resolution = o.resolution;
+  const std::size_t limit = memory_limit_or_default(o.phases.max_memory);
+  check_memory_planes_and_graph(points, options.planes.k, limit);
+  options.max_squares = max_squares_within(limit);
+  return options;
+}
+
+std::vector<Vec2> read_input_2d(const ReconstructCommandOptions& o, Summary& summary) {
+  Timer timer;
+  std::vector<Vec2> points = io::read_points_2d(o.in.path, read_options(o.in.format));
+  summary.say("read      " + o.in.path.string() + ": " + plural(points.size(), "point") + " in 2D (" +
+              format_seconds(timer.elapsed()) + ")");
+  Json& s = summary.stats()["input"];
+  s["file"] = o.in.path.string();
+  s["points"] = points.size();
+  s["dimension"] = 2;
+  s["seconds"] = timer.elapsed();
+  return points;
 }
 
 }  // namespace
@@ -108,50 +109,29 @@ bool wants_curves(const std::filesystem::path& input, const std::string& format,
   return io::holds_2d_points(input, read_options(format));
 }
 
-void reconstruct_curves(const CurveRun& run) {
+void reconstruct_curves(const ReconstructCommandOptions& o, bool quiet) {
+  if (!o.report.empty())
+    throw InvalidInputError("--report draws 3D reconstructions; for curves, the SVG output shows the points, "
+                            "their normals and the curves (and the playground, web/playground, every phase)");
+  check_outputs(o.in.path, {o.output, o.stats});
   Timer total;
-  Summary summary(run.quiet);
+  Summary summary(quiet);
   io::WriteCurvesOptions write_options;
-  write_options.format = io::curve_format_from_path(run.output);  // fail early on a bad extension
-  if (run.use_normals)
+  write_options.format = io::curve_format_from_path(o.output);  // fail early on a bad extension
+  if (o.use_normals)
     throw InvalidInputError("--use-normals: 2D inputs carry no normals; run without the option to estimate them");
 
-  Timer timer;
-  const std::vector<Vec2> points = io::read_points_2d(run.input, read_options(run.format));
-  summary.say("read      " + run.input.string() + ": " + plural(points.size(), "point") + " in 2D (" +
-              format_seconds(timer.elapsed()) + ")");
-  summary.stats()["input"]["file"] = run.input.string();
-  summary.stats()["input"]["points"] = points.size();
-  summary.stats()["input"]["dimension"] = 2;
-  summary.stats()["input"]["seconds"] = timer.elapsed();
-
-  CurveReconstructionOptions options;
-  if (run.k) {
-    options.planes.k = *run.k;
-    options.planes.adapt_k = false;
-  }
-  options.planes.rho = run.rho;
-  options.distance.delta = run.delta;
-  options.cell = run.cell;
-  options.resolution = run.resolution;
-  const std::size_t limit = memory_limit_or_default(run.max_memory);
-  check_memory_planes_and_graph(points.size(), options.planes.k, limit);
-  options.max_squares = max_squares_within(limit);
-  const CurveReconstruction r = reconstruct_curve(points, options);
+  const std::vector<Vec2> points = read_input_2d(o, summary);
+  const CurveReconstruction r = reconstruct_curve(points, curve_options(o, points.size()));
   report(r, points.size(), summary);
 
   Timer write_timer;
   write_options.points = points;
   write_options.normals = r.oriented.normals;
   write_options.normal_length = r.planes.rho;
-  io::write_curves(run.output, r.contour.curves, write_options);
-  summary.say("wrote     " + run.output.string() + " (" + format_seconds(write_timer.elapsed()) + "); total " +
-              format_seconds(total.elapsed()));
-  summary.stats()["output"]["file"] = run.output.string();
-  summary.stats()["output"]["seconds"] = write_timer.elapsed();
-  summary.stats()["threads"] = thread_count();
-  summary.stats()["seconds_total"] = total.elapsed();
-  if (!run.stats.empty()) summary.write_stats(run.stats);
+  io::write_curves(o.output, r.contour.curves, write_options);
+  finish_run(summary, o.output, write_timer.elapsed(), total.elapsed());
+  if (!o.stats.empty()) summary.write_stats(o.stats);
 }
 
 }  // namespace recon::cli

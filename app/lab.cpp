@@ -174,7 +174,7 @@ Command add_lab(CLI::App& app, const GlobalOptions& global) {
     progress.phase("lab: every alternative");
     const LabResult result = run_lab(cloud.positions, options);
     progress.stop();
-    report_phase_1(result.planes, cloud.size(), summary);
+    summary.add(phase_1_report(result.planes, cloud.size()), "tangent_planes");
     print_tables(result, summary);
     record(result, summary);
     summary.stats()["seconds_total"] = total.elapsed();

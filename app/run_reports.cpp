@@ -1,61 +1,140 @@
 #include "run_reports.h"
 
 #include "recon/mesh.h"
+#include "recon/parallel.h"  // thread_count
 #include "recon/timer.h"
 
 #include <algorithm>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
 
 namespace recon::cli {
-namespace {
 
-void report_quadrics(const LocalQuadrics& q, Summary& summary) {
+template <int D>
+StepReport phase_1_report(const TangentPlanes<D>& planes, std::size_t points) {
+  const double seconds = planes.seconds_tree + planes.seconds_knn_pca + planes.seconds_spacing;
+  std::ostringstream line;
+  line << "phase I   tangent " << (D == 3 ? "planes" : "lines") << ": k = " << planes.k;
+  if (planes.k != planes.k_requested)
+    line << " (raised from " << planes.k_requested << ": noise " << format_length(planes.noise) << " is large)";
+  line << ", rho = " << format_length(planes.rho)
+       << (planes.rho_given ? " (given)" : " (estimated, median of local values)") << ", "
+       << plural(points - planes.distinct_points, "duplicate") << ", "
+       << plural(planes.degenerate, "degenerate neighbourhood");
+  if (planes.isolated > 0) line << ", " << plural(planes.isolated, "isolated point") << " (outliers: no surface)";
+  line << " (" << format_seconds(seconds) << ")";
+  StepReport report{{line.str()}, {}};
+  Json& s = report.stats;
+  s["k"] = planes.k;
+  s["k_requested"] = planes.k_requested;
+  s["noise"] = planes.noise;
+  s["rho"] = planes.rho;
+  s["rho_estimated"] = !planes.rho_given;
+  s["distinct_points"] = planes.distinct_points;
+  s["degenerate_neighbourhoods"] = planes.degenerate;
+  s["isolated_points"] = planes.isolated;
+  s["seconds_tree"] = planes.seconds_tree;
+  s["seconds_knn_pca"] = planes.seconds_knn_pca;
+  s["seconds_spacing"] = planes.seconds_spacing;
+  s["seconds"] = seconds;
+  return report;
+}
+
+StepReport quadrics_report(const LocalQuadrics& q) {
   std::ostringstream line;
   line << "          second-order fits: " << plural(q.borrowed, "sample") << " near creases took a neighbour's, "
        << plural(q.split, "neighbourhood") << " split between two sheets, " << plural(q.flat, "flat fit") << " ("
        << format_seconds(q.seconds) << ")";
-  summary.say(line.str());
-  Json& s = summary.stats()["tangent_planes"]["quadrics"];
+  StepReport report{{line.str()}, {}};
+  Json& s = report.stats;
   s["borrowed"] = q.borrowed;
   s["split_sheets"] = q.split;
   s["flat"] = q.flat;
   s["seconds"] = q.seconds;
+  return report;
 }
 
-void report_phases_3_4(const Reconstruction& r, Summary& summary) {
-  const MarchingCubesResult& c = r.contour;
+template <int D>
+StepReport phase_2_report(const OrientedNormals<D>& oriented) {
+  const auto& g = oriented.graph;
+  const double seconds = g.seconds_emst + g.seconds_graph + oriented.seconds_mst;
   std::ostringstream line;
-  line << "phase III signed distance: delta = " << format_length(r.delta) << (r.delta_given ? " (given)" : " (estimated)")
-       << ", " << c.evaluated_corners << " lattice corners evaluated, " << c.undefined_corners << " undefined ("
-       << format_seconds(r.seconds_distance_setup + c.seconds_field);
-  if (r.seconds_distance_beside > 0.0) line << ", and " << format_seconds(r.seconds_distance_beside) << " beside phase II";
+  line << "phase II  orientation: " << plural(oriented.component_count(), "component");
+  std::vector<std::uint32_t> shown = g.components.sizes;
+  std::sort(shown.rbegin(), shown.rend());
+  line << " (";
+  for (std::size_t c = 0; c < shown.size() && c < 8; ++c) line << (c ? ", " : "") << shown[c];
+  if (shown.size() > 8) line << ", ...";
+  line << " points), graph of " << plural(g.edge_count, "edge") << ", " << plural(oriented.flip_count, "flip");
+  if (oriented.crease_patches_turned > 0)
+    line << ", " << plural(oriented.crease_patches_turned, "face") << " turned across a sharp crease";
+  line << " (" << format_seconds(seconds) << ")";
+  StepReport report{{line.str()}, {}};
+  Json& s = report.stats;
+  s["components"] = oriented.component_count();
+  Json::Array size_list;
+  for (std::uint32_t v : g.components.sizes) size_list.emplace_back(static_cast<std::size_t>(v));
+  s["component_sizes"] = Json(size_list);
+  s["graph_edges"] = g.edge_count;
+  s["gap_edges"] = g.gap_emst_edges;
+  s["rejoined_pieces"] = g.rejoined;
+  s["flips"] = oriented.flip_count;
+  s["seconds_emst"] = g.seconds_emst;
+  s["seconds_graph"] = g.seconds_graph;
+  s["seconds_mst"] = oriented.seconds_mst;
+  s["vote_flips"] = oriented.vote_flips;
+  s["sheet_edges"] = oriented.sheet_edges;
+  s["crease_patches_turned"] = oriented.crease_patches_turned;
+  s["components_turned"] = oriented.components_turned;
+  s["seconds"] = seconds;
+  return report;
+}
+
+StepReport phase_3_report(const SignedDistanceFigures& f) {
+  std::ostringstream line;
+  line << "phase III signed distance: delta = " << format_length(f.delta) << (f.delta_given ? " (given)" : " (estimated)")
+       << ", " << f.evaluated << " lattice corners evaluated, " << f.undefined << " undefined ("
+       << format_seconds(f.seconds);
+  if (f.seconds_beside > 0.0) line << ", and " << format_seconds(f.seconds_beside) << " beside phase II";
   line << ")";
-  summary.say(line.str());
-  line.str("");
+  StepReport report{{line.str()}, {}};
+  Json& s = report.stats;
+  s["delta"] = f.delta;
+  s["delta_estimated"] = !f.delta_given;
+  s["corners_evaluated"] = f.evaluated;
+  s["corners_undefined"] = f.undefined;
+  s["seconds"] = f.seconds;
+  s["seconds_beside_orientation"] = f.seconds_beside;
+  return report;
+}
+
+Json lattice_size_json(std::span<const std::int32_t> size) {
+  Json::Array sizes;
+  for (const std::int32_t n : size) sizes.emplace_back(static_cast<std::size_t>(n));
+  return Json(sizes);
+}
+
+namespace {
+
+StepReport phase_4_report(const MarchingCubesResult& c) {
+  std::ostringstream line;
   line << "phase IV  contouring: cell = " << format_length(c.cell) << ", " << c.visited_cubes << " cubes visited of "
        << static_cast<double>(c.size[0]) * c.size[1] * c.size[2] << " in the lattice (" << c.size[0] << " x "
        << c.size[1] << " x " << c.size[2] << "), " << format_seconds(c.seconds - c.seconds_field);
-  summary.say(line.str());
-  Json& s = summary.stats()["signed_distance"];
-  s["delta"] = r.delta;
-  s["delta_estimated"] = !r.delta_given;
-  s["corners_evaluated"] = c.evaluated_corners;
-  s["corners_undefined"] = c.undefined_corners;
-  s["seconds"] = r.seconds_distance_setup + c.seconds_field;
-  s["seconds_beside_orientation"] = r.seconds_distance_beside;
-  Json& m = summary.stats()["contouring"];
+  StepReport report{{line.str()}, {}};
+  Json& m = report.stats;
   m["cell"] = c.cell;
-  m["lattice_size"] = Json(Json::Array{Json(static_cast<std::size_t>(c.size[0])), Json(static_cast<std::size_t>(c.size[1])),
-                                       Json(static_cast<std::size_t>(c.size[2]))});
+  m["lattice_size"] = lattice_size_json(c.size);
   m["seed_cubes"] = c.seed_cubes;
   m["visited_cubes"] = c.visited_cubes;
   m["undefined_cubes"] = c.undefined_cubes;
   m["seconds"] = c.seconds - c.seconds_field;
+  return report;
 }
 
-void report_refinement(const Refinement& r, Summary& summary) {
+StepReport refinement_report(const Refinement& r) {
   double moved = 0.0;
   for (const float d : r.displacement) moved += static_cast<double>(d);
   moved /= static_cast<double>(std::max<std::size_t>(1, r.displacement.size()));
@@ -67,8 +146,8 @@ void report_refinement(const Refinement& r, Summary& summary) {
   if (r.stray_triangles > 0) line << plural(r.stray_triangles, "triangle") << " beyond the data's reach dropped, ";
   line << plural(r.fragments, "fragment") << " dropped (" << plural(r.fragment_triangles, "triangle") << ") ("
        << format_seconds(r.seconds) << ")";
-  summary.say(line.str());
-  Json& s = summary.stats()["refinement"];
+  StepReport report{{line.str()}, {}};
+  Json& s = report.stats;
   s["mean_displacement"] = moved;
   s["crease_vertices"] = r.crease_vertices;
   s["brought_back"] = r.brought_back;
@@ -79,29 +158,29 @@ void report_refinement(const Refinement& r, Summary& summary) {
   s["fragments"] = r.fragments;
   s["fragment_triangles"] = r.fragment_triangles;
   s["seconds"] = r.seconds;
+  return report;
 }
 
-// The mesh's colours, when the input had some.
-void report_colors(const Reconstruction& r, const VertexColorOptions& options, Summary& summary) {
-  if (!r.mesh().has_colors()) return;
+// The mesh's colours (when the input had some).
+StepReport colors_report(const VertexColorOptions& options, double seconds) {
   std::ostringstream line;
   line << "colours   mesh vertices coloured from the samples: inverse-distance blend of the " << options.k
-       << " nearest (" << format_seconds(r.seconds_colors) << ")";
-  summary.say(line.str());
-  Json& s = summary.stats()["colors"];
-  s["k"] = options.k;
-  s["seconds"] = r.seconds_colors;
+       << " nearest (" << format_seconds(seconds) << ")";
+  StepReport report{{line.str()}, {}};
+  report.stats["k"] = options.k;
+  report.stats["seconds"] = seconds;
+  return report;
 }
 
-void report_mesh(const Mesh& mesh, Summary& summary) {
+StepReport mesh_report(const Mesh& mesh) {
   const MeshTopology t = analyze_topology(mesh);
   std::ostringstream line;
   line << "mesh      " << plural(t.vertices, "vertex") << ", " << plural(t.triangles, "triangle") << ", "
        << plural(t.components, "component") << ", "
        << (t.boundary_loops == 0 ? std::string("closed") : plural(t.boundary_loops, "boundary loop"))
        << ", Euler characteristic " << t.euler_characteristic;
-  summary.say(line.str());
-  Json& m = summary.stats()["mesh"];
+  StepReport report{{line.str()}, {}};
+  Json& m = report.stats;
   m["vertices"] = t.vertices;
   m["faces"] = t.triangles;
   m["components"] = t.components;
@@ -112,6 +191,7 @@ void report_mesh(const Mesh& mesh, Summary& summary) {
   m["area"] = t.area;
   m["signed_volume"] = t.signed_volume;
   m["has_colors"] = mesh.has_colors();
+  return report;
 }
 
 // Without a report only the mesh is needed once the phases are reported:
@@ -129,80 +209,39 @@ void release_all_but_the_mesh(Reconstruction& r) {
 
 }  // namespace
 
-void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary& summary) {
-  std::ostringstream line;
-  line << "phase I   tangent planes: k = " << planes.k;
-  if (planes.k != planes.k_requested)
-    line << " (raised from " << planes.k_requested << ": noise " << format_length(planes.noise) << " is large)";
-  line << ", rho = " << format_length(planes.rho)
-       << (planes.rho_given ? " (given)" : " (estimated, median of local values)") << ", "
-       << plural(points - planes.distinct_points, "duplicate") << ", "
-       << plural(planes.degenerate, "degenerate neighbourhood");
-  if (planes.isolated > 0) line << ", " << plural(planes.isolated, "isolated point") << " (outliers: no surface)";
-  line << " ("
-       << format_seconds(planes.seconds_tree + planes.seconds_knn_pca + planes.seconds_spacing) << ")";
-  summary.say(line.str());
-  Json& s = summary.stats()["tangent_planes"];
-  s["k"] = planes.k;
-  s["k_requested"] = planes.k_requested;
-  s["noise"] = planes.noise;
-  s["rho"] = planes.rho;
-  s["rho_estimated"] = !planes.rho_given;
-  s["distinct_points"] = planes.distinct_points;
-  s["degenerate_neighbourhoods"] = planes.degenerate;
-  s["isolated_points"] = planes.isolated;
-  s["seconds_tree"] = planes.seconds_tree;
-  s["seconds_knn_pca"] = planes.seconds_knn_pca;
-  s["seconds_spacing"] = planes.seconds_spacing;
-}
-
-void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary) {
-  const auto& g = oriented.graph;
-  std::ostringstream line;
-  line << "phase II  orientation: " << plural(oriented.component_count(), "component");
-  std::vector<std::uint32_t> shown = g.components.sizes;
-  std::sort(shown.rbegin(), shown.rend());
-  line << " (";
-  for (std::size_t c = 0; c < shown.size() && c < 8; ++c) line << (c ? ", " : "") << shown[c];
-  if (shown.size() > 8) line << ", ...";
-  line << " points), graph of " << plural(g.edge_count, "edge") << ", " << plural(oriented.flip_count, "flip");
-  if (oriented.crease_patches_turned > 0)
-    line << ", " << plural(oriented.crease_patches_turned, "face") << " turned across a sharp crease";
-  line << " (" << format_seconds(g.seconds_emst + g.seconds_graph + oriented.seconds_mst) << ")";
-  summary.say(line.str());
-  Json& s = summary.stats()["orientation"];
-  s["components"] = oriented.component_count();
-  Json::Array size_list;
-  for (std::uint32_t v : g.components.sizes) size_list.emplace_back(static_cast<std::size_t>(v));
-  s["component_sizes"] = Json(size_list);
-  s["graph_edges"] = g.edge_count;
-  s["gap_edges"] = g.gap_emst_edges;
-  s["rejoined_pieces"] = g.rejoined;
-  s["flips"] = oriented.flip_count;
-  s["seconds_emst"] = g.seconds_emst;
-  s["seconds_graph"] = g.seconds_graph;
-  s["seconds_mst"] = oriented.seconds_mst;
-  s["vote_flips"] = oriented.vote_flips;
-  s["sheet_edges"] = oriented.sheet_edges;
-  s["crease_patches_turned"] = oriented.crease_patches_turned;
-  s["components_turned"] = oriented.components_turned;
-}
+template StepReport phase_1_report<2>(const TangentPlanes<2>&, std::size_t);
+template StepReport phase_1_report<3>(const TangentPlanes<3>&, std::size_t);
+template StepReport phase_2_report<2>(const OrientedNormals<2>&);
+template StepReport phase_2_report<3>(const OrientedNormals<3>&);
 
 void report_reconstruction(Reconstruction& r, const ReconstructionOptions& options, std::size_t points, bool keep_all,
                            Summary& summary) {
-  report_phase_1(r.planes, points, summary);
+  summary.add(phase_1_report(r.planes, points), "tangent_planes");
   summary.stats()["method"] = method_name(r.method);
-  if (r.quadrics) report_quadrics(*r.quadrics, summary);
+  if (r.quadrics) summary.add(quadrics_report(*r.quadrics), "tangent_planes", "quadrics");
   if (r.oriented) {
-    report_phase_2(*r.oriented, summary);
+    summary.add(phase_2_report(*r.oriented), "orientation");
   } else {
     summary.say("phase II  skipped: the input's normals are used");
   }
-  report_phases_3_4(r, summary);
-  if (r.refinement) report_refinement(*r.refinement, summary);
-  report_colors(r, options.colors, summary);
+  const MarchingCubesResult& c = r.contour;
+  summary.add(phase_3_report({r.delta, r.delta_given, c.evaluated_corners, c.undefined_corners,
+                              r.seconds_distance_setup + c.seconds_field, r.seconds_distance_beside}),
+              "signed_distance");
+  summary.add(phase_4_report(c), "contouring");
+  if (r.refinement) summary.add(refinement_report(*r.refinement), "refinement");
+  if (r.mesh().has_colors()) summary.add(colors_report(options.colors, r.seconds_colors), "colors");
   if (!keep_all) release_all_but_the_mesh(r);
-  report_mesh(r.mesh(), summary);
+  summary.add(mesh_report(r.mesh()), "mesh");
+}
+
+void finish_run(Summary& summary, const std::filesystem::path& output, double seconds_write, double seconds_total) {
+  summary.say("wrote     " + output.string() + " (" + format_seconds(seconds_write) + "); total " +
+              format_seconds(seconds_total));
+  summary.stats()["output"]["file"] = output.string();
+  summary.stats()["output"]["seconds"] = seconds_write;
+  summary.stats()["threads"] = thread_count();
+  summary.stats()["seconds_total"] = seconds_total;
 }
 
 // Peak memory per step for --stats (resource_usage.h): ends the last step

@@ -10,14 +10,35 @@
 #include "recon/report.h"
 #include "recon/resource_usage.h"
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 
 namespace recon::cli {
 
-/// Phase I's line and statistics.
-void report_phase_1(const TangentPlanes<3>& planes, std::size_t points, Summary& summary);
-/// Phase II's line and statistics.
-void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary);
+// Each phase's account (lines and statistics), for 2D and 3D alike. Pure:
+// Summary::add prints and records them.
+
+/// Phase I of `points` points ("tangent_planes"; D = 2 and 3).
+template <int D>
+[[nodiscard]] StepReport phase_1_report(const TangentPlanes<D>& planes, std::size_t points);
+/// The refined method's second-order fits ("tangent_planes", "quadrics").
+[[nodiscard]] StepReport quadrics_report(const LocalQuadrics& quadrics);
+/// Phase II ("orientation"; D = 2 and 3).
+template <int D>
+[[nodiscard]] StepReport phase_2_report(const OrientedNormals<D>& oriented);
+/// Phase III's figures, from the 3D or the 2D walk.
+struct SignedDistanceFigures {
+  double delta = 0.0;
+  bool delta_given = false;
+  std::size_t evaluated = 0, undefined = 0;  ///< lattice corners
+  double seconds = 0.0;
+  double seconds_beside = 0.0;  ///< beside phase II (3D, several threads)
+};
+/// Phase III ("signed_distance").
+[[nodiscard]] StepReport phase_3_report(const SignedDistanceFigures& figures);
+/// A lattice's cubes (or squares) along each axis, as a JSON array.
+[[nodiscard]] Json lattice_size_json(std::span<const std::int32_t> size);
 
 /// Every phase of a finished reconstruction of `points` points made with
 /// `options` (lines and statistics), then its mesh. Without `keep_all` (no
@@ -25,6 +46,10 @@ void report_phase_2(const OrientedNormals<3>& oriented, Summary& summary);
 /// topology is measured, the run's last large allocation.
 void report_reconstruction(Reconstruction& r, const ReconstructionOptions& options, std::size_t points, bool keep_all,
                            Summary& summary);
+
+/// The run's last line ("wrote OUTPUT (T); total T") and its "output",
+/// "threads" and "seconds_total" statistics.
+void finish_run(Summary& summary, const std::filesystem::path& output, double seconds_write, double seconds_total);
 
 /// Peak memory per step for --stats (resource_usage.h): ends the last step
 /// and writes "memory": {"peak_mib": {step: MiB, ...}, "peak_mib_total": the largest}.

@@ -98,6 +98,12 @@ std::string Json::dump(int indent) const {
   return out;
 }
 
+void Summary::add(const StepReport& report, const std::string& key, const std::string& subkey) {
+  for (const std::string& line : report.lines) say(line);
+  Json& place = subkey.empty() ? stats_[key] : stats_[key][subkey];
+  place = report.stats;
+}
+
 void Summary::say(const std::string& text) const {
   if (!quiet_) std::cout << text << std::endl;
 }

@@ -38,11 +38,22 @@ class Json {
   std::variant<double, bool, std::string, Array, Object> value_;
 };
 
+/// What a run has to say about one step: its lines for the terminal and
+/// its entry in --stats. The functions that build these (run_reports.h)
+/// only compute; Summary::add prints and records.
+struct StepReport {
+  std::vector<std::string> lines;
+  Json stats;
+};
+
 class Summary {
  public:
   explicit Summary(bool quiet) : quiet_(quiet) {}
   /// Prints one line (unless quiet).
   void say(const std::string& text) const;
+  /// Prints the report's lines and puts its statistics at stats()[key]
+  /// (or stats()[key][subkey]).
+  void add(const StepReport& report, const std::string& key, const std::string& subkey = "");
   Json& stats() { return stats_; }
   /// Writes the statistics as JSON, atomically.
   void write_stats(const std::filesystem::path& path) const;

@@ -344,8 +344,8 @@ py::tuple run_estimate_normals(const CloudArrays& input, const PhaseParameters& 
     options.on_phase = phase_hook(memory, progress);
     const NormalEstimation estimated = estimate_normals(input.view, options);
     summary.stats()["input"]["points"] = input.view.size();
-    cli::report_phase_1(estimated.planes, input.view.size(), summary);
-    cli::report_phase_2(estimated.oriented, summary);
+    summary.add(cli::phase_1_report(estimated.planes, input.view.size()), "tangent_planes");
+    summary.add(cli::phase_2_report(estimated.oriented), "orientation");
     cli::report_memory(memory, summary);
     summary.stats()["threads"] = thread_count();
     *normals = estimated.normals_in_input_order();

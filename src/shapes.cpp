@@ -559,4 +559,11 @@ std::unique_ptr<Shape> make_shape(const std::string& name) {
                           "' (known: sphere, torus, ellipsoid, box, two, terrain, part, handle, conics)");
 }
 
+void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed) {
+  const double sigma = fraction * bounding_box<3>(cloud.positions).diagonal();
+  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ULL);
+  std::normal_distribution<double> gauss(0.0, sigma);
+  for (auto& p : cloud.positions) p += Vec3(gauss(rng), gauss(rng), gauss(rng));
+}
+
 }  // namespace recon

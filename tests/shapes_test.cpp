@@ -444,5 +444,32 @@ TEST(ShapeReconstruct, ConicsPiecesAreFoundAndNoneIsInsideOut) {
   }
 }
 
+// add_noise: the offsets have the asked standard deviation (a fraction of
+// the bounding-box diagonal) and no bias, on every axis; the same seed gives
+// the same cloud, another seed another; normals stay.
+TEST(ShapeNoise, GaussianAtTheAskedScaleAndReproducible) {
+  const PointCloud clean = make_torus()->sample(40000, 3);
+  const double diagonal = bounding_box<3>(clean.positions).diagonal();
+  PointCloud noisy = clean;
+  add_noise(noisy, 0.01, 5);
+  Vec3 sum = Vec3::Zero(), sum2 = Vec3::Zero();
+  for (std::size_t i = 0; i < clean.size(); ++i) {
+    const Vec3 d = noisy.positions[i] - clean.positions[i];
+    sum += d;
+    sum2 += d.cwiseProduct(d);
+  }
+  const auto n = static_cast<double>(clean.size());
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(std::sqrt(sum2[a] / n), 0.01 * diagonal, 0.02 * 0.01 * diagonal) << "axis " << a;
+    EXPECT_LT(std::abs(sum[a] / n), 0.02 * 0.01 * diagonal) << "axis " << a;
+  }
+  EXPECT_EQ(noisy.normals, clean.normals);
+  PointCloud again = clean, other = clean;
+  add_noise(again, 0.01, 5);
+  add_noise(other, 0.01, 6);
+  EXPECT_EQ(again.positions, noisy.positions);
+  EXPECT_NE(other.positions, noisy.positions);
+}
+
 }  // namespace
 }  // namespace recon

@@ -89,6 +89,12 @@ class Shape {
 /// which piece a point of its sample belongs to: the nearest).
 [[nodiscard]] std::vector<std::unique_ptr<Shape>> make_conics_pieces();
 
+/// Adds Gaussian noise to every position: each coordinate gets an
+/// independent offset of standard deviation `fraction` times the diagonal
+/// of the cloud's bounding box (the scale `recon generate --noise` and the
+/// evaluation scripts use). Reproducible from `seed`; normals are kept.
+void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed);
+
 /// By name: "sphere", "torus", "ellipsoid", "box", "two" (sphere + torus),
 /// "terrain", "part" (make_machined_part), "handle", "conics".
 /// Throws InvalidInputError for another name.
