@@ -19,8 +19,7 @@
 // sensor's noise, a texture finer than the cells), and aliases a colour
 // border into a staircase of whole samples. The inverse-distance weights
 // keep a border sharp to about one sample spacing, and cost k neighbours a
-// vertex instead of one: on the 1M-point torus 0.29 s of processor time
-// against 0.11 s for the nearest, 3-4 % of the run (docs/benchmarks.md).
+// vertex instead of one (a few per cent of a run: docs/benchmarks.md).
 //
 // Channels are averaged as the stored 8-bit values (sRGB), as MeshLab and
 // Open3D do, and rounded. A limit: where two sheets of a thin part lie
