@@ -74,15 +74,11 @@ std::vector<Vec2> read_points_2d(const std::filesystem::path& path, const ReadPo
 }
 
 CurveFormat curve_format_from_path(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
+  const std::string extension = detail::lower_case(path.extension().string());
   if (extension == ".svg") return CurveFormat::svg;
   if (extension == ".obj") return CurveFormat::obj;
   if (extension == ".txt") return CurveFormat::txt;
-  const std::string what = extension.empty() ? "has no extension" : "has the unknown extension '" + extension + "'";
-  throw InvalidInputError(path.string() + ": " + what + "; known curve formats: .svg, .obj, .txt");
+  detail::fail_unknown_extension(path, extension, "known curve formats: .svg, .obj, .txt");
 }
 
 void write_curves(const std::filesystem::path& path, const PolylineSet& curves, const WriteCurvesOptions& options) {

@@ -211,7 +211,10 @@ NumberStatus parse_double(std::string_view token, double& value) {
   return NumberStatus::ok;
 }
 
-bool parse_integer(std::string_view token, std::int64_t& value) {
+namespace {
+/// All of `token`, after an optional '+', as a whole number of type T.
+template <typename T>
+bool parse_whole_number(std::string_view token, T& value) {
   const char* first = token.data();
   const char* const last = first + token.size();
   if (first != last && *first == '+') ++first;
@@ -219,15 +222,11 @@ bool parse_integer(std::string_view token, std::int64_t& value) {
   const auto [end, ec] = std::from_chars(first, last, value);
   return ec == std::errc{} && end == last;
 }
+}  // namespace
 
-bool parse_count(std::string_view token, std::uint64_t& value) {
-  const char* first = token.data();
-  const char* const last = first + token.size();
-  if (first != last && *first == '+') ++first;
-  if (first == last) return false;
-  const auto [end, ec] = std::from_chars(first, last, value);
-  return ec == std::errc{} && end == last;
-}
+bool parse_integer(std::string_view token, std::int64_t& value) { return parse_whole_number(token, value); }
+
+bool parse_count(std::string_view token, std::uint64_t& value) { return parse_whole_number(token, value); }
 
 std::string describe_bad_number(NumberStatus status, std::string_view token, std::string_view what) {
   std::string message;
@@ -388,19 +387,32 @@ void SkipInvalidPoints::remove_from(std::string_view file, PointCloud& cloud, Re
   notes.lines.push_back("skipped as invalid: " + description_);
 }
 
-void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
-  const std::string name(file);
-  if (cloud.has_normals() && cloud.normals.size() != cloud.positions.size())
-    throw InvalidInputError(name + ": cannot write: the cloud has " + std::to_string(cloud.normals.size()) +
-                            " normals for " + std::to_string(cloud.positions.size()) + " points");
-  if (cloud.has_colors() && cloud.colors.size() != cloud.positions.size())
-    throw InvalidInputError(name + ": cannot write: the cloud has " + std::to_string(cloud.colors.size()) +
-                            " colours for " + std::to_string(cloud.positions.size()) + " points");
-  for (std::size_t i = 0; i < cloud.positions.size(); ++i) {
-    if (!readable(cloud.positions[i]))
-      throw InvalidInputError(name + ": cannot write: point " + std::to_string(i) +
+namespace {
+/// Refuses `count` `what` (normals, colours) that are not one per position:
+/// "FILE: cannot write: the cloud has 2 normals for 3 points".
+void check_one_per_position(const std::string& name, std::string_view holder, std::size_t count, std::string_view what,
+                            std::size_t positions, std::string_view per) {
+  if (count != positions)
+    throw InvalidInputError(name + ": cannot write: the " + std::string(holder) + " has " + std::to_string(count) +
+                            " " + std::string(what) + " for " + std::to_string(positions) + " " + std::string(per));
+}
+
+/// Refuses a position that would not read back: "FILE: cannot write: point 1 has ...".
+void check_readable(const std::string& name, const std::vector<Vec3>& positions, std::string_view what) {
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (!readable(positions[i]))
+      throw InvalidInputError(name + ": cannot write: " + std::string(what) + " " + std::to_string(i) +
                               " has a coordinate that is not finite or beyond " + coordinate_bound());
   }
+}
+}  // namespace
+
+void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
+  const std::string name(file);
+  const std::size_t points = cloud.positions.size();
+  if (cloud.has_normals()) check_one_per_position(name, "cloud", cloud.normals.size(), "normals", points, "points");
+  if (cloud.has_colors()) check_one_per_position(name, "cloud", cloud.colors.size(), "colours", points, "points");
+  check_readable(name, cloud.positions, "point");
   for (std::size_t i = 0; i < cloud.normals.size(); ++i) {
     if (!finite(cloud.normals[i]))
       throw InvalidInputError(name + ": cannot write: the normal of point " + std::to_string(i) +
@@ -410,21 +422,43 @@ void check_cloud_for_writing(std::string_view file, const PointCloud& cloud) {
 
 void check_mesh_for_writing(std::string_view file, const Mesh& mesh) {
   const std::string name(file);
-  if (mesh.has_colors() && mesh.colors.size() != mesh.vertices.size())
-    throw InvalidInputError(name + ": cannot write: the mesh has " + std::to_string(mesh.colors.size()) +
-                            " colours for " + std::to_string(mesh.vertices.size()) + " vertices");
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    if (!readable(mesh.vertices[i]))
-      throw InvalidInputError(name + ": cannot write: vertex " + std::to_string(i) +
-                              " has a coordinate that is not finite or beyond " + coordinate_bound());
-  }
+  const std::size_t vertices = mesh.vertices.size();
+  if (mesh.has_colors()) check_one_per_position(name, "mesh", mesh.colors.size(), "colours", vertices, "vertices");
+  check_readable(name, mesh.vertices, "vertex");
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (const std::uint32_t v : mesh.triangles[t]) {
-      if (v >= mesh.vertices.size())
+      if (v >= vertices)
         throw InvalidInputError(name + ": cannot write: triangle " + std::to_string(t) + " uses vertex " +
-                                std::to_string(v) + ", but the mesh has " + std::to_string(mesh.vertices.size()) +
-                                " vertices");
+                                std::to_string(v) + ", but the mesh has " + std::to_string(vertices) + " vertices");
     }
+  }
+}
+
+std::string lower_case(std::string_view text) {
+  std::string result(text);
+  for (char& c : result) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return result;
+}
+
+void fail_unknown_extension(const std::filesystem::path& path, std::string_view extension, std::string_view known) {
+  const std::string what =
+      extension.empty() ? "has no extension" : "has the unknown extension '" + std::string(extension) + "'";
+  throw InvalidInputError(path.string() + ": " + what + "; " + std::string(known));
+}
+
+void append_triangles_text(BlockWriter& writer, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                           char keyword, std::uint64_t first) {
+  std::string& out = writer.buffer();
+  for (const auto& triangle : triangles) {
+    out += keyword;
+    for (const std::uint32_t v : triangle) {
+      out += ' ';
+      append_integer(out, v + first);
+    }
+    out += '\n';
+    writer.flush_if_full();
   }
 }
 

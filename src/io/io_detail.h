@@ -8,6 +8,7 @@
 #include "recon/mesh.h"
 #include "recon/point_cloud.h"
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -20,6 +21,7 @@
 #include <string_view>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace recon::io::detail {
 
@@ -88,6 +90,15 @@ inline constexpr std::size_t max_line_length = std::size_t{1} << 20;
 /// A piece of the file quoted for an error message: at most 40 characters,
 /// bytes that are not printable ASCII shown as '?'.
 [[nodiscard]] std::string excerpt(std::string_view text);
+
+/// `text` with A-Z made a-z: format names, extensions and column names are
+/// matched without regard to case.
+[[nodiscard]] std::string lower_case(std::string_view text);
+/// Throws InvalidInputError "PATH: has the unknown extension '.vtk'; KNOWN"
+/// ("PATH: has no extension; KNOWN" when `extension` is empty); `known` lists
+/// the formats: "known mesh formats: .ply, .obj, .off, .stl".
+[[noreturn]] void fail_unknown_extension(const std::filesystem::path& path, std::string_view extension,
+                                         std::string_view known);
 
 // ---------------------------------------------------------------------------
 // Numbers in text
@@ -433,6 +444,12 @@ class BlockWriter {
   std::ostream& out_;
   std::string buffer_;
 };
+
+/// Writes each triangle as a text line: `keyword`, then its three vertex
+/// indices plus `first` ("f 1 2 3" in OBJ, counted from 1; "3 0 1 2" in OFF
+/// and ascii PLY, counted from 0).
+void append_triangles_text(BlockWriter& writer, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                           char keyword, std::uint64_t first);
 
 // ---------------------------------------------------------------------------
 // Checks before writing

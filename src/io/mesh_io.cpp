@@ -36,16 +36,12 @@ void check_for_stl(const std::string& file, const Mesh& mesh) {
 }  // namespace
 
 MeshFormat mesh_format_from_path(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
+  const std::string extension = detail::lower_case(path.extension().string());
   if (extension == ".ply") return MeshFormat::ply;
   if (extension == ".obj") return MeshFormat::obj;
   if (extension == ".off") return MeshFormat::off;
   if (extension == ".stl") return MeshFormat::stl;
-  const std::string what = extension.empty() ? "has no extension" : "has the unknown extension '" + extension + "'";
-  throw InvalidInputError(path.string() + ": " + what + "; known mesh formats: .ply, .obj, .off, .stl");
+  detail::fail_unknown_extension(path, extension, "known mesh formats: .ply, .obj, .off, .stl");
 }
 
 void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const WriteMeshOptions& options) {

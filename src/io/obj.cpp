@@ -71,73 +71,89 @@ bool parse_color(Fields& fields, std::array<double, 3>& rgb) {
   return count == 3;
 }
 
+/// A "v x y z [r g b]" line: the position, and its colour while every vertex has one.
+void read_vertex(std::string_view file, std::size_t n, Fields& fields, std::string_view keyword, ObjContent& obj) {
+  obj.position_checker.position(obj.positions.emplace_back(parse_three(file, n, fields, keyword, position_names)), n,
+                                position_names);
+  if (!obj.every_vertex_colored) return;
+  std::array<double, 3> rgb{};
+  if (parse_color(fields, rgb)) {
+    obj.colors.add(rgb[0], rgb[1], rgb[2]);
+  } else {
+    obj.every_vertex_colored = false;
+    obj.colors = ColorReader(color_types);  // none kept
+  }
+}
+
+/// The largest forward (positive) vertex number the faces use, and its
+/// line: checked at the end, when all vertices are known.
+struct ForwardReference {
+  std::uint64_t index = 0;
+  std::size_t line = 0;
+};
+
+/// A face corner ("v", "v/vt", "v/vt/vn" or "v//vn") as a vertex index from
+/// 0; `defined` vertices stand before this line.
+std::uint32_t parse_corner(std::string_view file, std::size_t n, std::string_view corner, std::size_t defined,
+                           ForwardReference& largest) {
+  const std::string_view vertex = corner.substr(0, corner.find('/'));
+  std::int64_t index = 0;
+  if (!parse_integer(vertex, index) || index == 0)
+    fail_at_line(file, n, "expected a vertex number (1, 2, ... or -1, -2, ...) in face corner " + excerpt(corner));
+  std::uint64_t zero_based = 0;
+  if (index < 0) {
+    const auto back = static_cast<std::uint64_t>(-(index + 1)) + 1;  // no overflow for INT64_MIN
+    if (back > defined)
+      fail_at_line(file, n,
+                   "face corner " + excerpt(corner) + " refers back " + std::to_string(back) + " vertices, but only " +
+                       std::to_string(defined) + " are defined before this line");
+    zero_based = defined - back;
+  } else {
+    zero_based = static_cast<std::uint64_t>(index) - 1;
+    if (zero_based >= largest.index) largest = {zero_based, n};
+  }
+  if (zero_based >= std::numeric_limits<std::uint32_t>::max())
+    fail_at_line(file, n, "vertex number in " + excerpt(corner) + " is too large");
+  return static_cast<std::uint32_t>(zero_based);
+}
+
+/// An "f" line: its polygon, fanned into triangles.
+void read_face(std::string_view file, std::size_t n, Fields& fields, ObjContent& obj,
+               std::vector<std::uint32_t>& corners, ForwardReference& largest) {
+  corners.clear();
+  for (std::string_view corner; fields.next(corner);)
+    corners.push_back(parse_corner(file, n, corner, obj.positions.size(), largest));
+  if (corners.size() < 3)
+    fail_at_line(file, n, "a face needs at least 3 corners, found " + std::to_string(corners.size()));
+  for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+    obj.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+}
+
 ObjContent parse_obj(std::string_view file, std::string_view content, bool faces) {
   ObjContent obj;
   LineScanner lines(file, content);
   std::string_view line;
   std::vector<std::uint32_t> corners;
-  std::uint64_t largest_index = 0;  // of the positive (forward) references, checked at the end
-  std::size_t largest_index_line = 0;
-
+  ForwardReference largest;
   while (lines.next(line)) {
     const std::size_t n = lines.line_number();
     Fields fields(without_comment(line));
     std::string_view keyword;
     if (!fields.next(keyword)) continue;
     if (keyword == "v") {
-      obj.position_checker.position(obj.positions.emplace_back(parse_three(file, n, fields, keyword, position_names)),
-                                    n, position_names);
-      if (obj.every_vertex_colored) {
-        std::array<double, 3> rgb{};
-        if (parse_color(fields, rgb)) {
-          obj.colors.add(rgb[0], rgb[1], rgb[2]);
-        } else {
-          obj.every_vertex_colored = false;
-          obj.colors = ColorReader(color_types);  // none kept
-        }
-      }
+      read_vertex(file, n, fields, keyword, obj);
     } else if (keyword == "vn") {
       obj.normal_checker.normal(obj.normals.emplace_back(parse_three(file, n, fields, keyword, normal_names)), n,
                                 normal_names);
     } else if (!is_keyword(keyword)) {
       fail_at_line(file, n, "expected an OBJ statement (v, vn, f, ...), found " + excerpt(keyword));
     } else if (keyword == "f" && faces) {
-      corners.clear();
-      for (std::string_view corner; fields.next(corner);) {
-        const std::string_view vertex = corner.substr(0, corner.find('/'));
-        std::int64_t index = 0;
-        if (!parse_integer(vertex, index) || index == 0)
-          fail_at_line(file, n,
-                       "expected a vertex number (1, 2, ... or -1, -2, ...) in face corner " + excerpt(corner));
-        std::uint64_t zero_based = 0;
-        if (index < 0) {
-          const auto back = static_cast<std::uint64_t>(-(index + 1)) + 1;  // no overflow for INT64_MIN
-          if (back > obj.positions.size())
-            fail_at_line(file, n,
-                         "face corner " + excerpt(corner) + " refers back " + std::to_string(back) +
-                             " vertices, but only " + std::to_string(obj.positions.size()) +
-                             " are defined before this line");
-          zero_based = obj.positions.size() - back;
-        } else {
-          zero_based = static_cast<std::uint64_t>(index) - 1;
-          if (zero_based >= largest_index) {
-            largest_index = zero_based;
-            largest_index_line = n;
-          }
-        }
-        if (zero_based >= std::numeric_limits<std::uint32_t>::max())
-          fail_at_line(file, n, "vertex number in " + excerpt(corner) + " is too large");
-        corners.push_back(static_cast<std::uint32_t>(zero_based));
-      }
-      if (corners.size() < 3)
-        fail_at_line(file, n, "a face needs at least 3 corners, found " + std::to_string(corners.size()));
-      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-        obj.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+      read_face(file, n, fields, obj, corners, largest);
     }
   }
-  if (largest_index_line != 0 && largest_index >= obj.positions.size())
-    fail_at_line(file, largest_index_line,
-                 "a face uses vertex " + std::to_string(largest_index + 1) + ", but the file has " +
+  if (largest.line != 0 && largest.index >= obj.positions.size())
+    fail_at_line(file, largest.line,
+                 "a face uses vertex " + std::to_string(largest.index + 1) + ", but the file has " +
                      std::to_string(obj.positions.size()) + " vertices");
   return obj;
 }
@@ -186,15 +202,7 @@ void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
     out += '\n';
     writer.flush_if_full();
   }
-  for (const auto& triangle : mesh.triangles) {
-    out += 'f';
-    for (const std::uint32_t v : triangle) {
-      out += ' ';
-      append_integer(out, std::uint64_t{v} + 1);
-    }
-    out += '\n';
-    writer.flush_if_full();
-  }
+  append_triangles_text(writer, mesh.triangles, 'f', 1);
   writer.finish();
 }
 

@@ -222,15 +222,7 @@ void write_off_mesh(std::ostream& stream, const Mesh& mesh) {
     out += '\n';
     writer.flush_if_full();
   }
-  for (const auto& triangle : mesh.triangles) {
-    out += '3';
-    for (const std::uint32_t v : triangle) {
-      out += ' ';
-      append_integer(out, v);
-    }
-    out += '\n';
-    writer.flush_if_full();
-  }
+  append_triangles_text(writer, mesh.triangles, '3', 0);
   writer.finish();
 }
 

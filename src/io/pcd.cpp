@@ -105,15 +105,37 @@ bool scalar_type_from_pcd(std::string_view type, std::uint64_t size, ScalarType&
   return false;
 }
 
-PcdHeader parse_header(std::string_view file, std::string_view content) {
-  struct Entry {
-    std::vector<std::string_view> values;
-    std::size_t line = 0;  // 0: absent
-  };
-  Entry names, sizes, types, counts, width, height, points;
+/// A header line as read: its values, and where it stands.
+struct HeaderEntry {
+  std::vector<std::string_view> values;
+  std::size_t line = 0;  // 0: absent
+};
+
+/// The header's lines, before they are checked against each other.
+struct HeaderLines {
+  HeaderEntry names, sizes, types, counts, width, height, points;
+};
+
+/// The DATA line's kind into `header`.
+void read_data_line(std::string_view file, std::size_t n, std::string_view line,
+                    const std::vector<std::string_view>& values, PcdHeader& header) {
+  const std::pair<std::string_view, PcdData> kinds[] = {
+      {"ascii", PcdData::ascii}, {"binary", PcdData::binary}, {"binary_compressed", PcdData::compressed}};
+  const auto kind = std::find_if(std::begin(kinds), std::end(kinds),
+                                 [&](const auto& k) { return values.size() == 1 && values[0] == k.first; });
+  if (kind == std::end(kinds))
+    fail_at_line(
+        file, n,
+        "bad DATA line " + excerpt(line) + ": expected 'DATA ascii', 'DATA binary' or 'DATA binary_compressed'");
+  header.data = kind->second;
+}
+
+/// Reads the header up to its DATA line: the lines recon uses are returned,
+/// the kind of data and where it starts go into `header`.
+HeaderLines read_header_lines(std::string_view file, std::string_view content, PcdHeader& header) {
+  HeaderLines entries;
   LineScanner lines(file, content);
   std::string_view line;
-  PcdHeader header;
   for (;;) {
     if (!lines.next(line)) fail_at_line(file, lines.line_number(), "the PCD header has no DATA line");
     const std::size_t n = lines.line_number();
@@ -124,12 +146,13 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
     for (std::string_view value; fields.next(value);) values.push_back(value);
 
     if (keyword == "VERSION" || keyword == "VIEWPOINT") continue;
-    const std::pair<std::string_view, Entry*> entries[] = {
-        {"FIELDS", &names}, {"SIZE", &sizes},    {"TYPE", &types},    {"COUNT", &counts},
-        {"WIDTH", &width},  {"HEIGHT", &height}, {"POINTS", &points},
+    const std::pair<std::string_view, HeaderEntry*> known[] = {
+        {"FIELDS", &entries.names},  {"SIZE", &entries.sizes},  {"TYPE", &entries.types},
+        {"COUNT", &entries.counts},  {"WIDTH", &entries.width}, {"HEIGHT", &entries.height},
+        {"POINTS", &entries.points},
     };
-    Entry* entry = nullptr;
-    for (const auto& [key, target] : entries) {
+    HeaderEntry* entry = nullptr;
+    for (const auto& [key, target] : known) {
       if (keyword == key) entry = target;
     }
     if (entry != nullptr) {
@@ -138,24 +161,23 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
       continue;
     }
     if (keyword != "DATA") fail_at_line(file, n, "unexpected line in the PCD header: " + excerpt(line));
-
     header.data_line = n;
     header.data_offset = lines.position();
-    const std::pair<std::string_view, PcdData> kinds[] = {
-        {"ascii", PcdData::ascii}, {"binary", PcdData::binary}, {"binary_compressed", PcdData::compressed}};
-    const auto kind = std::find_if(std::begin(kinds), std::end(kinds),
-                                   [&](const auto& k) { return values.size() == 1 && values[0] == k.first; });
-    if (kind == std::end(kinds))
-      fail_at_line(
-          file, n,
-          "bad DATA line " + excerpt(line) + ": expected 'DATA ascii', 'DATA binary' or 'DATA binary_compressed'");
-    header.data = kind->second;
-    break;
+    read_data_line(file, n, line, values, header);
+    return entries;
   }
+}
 
+/// Each field's type, count and place (in a record, on a line, in
+/// decompressed data), from FIELDS, SIZE, TYPE and COUNT.
+void lay_out_fields(std::string_view file, const HeaderLines& entries, PcdHeader& header) {
+  const HeaderEntry& names = entries.names;
+  const HeaderEntry& sizes = entries.sizes;
+  const HeaderEntry& types = entries.types;
+  const HeaderEntry& counts = entries.counts;
   if (names.line == 0) fail_at_line(file, header.data_line, "the PCD header has no FIELDS line");
   const std::size_t field_count = names.values.size();
-  const auto check_length = [&](const Entry& e, std::string_view key) {
+  const auto check_length = [&](const HeaderEntry& e, std::string_view key) {
     if (e.line == 0) fail_at_line(file, header.data_line, "the PCD header has no " + std::string(key) + " line");
     if (e.values.size() != field_count)
       fail_at_line(file, e.line,
@@ -193,10 +215,13 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
     fail_at_line(file, counts.line != 0 ? counts.line : names.line,
                  "the fields add up to " + std::to_string(header.columns) + " values a point, more than a line of " +
                      std::to_string(max_line_length) + " bytes can hold");
+}
 
+/// The fields of x, y, z (required), of the normals and of the colour.
+void find_slots(std::string_view file, const HeaderLines& entries, PcdHeader& header) {
   std::array<bool, 6> found{};
   for (std::size_t w = 0; w < wanted_names.size(); ++w) {
-    for (std::size_t f = 0; f < field_count; ++f) {
+    for (std::size_t f = 0; f < header.fields.size(); ++f) {
       if (header.fields[f].name == wanted_names[w]) {
         header.wanted[w] = f;
         found[w] = true;
@@ -205,12 +230,12 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
     }
   }
   for (std::size_t w = 0; w < 3; ++w) {
-    if (!found[w]) fail_at_line(file, names.line, "the PCD file has no " + excerpt(wanted_names[w]) + " field");
+    if (!found[w]) fail_at_line(file, entries.names.line, "the PCD file has no " + excerpt(wanted_names[w]) + " field");
   }
   header.normals = found[3] && found[4] && found[5];
   for (std::size_t w = 0; w < header.slots(); ++w) {
     if (header.field(w).count != 1)
-      fail_at_line(file, counts.line, "field " + excerpt(wanted_names[w]) + " must have COUNT 1");
+      fail_at_line(file, entries.counts.line, "field " + excerpt(wanted_names[w]) + " must have COUNT 1");
   }
   // Colours: rgb, or else rgba, of 4 bytes; a field of another shape is not a packed colour and is skipped.
   for (const std::string_view name : {"rgb", "rgba"}) {
@@ -221,8 +246,15 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
     header.colors = true;
     break;
   }
+}
 
-  const auto single_count = [&](const Entry& e, std::string_view key) {
+/// The number of points, from POINTS or WIDTH x HEIGHT (which must agree
+/// when both are given), and whether the cloud is organized.
+void count_points(std::string_view file, const HeaderLines& entries, PcdHeader& header) {
+  const HeaderEntry& width = entries.width;
+  const HeaderEntry& height = entries.height;
+  const HeaderEntry& points = entries.points;
+  const auto single_count = [&](const HeaderEntry& e, std::string_view key) {
     std::uint64_t value = 0;
     if (e.values.size() != 1 || !parse_count(e.values[0], value))
       fail_at_line(file, e.line, "bad " + std::string(key) + " line: expected one whole number");
@@ -248,6 +280,16 @@ PcdHeader parse_header(std::string_view file, std::string_view content) {
   } else {
     fail_at_line(file, header.data_line, "the PCD header has neither POINTS nor WIDTH");
   }
+}
+
+/// The header: its lines, then the fields they lay out, the ones recon
+/// reads, and the number of points.
+PcdHeader parse_header(std::string_view file, std::string_view content) {
+  PcdHeader header;
+  const HeaderLines entries = read_header_lines(file, content, header);
+  lay_out_fields(file, entries, header);
+  find_slots(file, entries, header);
+  count_points(file, entries, header);
   return header;
 }
 

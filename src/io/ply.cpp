@@ -87,6 +87,82 @@ constexpr std::string_view known_types =
     "char, uchar, short, ushort, int, uint, float, double, int8, uint8, int16, uint16, int32, uint32, float32, "
     "float64";
 
+/// A "format ENCODING 1.0" line into `header`.
+void read_format_line(std::string_view file, std::size_t n, std::string_view line, Fields& fields, bool& have_format,
+                      PlyHeader& header) {
+  std::string_view encoding;
+  std::string_view version;
+  if (!fields.next(encoding) || !fields.next(version) || fields.count_rest() != 0)
+    fail_at_line(file, n,
+                 "bad format line " + excerpt(line) +
+                     ": expected 'format ascii 1.0' (or binary_little_endian, binary_big_endian)");
+  if (encoding == "ascii") {
+    header.encoding = PlyEncoding::ascii;
+  } else if (encoding == "binary_little_endian") {
+    header.encoding = PlyEncoding::binary_little_endian;
+  } else if (encoding == "binary_big_endian") {
+    header.encoding = PlyEncoding::binary_big_endian;
+  } else {
+    fail_at_line(
+        file, n,
+        "unknown PLY format " + excerpt(encoding) + " (expected ascii, binary_little_endian or binary_big_endian)");
+  }
+  double number = 0.0;
+  if (parse_double(version, number) != NumberStatus::ok || number != 1.0)
+    fail_at_line(file, n, "unsupported PLY version " + excerpt(version) + " (only 1.0 exists)");
+  if (have_format) fail_at_line(file, n, "a second format line");
+  have_format = true;
+}
+
+/// An "element NAME COUNT" line: a new element of `header`. `names` holds
+/// the names so far (views into the content).
+void read_element_line(std::string_view file, std::size_t n, std::string_view line, Fields& fields,
+                       std::unordered_set<std::string_view>& names, PlyHeader& header) {
+  std::string_view name;
+  std::string_view count;
+  PlyElement element;
+  if (!fields.next(name) || !fields.next(count) || fields.count_rest() != 0 || !parse_count(count, element.count))
+    fail_at_line(file, n, "bad element line " + excerpt(line) + ": expected 'element NAME COUNT'");
+  // A set, not a scan of the elements so far: a header of millions of
+  // elements would otherwise take quadratic time.
+  if (!names.insert(name).second) fail_at_line(file, n, "a second element named " + excerpt(name));
+  element.name = name;
+  element.line = n;
+  header.elements.push_back(std::move(element));
+}
+
+/// A "property TYPE NAME" or "property list COUNT_TYPE ITEM_TYPE NAME" line:
+/// a new property of the last element.
+void read_property_line(std::string_view file, std::size_t n, std::string_view line, Fields& fields,
+                        PlyHeader& header) {
+  if (header.elements.empty()) fail_at_line(file, n, "a property before any element");
+  PlyProperty property;
+  property.line = n;
+  std::string_view type;
+  std::string_view name;
+  if (!fields.next(type)) fail_at_line(file, n, "bad property line: expected 'property TYPE NAME'");
+  if (type == "list") {
+    std::string_view count_type;
+    if (!fields.next(count_type) || !fields.next(type) || !fields.next(name) || fields.count_rest() != 0)
+      fail_at_line(file, n,
+                   "bad list property line " + excerpt(line) + ": expected 'property list COUNT_TYPE ITEM_TYPE NAME'");
+    property.is_list = true;
+    if (!scalar_type_from_name(count_type, property.count_type))
+      fail_at_line(file, n, "unknown type " + excerpt(count_type) + " (known: " + std::string(known_types) + ")");
+    if (!is_integer_type(property.count_type))
+      fail_at_line(
+          file, n,
+          "the length of list " + excerpt(name) + " has type " + excerpt(count_type) + "; it must be an integer type");
+  } else if (!fields.next(name) || fields.count_rest() != 0) {
+    fail_at_line(file, n, "bad property line " + excerpt(line) + ": expected 'property TYPE NAME'");
+  }
+  if (!scalar_type_from_name(type, property.type))
+    fail_at_line(file, n, "unknown type " + excerpt(type) + " (known: " + std::string(known_types) + ")");
+  property.name = name;
+  header.elements.back().properties.push_back(std::move(property));
+}
+
+/// The header, line by line up to end_header.
 PlyHeader parse_header(std::string_view file, std::string_view content) {
   LineScanner lines(file, content);
   std::string_view line;
@@ -102,78 +178,17 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
     std::string_view keyword;
     if (!fields.next(keyword)) continue;  // blank line
     if (keyword == "comment" || keyword == "obj_info") continue;
-
     if (keyword == "format") {
-      std::string_view encoding;
-      std::string_view version;
-      if (!fields.next(encoding) || !fields.next(version) || fields.count_rest() != 0)
-        fail_at_line(file, n,
-                     "bad format line " + excerpt(line) +
-                         ": expected 'format ascii 1.0' (or binary_little_endian, binary_big_endian)");
-      if (encoding == "ascii") {
-        header.encoding = PlyEncoding::ascii;
-      } else if (encoding == "binary_little_endian") {
-        header.encoding = PlyEncoding::binary_little_endian;
-      } else if (encoding == "binary_big_endian") {
-        header.encoding = PlyEncoding::binary_big_endian;
-      } else {
-        fail_at_line(
-            file, n,
-            "unknown PLY format " + excerpt(encoding) + " (expected ascii, binary_little_endian or binary_big_endian)");
-      }
-      double number = 0.0;
-      if (parse_double(version, number) != NumberStatus::ok || number != 1.0)
-        fail_at_line(file, n, "unsupported PLY version " + excerpt(version) + " (only 1.0 exists)");
-      if (have_format) fail_at_line(file, n, "a second format line");
-      have_format = true;
-
+      read_format_line(file, n, line, fields, have_format, header);
     } else if (keyword == "element") {
-      std::string_view name;
-      std::string_view count;
-      PlyElement element;
-      if (!fields.next(name) || !fields.next(count) || fields.count_rest() != 0 || !parse_count(count, element.count))
-        fail_at_line(file, n, "bad element line " + excerpt(line) + ": expected 'element NAME COUNT'");
-      // A set, not a scan of the elements so far: a header of millions of
-      // elements would otherwise take quadratic time.
-      if (!element_names.insert(name).second) fail_at_line(file, n, "a second element named " + excerpt(name));
-      element.name = name;
-      element.line = n;
-      header.elements.push_back(std::move(element));
-
+      read_element_line(file, n, line, fields, element_names, header);
     } else if (keyword == "property") {
-      if (header.elements.empty()) fail_at_line(file, n, "a property before any element");
-      PlyProperty property;
-      property.line = n;
-      std::string_view type;
-      std::string_view name;
-      if (!fields.next(type)) fail_at_line(file, n, "bad property line: expected 'property TYPE NAME'");
-      if (type == "list") {
-        std::string_view count_type;
-        if (!fields.next(count_type) || !fields.next(type) || !fields.next(name) || fields.count_rest() != 0)
-          fail_at_line(
-              file, n,
-              "bad list property line " + excerpt(line) + ": expected 'property list COUNT_TYPE ITEM_TYPE NAME'");
-        property.is_list = true;
-        if (!scalar_type_from_name(count_type, property.count_type))
-          fail_at_line(file, n, "unknown type " + excerpt(count_type) + " (known: " + std::string(known_types) + ")");
-        if (!is_integer_type(property.count_type))
-          fail_at_line(file, n,
-                       "the length of list " + excerpt(name) + " has type " + excerpt(count_type) +
-                           "; it must be an integer type");
-      } else if (!fields.next(name) || fields.count_rest() != 0) {
-        fail_at_line(file, n, "bad property line " + excerpt(line) + ": expected 'property TYPE NAME'");
-      }
-      if (!scalar_type_from_name(type, property.type))
-        fail_at_line(file, n, "unknown type " + excerpt(type) + " (known: " + std::string(known_types) + ")");
-      property.name = name;
-      header.elements.back().properties.push_back(std::move(property));
-
+      read_property_line(file, n, line, fields, header);
     } else if (keyword == "end_header") {
       if (!have_format) fail_at_line(file, n, "the PLY header has no format line");
       header.body_offset = lines.position();
       header.end_header_line = n;
       return header;
-
     } else {
       fail_at_line(file, n, "unexpected line in the PLY header: " + excerpt(line));
     }
@@ -207,8 +222,8 @@ struct Wanted {
   }
 };
 
-Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
-  Wanted wanted;
+/// The vertex element and the slot of each of its properties.
+void find_vertex_slots(std::string_view file, const PlyHeader& header, Wanted& wanted) {
   const auto vertex = std::find_if(header.elements.begin(), header.elements.end(),
                                    [](const PlyElement& e) { return e.name == "vertex"; });
   if (vertex == header.elements.end())
@@ -250,25 +265,33 @@ Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
   if (wanted.colors) {
     for (std::size_t c = 0; c < 3; ++c) wanted.color_types[c] = vertex->properties[found[first_color_slot + c]].type;
   }
+}
 
-  if (faces) {
-    if (vertex->count > std::numeric_limits<std::uint32_t>::max())
-      fail_at_line(file, vertex->line, "too many vertices for a mesh (at most 2^32 - 1)");
-    const auto face = std::find_if(header.elements.begin(), header.elements.end(),
-                                   [](const PlyElement& e) { return e.name == "face"; });
-    if (face == header.elements.end())
-      fail_at_line(file, header.end_header_line, "the PLY header declares no 'face' element (is this a point cloud?)");
-    wanted.face_element = static_cast<std::size_t>(face - header.elements.begin());
-    for (std::size_t p = 0; p < face->properties.size(); ++p) {
-      const PlyProperty& property = face->properties[p];
-      if (property.is_list && (property.name == "vertex_indices" || property.name == "vertex_index")) {
-        wanted.face_property = p;
-        break;
-      }
+/// The face element and its list of vertex indices (meshes only).
+void find_face_list(std::string_view file, const PlyHeader& header, Wanted& wanted) {
+  const PlyElement& vertex = header.elements[wanted.vertex_element];
+  if (vertex.count > std::numeric_limits<std::uint32_t>::max())
+    fail_at_line(file, vertex.line, "too many vertices for a mesh (at most 2^32 - 1)");
+  const auto face = std::find_if(header.elements.begin(), header.elements.end(),
+                                 [](const PlyElement& e) { return e.name == "face"; });
+  if (face == header.elements.end())
+    fail_at_line(file, header.end_header_line, "the PLY header declares no 'face' element (is this a point cloud?)");
+  wanted.face_element = static_cast<std::size_t>(face - header.elements.begin());
+  for (std::size_t p = 0; p < face->properties.size(); ++p) {
+    const PlyProperty& property = face->properties[p];
+    if (property.is_list && (property.name == "vertex_indices" || property.name == "vertex_index")) {
+      wanted.face_property = p;
+      break;
     }
-    if (wanted.face_property == Wanted::none)
-      fail_at_line(file, face->line, "the face element has no list property 'vertex_indices' or 'vertex_index'");
   }
+  if (wanted.face_property == Wanted::none)
+    fail_at_line(file, face->line, "the face element has no list property 'vertex_indices' or 'vertex_index'");
+}
+
+Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
+  Wanted wanted;
+  find_vertex_slots(file, header, wanted);
+  if (faces) find_face_list(file, header, wanted);
   return wanted;
 }
 
@@ -303,204 +326,287 @@ double parse_value(std::string_view file, std::size_t line, std::string_view tok
   return value;
 }
 
-void read_ascii_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
-                     PlyContent& out) {
-  TokenScanner tokens(file, content, header.body_offset, header.end_header_line + 1);
-  PointChecker checker(false);
-  ColorReader colors(wanted.color_types);
-  const std::uint64_t vertex_count = header.elements[wanted.vertex_element].count;
-  std::string_view token;
-  std::vector<std::uint32_t> corners;
+/// Reads an ascii body: the values of the elements in the declared order,
+/// separated by white space (a record may wrap across lines).
+class AsciiBody {
+ public:
+  AsciiBody(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
+            PlyContent& out)
+      : file_(file),
+        header_(header),
+        wanted_(wanted),
+        out_(out),
+        tokens_(file, content, header.body_offset, header.end_header_line + 1),
+        colors_(wanted.color_types),
+        vertex_count_(header.elements[wanted.vertex_element].count) {}
 
-  for (std::size_t e = 0; e < header.elements.size(); ++e) {
-    const PlyElement& element = header.elements[e];
-    // An element without properties holds nothing, whatever its count: walking
-    // a count of 10^12 such elements would take hours (found by fuzzing).
-    if (element.properties.empty()) continue;
-    const bool is_vertex = e == wanted.vertex_element;
-    const bool is_face = e == wanted.face_element;
-    if (is_vertex) {
-      // Each value takes at least two characters: cap the reservation by the text left.
-      const std::uint64_t room = tokens.bytes_left() / (2 * std::max<std::size_t>(element.properties.size(), 1));
-      out.positions.reserve(static_cast<std::size_t>(std::min(element.count, room)));
-      if (wanted.normals) out.normals.reserve(out.positions.capacity());
-      if (wanted.colors) colors.reserve(out.positions.capacity());
+  void read() {
+    for (std::size_t e = 0; e < header_.elements.size(); ++e) {
+      const PlyElement& element = header_.elements[e];
+      // An element without properties holds nothing, whatever its count: walking
+      // a count of 10^12 such elements would take hours (found by fuzzing).
+      if (element.properties.empty()) continue;
+      const bool is_vertex = e == wanted_.vertex_element;
+      const bool is_face = e == wanted_.face_element;
+      if (is_vertex) reserve_vertices(element);
+      for (std::uint64_t i = 0; i < element.count; ++i) read_record(element, i, is_vertex, is_face);
     }
+    std::string_view token;
+    if (tokens_.next(token))
+      fail_at_line(file_, tokens_.line_number(),
+                   "unexpected " + excerpt(token) +
+                       " after the last element: the file holds more values than its header declares");
+    checker_.report(file_, wanted_.face_element != Wanted::none);
+    out_.colors = colors_.take();
+  }
 
-    for (std::uint64_t i = 0; i < element.count; ++i) {
-      std::array<double, slot_count> values{};
-      for (std::size_t p = 0; p < element.properties.size(); ++p) {
-        const PlyProperty& property = element.properties[p];
-        if (!tokens.next(token)) fail_at_line(file, tokens.line_number(), ends_early(element, i));
-        if (!property.is_list) {
-          const double value = parse_value(file, tokens.line_number(), token, property, property.type);
-          if (is_vertex && wanted.slot[p] >= 0) values[static_cast<std::size_t>(wanted.slot[p])] = value;
-          continue;
-        }
-        std::uint64_t length = 0;
-        if (!parse_count(token, length) || !fits_type(static_cast<double>(length), property.count_type))
-          fail_at_line(file, tokens.line_number(),
-                       "expected the length of list " + excerpt(property.name) + " of " + element.name + " " +
-                           std::to_string(i) + ", found " + excerpt(token));
-        const bool keep = is_face && p == wanted.face_property;
-        if (keep) {
-          if (length < 3)
-            fail_at_line(file, tokens.line_number(),
-                         "face " + std::to_string(i) + " has " + std::to_string(length) +
-                             " corners; a polygon needs at least 3");
-          corners.clear();
-        }
-        for (std::uint64_t k = 0; k < length; ++k) {
-          if (!tokens.next(token)) fail_at_line(file, tokens.line_number(), ends_early(element, i));
-          if (keep) {
-            std::int64_t index = 0;
-            if (!parse_integer(token, index))
-              fail_at_line(file, tokens.line_number(),
-                           "expected a vertex index in face " + std::to_string(i) + ", found " + excerpt(token));
-            if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count)
-              fail_at_line(file, tokens.line_number(),
-                           "face " + std::to_string(i) + " uses vertex " + std::to_string(index) +
-                               ", but the file has " + std::to_string(vertex_count) + " vertices");
-            corners.push_back(static_cast<std::uint32_t>(index));
-          } else {
-            static_cast<void>(parse_value(file, tokens.line_number(), token, property, property.type));
-          }
-        }
-        if (keep) add_fan(corners, out.triangles);
+ private:
+  void reserve_vertices(const PlyElement& element) {
+    // Each value takes at least two characters: cap the reservation by the text left.
+    const std::uint64_t room = tokens_.bytes_left() / (2 * std::max<std::size_t>(element.properties.size(), 1));
+    out_.positions.reserve(static_cast<std::size_t>(std::min(element.count, room)));
+    if (wanted_.normals) out_.normals.reserve(out_.positions.capacity());
+    if (wanted_.colors) colors_.reserve(out_.positions.capacity());
+  }
+
+  /// The next value of record `i` of `element`, which must not end here.
+  std::string_view next_token(const PlyElement& element, std::uint64_t i) {
+    std::string_view token;
+    if (!tokens_.next(token)) fail_at_line(file_, tokens_.line_number(), ends_early(element, i));
+    return token;
+  }
+
+  /// Record `i` of `element`: a vertex is kept, a face's corners are fanned.
+  void read_record(const PlyElement& element, std::uint64_t i, bool is_vertex, bool is_face) {
+    std::array<double, slot_count> values{};
+    for (std::size_t p = 0; p < element.properties.size(); ++p) {
+      const PlyProperty& property = element.properties[p];
+      const std::string_view token = next_token(element, i);
+      if (property.is_list) {
+        read_list(element, property, i, token, is_face && p == wanted_.face_property);
+        continue;
       }
-      if (is_vertex) {
-        // The line of the vertex's last value: a vertex normally stands on one line.
-        const std::size_t line = tokens.line_number();
-        checker.position(out.positions.emplace_back(values[0], values[1], values[2]), line, position_names);
-        if (wanted.normals)
-          checker.normal(out.normals.emplace_back(values[3], values[4], values[5]), line, normal_names);
-        if (wanted.colors) colors.add(values[6], values[7], values[8]);
+      const double value = parse_value(file_, tokens_.line_number(), token, property, property.type);
+      if (is_vertex && wanted_.slot[p] >= 0) values[static_cast<std::size_t>(wanted_.slot[p])] = value;
+    }
+    if (is_vertex) add_vertex(values);
+  }
+
+  /// A list whose length is `length_token`; `keep`: the face's corners.
+  void read_list(const PlyElement& element, const PlyProperty& property, std::uint64_t i, std::string_view length_token,
+                 bool keep) {
+    std::uint64_t length = 0;
+    if (!parse_count(length_token, length) || !fits_type(static_cast<double>(length), property.count_type))
+      fail_at_line(file_, tokens_.line_number(),
+                   "expected the length of list " + excerpt(property.name) + " of " + element.name + " " +
+                       std::to_string(i) + ", found " + excerpt(length_token));
+    if (keep) {
+      if (length < 3)
+        fail_at_line(
+            file_, tokens_.line_number(),
+            "face " + std::to_string(i) + " has " + std::to_string(length) + " corners; a polygon needs at least 3");
+      corners_.clear();
+    }
+    for (std::uint64_t k = 0; k < length; ++k) {
+      const std::string_view token = next_token(element, i);
+      if (keep) {
+        corners_.push_back(parse_corner(token, i));
+      } else {
+        static_cast<void>(parse_value(file_, tokens_.line_number(), token, property, property.type));
       }
+    }
+    if (keep) add_fan(corners_, out_.triangles);
+  }
+
+  /// A corner of face `i`: the index of a vertex of the file.
+  std::uint32_t parse_corner(std::string_view token, std::uint64_t i) const {
+    std::int64_t index = 0;
+    if (!parse_integer(token, index))
+      fail_at_line(file_, tokens_.line_number(),
+                   "expected a vertex index in face " + std::to_string(i) + ", found " + excerpt(token));
+    if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count_)
+      fail_at_line(file_, tokens_.line_number(),
+                   "face " + std::to_string(i) + " uses vertex " + std::to_string(index) + ", but the file has " +
+                       std::to_string(vertex_count_) + " vertices");
+    return static_cast<std::uint32_t>(index);
+  }
+
+  void add_vertex(const std::array<double, slot_count>& values) {
+    // The line of the vertex's last value: a vertex normally stands on one line.
+    const std::size_t line = tokens_.line_number();
+    checker_.position(out_.positions.emplace_back(values[0], values[1], values[2]), line, position_names);
+    if (wanted_.normals)
+      checker_.normal(out_.normals.emplace_back(values[3], values[4], values[5]), line, normal_names);
+    if (wanted_.colors) colors_.add(values[6], values[7], values[8]);
+  }
+
+  std::string_view file_;
+  const PlyHeader& header_;
+  const Wanted& wanted_;
+  PlyContent& out_;
+  TokenScanner tokens_;
+  PointChecker checker_{false};
+  ColorReader colors_;
+  std::uint64_t vertex_count_;
+  std::vector<std::uint32_t> corners_;
+};
+
+/// Reads a binary body: packed records in the file's byte order. Elements
+/// without lists are fixed-size blocks; records with lists are walked.
+class BinaryBody {
+ public:
+  BinaryBody(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
+             PlyContent& out)
+      : file_(file),
+        content_(content),
+        wanted_(wanted),
+        out_(out),
+        swap_(needs_swap(header.encoding == PlyEncoding::binary_big_endian)),
+        vertex_count_(header.elements[wanted.vertex_element].count),
+        position_(header.body_offset),
+        colors_(wanted.color_types) {}
+
+  void read(const PlyHeader& header) {
+    for (std::size_t e = 0; e < header.elements.size(); ++e) {
+      const PlyElement& element = header.elements[e];
+      if (element.has_lists()) {
+        read_list_records(element, e == wanted_.face_element);
+      } else {
+        read_fixed_records(element, e == wanted_.vertex_element);
+      }
+    }
+    // Bytes after the last element are ignored (some writers end with a newline).
+    checker_.report(file_, wanted_.face_element != Wanted::none);
+    out_.colors = colors_.take();
+  }
+
+ private:
+  /// Fixed-size records: check the whole block once, then decode or jump.
+  void read_fixed_records(const PlyElement& element, bool is_vertex) {
+    const std::size_t record = element.record_size();
+    if (record == 0) return;
+    const std::uint64_t whole_records = (content_.size() - position_) / record;
+    if (element.count > whole_records)
+      fail_at_byte(file_, position_ + static_cast<std::size_t>(whole_records) * record,
+                   ends_early(element, whole_records) + " (each takes " + std::to_string(record) +
+                       " bytes; the file has " + std::to_string(content_.size()) + ")");
+    const auto count = static_cast<std::size_t>(element.count);
+    if (is_vertex) decode_vertices(element, count, record);
+    position_ += count * record;
+  }
+
+  /// The `count` vertex records of `record` bytes each from position_.
+  void decode_vertices(const PlyElement& element, std::size_t count, std::size_t record) {
+    // Where x, y, z (and nx, ny, nz, and the colours) stand in a record, and their types.
+    std::array<std::size_t, slot_count> offsets{};
+    std::array<ScalarType, slot_count> types{};
+    std::size_t offset = 0;
+    for (std::size_t p = 0; p < element.properties.size(); ++p) {
+      if (const int s = wanted_.slot[p]; s >= 0) {
+        offsets[static_cast<std::size_t>(s)] = offset;
+        types[static_cast<std::size_t>(s)] = element.properties[p].type;
+      }
+      offset += scalar_size(element.properties[p].type);
+    }
+    out_.positions.reserve(count);
+    if (wanted_.normals) out_.normals.reserve(count);
+    if (wanted_.colors) colors_.reserve(count);
+    std::array<double, slot_count> values{};
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::size_t start = position_ + i * record;
+      for (std::size_t s = 0; s < slot_count; ++s) {
+        if (wanted_.used(s))
+          static_cast<void>(decode_scalar(content_.data() + start + offsets[s], types[s], swap_, values[s]));
+      }
+      checker_.position(out_.positions.emplace_back(values[0], values[1], values[2]), start, position_names,
+                        offsets.data());
+      if (wanted_.normals)
+        checker_.normal(out_.normals.emplace_back(values[3], values[4], values[5]), start, normal_names,
+                        offsets.data() + 3);
+      if (wanted_.colors) colors_.add(values[6], values[7], values[8]);
     }
   }
-  if (tokens.next(token))
-    fail_at_line(file, tokens.line_number(),
-                 "unexpected " + excerpt(token) +
-                     " after the last element: the file holds more values than its header declares");
-  checker.report(file, wanted.face_element != Wanted::none);
-  out.colors = colors.take();
-}
 
-void read_binary_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
-                      PlyContent& out) {
-  const bool swap = needs_swap(header.encoding == PlyEncoding::binary_big_endian);
-  const std::uint64_t vertex_count = header.elements[wanted.vertex_element].count;
-  std::size_t position = header.body_offset;
-  std::vector<std::uint32_t> corners;
-  PointChecker checker(true);
-  ColorReader colors(wanted.color_types);
-
-  for (std::size_t e = 0; e < header.elements.size(); ++e) {
-    const PlyElement& element = header.elements[e];
-    const bool is_face = e == wanted.face_element;
-
-    if (!element.has_lists()) {
-      // Fixed-size records: check the whole block once, then decode or jump.
-      const std::size_t record = element.record_size();
-      if (record == 0) continue;
-      const std::uint64_t whole_records = (content.size() - position) / record;
-      if (element.count > whole_records)
-        fail_at_byte(file, position + static_cast<std::size_t>(whole_records) * record,
-                     ends_early(element, whole_records) + " (each takes " + std::to_string(record) +
-                         " bytes; the file has " + std::to_string(content.size()) + ")");
-      const std::size_t count = static_cast<std::size_t>(element.count);
-      if (e == wanted.vertex_element) {
-        // Where x, y, z (and nx, ny, nz, and the colours) stand in a record, and their types.
-        std::array<std::size_t, slot_count> offsets{};
-        std::array<ScalarType, slot_count> types{};
-        std::size_t offset = 0;
-        for (std::size_t p = 0; p < element.properties.size(); ++p) {
-          if (const int s = wanted.slot[p]; s >= 0) {
-            offsets[static_cast<std::size_t>(s)] = offset;
-            types[static_cast<std::size_t>(s)] = element.properties[p].type;
-          }
-          offset += scalar_size(element.properties[p].type);
-        }
-        out.positions.reserve(count);
-        if (wanted.normals) out.normals.reserve(count);
-        if (wanted.colors) colors.reserve(count);
-        std::array<double, slot_count> values{};
-        for (std::size_t i = 0; i < count; ++i) {
-          const std::size_t start = position + i * record;
-          for (std::size_t s = 0; s < slot_count; ++s) {
-            if (wanted.used(s))
-              static_cast<void>(decode_scalar(content.data() + start + offsets[s], types[s], swap, values[s]));
-          }
-          checker.position(out.positions.emplace_back(values[0], values[1], values[2]), start, position_names,
-                           offsets.data());
-          if (wanted.normals)
-            checker.normal(out.normals.emplace_back(values[3], values[4], values[5]), start, normal_names,
-                           offsets.data() + 3);
-          if (wanted.colors) colors.add(values[6], values[7], values[8]);
-        }
-      }
-      position += count * record;
-      continue;
-    }
-
-    // Records with lists: walk them one by one.
+  /// Records with lists: walk them one by one.
+  void read_list_records(const PlyElement& element, bool is_face) {
     for (std::uint64_t i = 0; i < element.count; ++i) {
-      const std::size_t start = position;
-      const auto need = [&](std::uint64_t bytes) {
-        if (bytes > content.size() - position) fail_at_byte(file, start, ends_early(element, i));
-      };
+      const std::size_t start = position_;
       for (std::size_t p = 0; p < element.properties.size(); ++p) {
         const PlyProperty& property = element.properties[p];
         if (!property.is_list) {
-          need(scalar_size(property.type));
-          position += scalar_size(property.type);
+          need(scalar_size(property.type), element, i, start);
+          position_ += scalar_size(property.type);
           continue;
         }
-        need(scalar_size(property.count_type));
-        double length_value = 0.0;
-        static_cast<void>(decode_scalar(content.data() + position, property.count_type, swap, length_value));
-        if (length_value < 0)
-          fail_at_byte(file, position,
-                       element.name + " " + std::to_string(i) + ": negative length of list " + excerpt(property.name));
-        position += scalar_size(property.count_type);
-        const auto length = static_cast<std::uint64_t>(length_value);
+        const std::uint64_t length = read_list_length(element, property, i, start);
         const std::size_t item_size = scalar_size(property.type);
-        if (length > (content.size() - position) / item_size) fail_at_byte(file, start, ends_early(element, i));
-        if (!is_face || p != wanted.face_property) {
-          position += static_cast<std::size_t>(length) * item_size;
-          continue;
+        if (length > (content_.size() - position_) / item_size) fail_at_byte(file_, start, ends_early(element, i));
+        if (is_face && p == wanted_.face_property) {
+          read_corners(property, i, start, length);
+        } else {
+          position_ += static_cast<std::size_t>(length) * item_size;
         }
-        if (length < 3)
-          fail_at_byte(
-              file, start,
-              "face " + std::to_string(i) + " has " + std::to_string(length) + " corners; a polygon needs at least 3");
-        corners.clear();
-        for (std::uint64_t k = 0; k < length; ++k, position += item_size) {
-          double index = 0.0;
-          if (decode_scalar(content.data() + position, property.type, swap, index) != Decoded::finite || index < 0 ||
-              index >= static_cast<double>(vertex_count) || index != std::floor(index))
-            fail_at_byte(file, position,
-                         "face " + std::to_string(i) + ": vertex index is not an integer from 0 to " +
-                             std::to_string(vertex_count) + " - 1");
-          corners.push_back(static_cast<std::uint32_t>(index));
-        }
-        add_fan(corners, out.triangles);
       }
     }
   }
-  // Bytes after the last element are ignored (some writers end with a newline).
-  checker.report(file, wanted.face_element != Wanted::none);
-  out.colors = colors.take();
-}
+
+  /// Fails unless `bytes` more are left in record `i`, which began at `start`.
+  void need(std::uint64_t bytes, const PlyElement& element, std::uint64_t i, std::size_t start) const {
+    if (bytes > content_.size() - position_) fail_at_byte(file_, start, ends_early(element, i));
+  }
+
+  std::uint64_t read_list_length(const PlyElement& element, const PlyProperty& property, std::uint64_t i,
+                                 std::size_t start) {
+    need(scalar_size(property.count_type), element, i, start);
+    double length_value = 0.0;
+    static_cast<void>(decode_scalar(content_.data() + position_, property.count_type, swap_, length_value));
+    if (length_value < 0)
+      fail_at_byte(file_, position_,
+                   element.name + " " + std::to_string(i) + ": negative length of list " + excerpt(property.name));
+    position_ += scalar_size(property.count_type);
+    return static_cast<std::uint64_t>(length_value);
+  }
+
+  /// The `length` corners of face `i` (whose record began at `start`), fanned.
+  void read_corners(const PlyProperty& property, std::uint64_t i, std::size_t start, std::uint64_t length) {
+    const std::size_t item_size = scalar_size(property.type);
+    if (length < 3)
+      fail_at_byte(
+          file_, start,
+          "face " + std::to_string(i) + " has " + std::to_string(length) + " corners; a polygon needs at least 3");
+    corners_.clear();
+    for (std::uint64_t k = 0; k < length; ++k, position_ += item_size) {
+      double index = 0.0;
+      if (decode_scalar(content_.data() + position_, property.type, swap_, index) != Decoded::finite || index < 0 ||
+          index >= static_cast<double>(vertex_count_) || index != std::floor(index))
+        fail_at_byte(file_, position_,
+                     "face " + std::to_string(i) + ": vertex index is not an integer from 0 to " +
+                         std::to_string(vertex_count_) + " - 1");
+      corners_.push_back(static_cast<std::uint32_t>(index));
+    }
+    add_fan(corners_, out_.triangles);
+  }
+
+  std::string_view file_;
+  std::string_view content_;
+  const Wanted& wanted_;
+  PlyContent& out_;
+  bool swap_;
+  std::uint64_t vertex_count_;
+  std::size_t position_;
+  PointChecker checker_{true};
+  ColorReader colors_;
+  std::vector<std::uint32_t> corners_;
+};
 
 PlyContent read_ply(std::string_view file, std::string_view content, bool faces) {
   const PlyHeader header = parse_header(file, content);
   const Wanted wanted = find_wanted(file, header, faces);
   PlyContent result;
   if (header.encoding == PlyEncoding::ascii) {
-    read_ascii_body(file, content, header, wanted, result);
+    AsciiBody(file, content, header, wanted, result).read();
   } else {
-    read_binary_body(file, content, header, wanted, result);
+    BinaryBody(file, content, header, wanted, result).read(header);
   }
   return result;
 }
@@ -602,19 +708,14 @@ void write_ply_mesh(std::ostream& stream, const Mesh& mesh, bool ascii) {
     if (ascii) out += '\n';
     writer.flush_if_full();
   }
-  for (const auto& triangle : mesh.triangles) {
-    if (ascii) {
-      out += '3';
-      for (const std::uint32_t v : triangle) {
-        out += ' ';
-        append_integer(out, v);
-      }
-      out += '\n';
-    } else {
+  if (ascii) {
+    append_triangles_text(writer, mesh.triangles, '3', 0);
+  } else {
+    for (const auto& triangle : mesh.triangles) {
       append_little_endian(out, std::uint8_t{3});
       for (const std::uint32_t v : triangle) append_little_endian(out, v);  // same bytes as int for v < 2^31
+      writer.flush_if_full();
     }
-    writer.flush_if_full();
   }
   writer.finish();
 }

@@ -17,14 +17,6 @@
 namespace recon::io {
 namespace {
 
-std::string lower_case(std::string_view text) {
-  std::string result(text);
-  for (char& c : result) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return result;
-}
-
 constexpr std::array<std::pair<std::string_view, PointFormat>, 8> format_names = {{
     {"ply", PointFormat::ply},
     {"xyz", PointFormat::xyz},
@@ -65,7 +57,7 @@ PointFormat resolve(const std::filesystem::path& path, PointFormat format) {
 }  // namespace
 
 PointFormat point_format_from_name(std::string_view name) {
-  const std::string lower = lower_case(name);
+  const std::string lower = detail::lower_case(name);
   for (const auto& [known, format] : format_names) {
     if (lower == known) return format;
   }
@@ -74,14 +66,13 @@ PointFormat point_format_from_name(std::string_view name) {
 }
 
 PointFormat point_format_from_path(const std::filesystem::path& path) {
-  const std::string extension = lower_case(path.extension().string());
+  const std::string extension = detail::lower_case(path.extension().string());
   for (const auto& [known, format] : extensions) {
     if (extension == known) return format;
   }
-  const std::string what = extension.empty() ? "has no extension" : "has the unknown extension '" + extension + "'";
-  throw InvalidInputError(path.string() + ": " + what +
-                          "; known point formats: .ply, .xyz (also .txt, .asc, .pwn, .csv), .pts, .obj, .off, .pcd, .las"
-                          " - or name the format with --format (ply, xyz, pts, obj, off, pcd, las)");
+  detail::fail_unknown_extension(path, extension,
+                                 "known point formats: .ply, .xyz (also .txt, .asc, .pwn, .csv), .pts, .obj, .off, "
+                                 ".pcd, .las - or name the format with --format (ply, xyz, pts, obj, off, pcd, las)");
 }
 
 namespace {

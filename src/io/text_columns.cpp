@@ -155,13 +155,6 @@ double parse_number_with_decimal_comma(std::string_view file, std::size_t line, 
 
 namespace {
 
-std::string lower_case(std::string_view text) {
-  std::string result(text);
-  for (char& c : result)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  return result;
-}
-
 struct KnownName {
   std::string_view name;
   ColumnRole role;

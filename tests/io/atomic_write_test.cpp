@@ -19,10 +19,7 @@
 namespace recon::io {
 namespace {
 
-using testing::random_cloud;
-using testing::read_bytes;
-using testing::TempFolder;
-using testing::write_file;
+using namespace testing;  // io_test_helpers.h
 
 TEST(AtomicWriteIo, MissingFolderIsAnIoErrorAndCreatesNothing) {
   TempFolder folder;

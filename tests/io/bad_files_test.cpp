@@ -36,11 +36,7 @@
 namespace recon::io {
 namespace {
 
-using testing::Bytes;
-using testing::message_of;
-using testing::point_read_error;
-using testing::TempFolder;
-using testing::write_file;
+using namespace testing;  // io_test_helpers.h
 
 constexpr std::size_t max_line = std::size_t{1} << 20;  // the readers' limit, 1 MiB
 

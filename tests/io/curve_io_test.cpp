@@ -16,10 +16,7 @@
 namespace recon::io {
 namespace {
 
-using testing::message_of;
-using testing::read_bytes;
-using testing::TempFolder;
-using testing::write_file;
+using namespace testing;  // io_test_helpers.h
 
 PolylineSet square_and_hook() {
   PolylineSet set;

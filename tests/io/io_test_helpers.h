@@ -1,17 +1,22 @@
 #pragma once
 // Shared by the io tests: a fresh temporary folder per test, files from
-// strings, binary content in either byte order, seeded random clouds, and
-// checks on exception messages.
+// strings, binary content in either byte order, seeded random clouds and
+// colours, exact comparisons of clouds and meshes, and checks on exception
+// messages (one bad file, or a table of them).
 
 #include "recon/errors.h"
+#include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
+#include "recon/mesh.h"
 #include "recon/point_cloud.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -21,6 +26,10 @@
 #include <vector>
 
 #include <unistd.h>
+
+/// Checks that `text` contains `part`, printing the whole text otherwise.
+#define EXPECT_CONTAINS(text, part) \
+  EXPECT_NE(std::string(text).find(part), std::string::npos) << "'" << (text) << "' lacks '" << (part) << "'"
 
 namespace recon::io::testing {
 
@@ -130,6 +139,61 @@ inline PointCloud random_cloud(std::size_t n, bool normals, std::uint64_t seed) 
   return cloud;
 }
 
+/// A seeded random mesh: the vertices of random_cloud() and triangles of
+/// random corners (some degenerate: the readers and writers do not care).
+inline Mesh random_mesh(std::size_t vertices, std::size_t triangles, std::uint64_t seed) {
+  const PointCloud cloud = random_cloud(vertices, false, seed);
+  Mesh mesh;
+  mesh.vertices = cloud.positions;
+  std::mt19937_64 random(seed);
+  std::uniform_int_distribution<std::uint32_t> index(0, static_cast<std::uint32_t>(vertices - 1));
+  for (std::size_t t = 0; t < triangles; ++t) mesh.triangles.push_back({index(random), index(random), index(random)});
+  return mesh;
+}
+
+/// Seeded random colours, the first black and the last {255, 128, 1}.
+inline std::vector<Color> random_colors(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::vector<Color> colors(n);
+  for (Color& c : colors)
+    for (std::uint8_t& v : c) v = static_cast<std::uint8_t>(byte(random));
+  colors.front() = {0, 0, 0};
+  colors.back() = {255, 128, 1};
+  return colors;
+}
+
+/// A strip of `vertices` random points (triangles v, v + 1, v + 2) with
+/// random colours.
+inline Mesh colored_mesh(std::size_t vertices, std::uint64_t seed) {
+  Mesh mesh;
+  mesh.vertices = random_cloud(vertices, false, seed).positions;
+  for (std::uint32_t v = 0; v + 2 < vertices; ++v) mesh.triangles.push_back({v, v + 1, v + 2});
+  mesh.colors = random_colors(vertices, seed);
+  return mesh;
+}
+
+/// The same positions and normals, bit for bit.
+inline void expect_same(const PointCloud& expected, const PointCloud& actual) {
+  ASSERT_EQ(actual.size(), expected.size());
+  ASSERT_EQ(actual.normals.size(), expected.normals.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    ASSERT_EQ(actual.positions[i], expected.positions[i]) << "point " << i;
+    if (expected.has_normals()) {
+      ASSERT_EQ(actual.normals[i], expected.normals[i]) << "normal " << i;
+    }
+  }
+}
+
+/// The same vertices, bit for bit, and the same triangles.
+inline void expect_same(const Mesh& expected, const Mesh& actual) {
+  ASSERT_EQ(actual.vertices.size(), expected.vertices.size());
+  ASSERT_EQ(actual.triangles.size(), expected.triangles.size());
+  for (std::size_t i = 0; i < expected.vertices.size(); ++i) ASSERT_EQ(actual.vertices[i], expected.vertices[i]) << i;
+  for (std::size_t t = 0; t < expected.triangles.size(); ++t)
+    ASSERT_EQ(actual.triangles[t], expected.triangles[t]) << t;
+}
+
 /// The message of the exception of type E that `f` throws; a test failure
 /// (and "") when it throws nothing or something else.
 template <typename E, typename F>
@@ -158,8 +222,30 @@ inline std::string point_read_error(const std::filesystem::path& path) {
   return message_of<ParseError>([&] { static_cast<void>(read_points(path)); });
 }
 
-}  // namespace recon::io::testing
+/// The message of the ParseError that reading `path` as a mesh throws.
+inline std::string mesh_read_error(const std::filesystem::path& path) {
+  return message_of<ParseError>([&] { static_cast<void>(read_mesh(path)); });
+}
 
-/// Checks that `text` contains `part`, printing the whole text otherwise.
-#define EXPECT_CONTAINS(text, part) \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "'" << (text) << "' lacks '" << (part) << "'"
+/// One bad file of a table: its content, the place the message must name
+/// ("e.xyz:2:", "t.pcd: byte 84:") and a phrase saying what was wrong.
+struct BadContent {
+  std::string content;
+  std::string where;
+  std::string what;
+};
+
+/// Writes each case as `name` in a fresh folder and checks the message of
+/// the ParseError that reading it (as points, or as a mesh) throws.
+inline void expect_read_errors(std::string_view name, const std::vector<BadContent>& cases, bool mesh = false) {
+  TempFolder folder;
+  const std::filesystem::path path = folder / name;
+  for (const BadContent& c : cases) {
+    write_file(path, c.content);
+    const std::string message = mesh ? mesh_read_error(path) : point_read_error(path);
+    EXPECT_CONTAINS(message, c.where);
+    EXPECT_CONTAINS(message, c.what);
+  }
+}
+
+}  // namespace recon::io::testing

@@ -22,13 +22,7 @@
 namespace recon::io {
 namespace {
 
-using testing::as_format;
-using testing::Bytes;
-using testing::message_of;
-using testing::point_read_error;
-using testing::read_with_notes;
-using testing::TempFolder;
-using testing::write_file;
+using namespace testing;  // io_test_helpers.h
 
 using Rgb16 = std::array<std::uint16_t, 3>;
 

@@ -25,11 +25,7 @@
 namespace recon::io {
 namespace {
 
-using testing::Bytes;
-using testing::point_read_error;
-using testing::read_with_notes;
-using testing::TempFolder;
-using testing::write_file;
+using namespace testing;  // io_test_helpers.h
 
 // --------------------------------------------------------------------------
 // A test-side LZF compressor

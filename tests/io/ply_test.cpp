@@ -1,5 +1,6 @@
 // PLY point reading and writing: every encoding and scalar type, elements in
-// any order, skipped lists, and every way a file can be malformed.
+// any order, skipped lists, and every way a file can be malformed. (The round
+// trips through PLY are in round_trip_test.cpp.)
 
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
@@ -16,12 +17,7 @@
 namespace recon::io {
 namespace {
 
-using testing::Bytes;
-using testing::message_of;
-using testing::point_read_error;
-using testing::random_cloud;
-using testing::TempFolder;
-using testing::write_file;
+using namespace testing;  // io_test_helpers.h
 
 TEST(PlyReader, AsciiWithCommentsOtherPropertiesAndFacesFirst) {
   TempFolder folder;
@@ -133,26 +129,6 @@ TEST(PlyReader, BinaryLittleEndianFacesBeforeVertices) {
   EXPECT_EQ(cloud.positions[3], Vec3(3.0, -6.0, 0.1 * 3));
 }
 
-TEST(PlyIo, RoundTripBinaryAndAscii) {
-  TempFolder folder;
-  for (const bool normals : {false, true}) {
-    for (const bool ascii : {false, true}) {
-      const PointCloud cloud = random_cloud(1000, normals, normals ? 1 : 2);
-      write_points(folder / "r.ply", cloud, {.ascii = ascii});
-      const PointCloud back = read_points(folder / "r.ply");
-      ASSERT_EQ(back.size(), cloud.size());
-      ASSERT_EQ(back.has_normals(), normals);
-      // Binary doubles are bit for bit; the text is the shortest that reads back exactly.
-      for (std::size_t i = 0; i < cloud.size(); ++i) {
-        ASSERT_EQ(back.positions[i], cloud.positions[i]) << "point " << i << (ascii ? " ascii" : " binary");
-        if (normals) {
-          ASSERT_EQ(back.normals[i], cloud.normals[i]) << "normal " << i;
-        }
-      }
-    }
-  }
-}
-
 TEST(PlyIo, WrittenHeader) {
   TempFolder folder;
   write_points(folder / "h.ply", random_cloud(2, true, 1));
@@ -165,68 +141,52 @@ TEST(PlyIo, WrittenHeader) {
   EXPECT_EQ(content.size() - body, 2U * 6U * 8U);
 }
 
-struct HeaderCase {
-  const char* content;
-  const char* where;
-  const char* what;
-};
-
 TEST(PlyReader, HeaderErrorsNameTheLine) {
-  TempFolder folder;
-  const HeaderCase cases[] = {
-      {"plyx\nformat ascii 1.0\n", "e.ply:1:", "not a PLY file"},
-      {"PLY\n", "e.ply:1:", "not a PLY file"},
-      {"ply\nformat ascii\nend_header\n", "e.ply:2:", "bad format line"},
-      {"ply\nformat binary 1.0\nend_header\n", "e.ply:2:", "unknown PLY format 'binary'"},
-      {"ply\nformat ascii 2.0\nend_header\n", "e.ply:2:", "version"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n",
-       "e.ply:4:", "unknown type 'float128'"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty list uchar x\nend_header\n", "e.ply:4:", "list property"},
-      {"ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n",
-       "e.ply:4:", "integer type"},
-      {"ply\nformat ascii 1.0\nproperty float x\nend_header\n", "e.ply:3:", "before any element"},
-      {"ply\nformat ascii 1.0\nelement vertex many\nend_header\n", "e.ply:3:", "bad element line"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\nelement vertex 1\nend_header\n", "e.ply:4:", "second element"},
-      {"ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n",
-       "e.ply:5:", "no 'vertex' element"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float z\nend_header\n1 2\n",
-       "e.ply:3:", "no 'y' property"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-       "property list uchar int extra\nend_header\n",
-       "e.ply:7:", "list property 'extra' on the vertex element"},
-      {"ply\nelement vertex 1\nend_header\n", "e.ply:3:", "no format line"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n", "e.ply:4:", "no 'end_header'"},
-      {"ply\nformat ascii 1.0\nvertex 1\nend_header\n", "e.ply:3:", "unexpected line"},
-  };
-  for (const HeaderCase& c : cases) {
-    write_file(folder / "e.ply", c.content);
-    const std::string message = point_read_error(folder / "e.ply");
-    EXPECT_CONTAINS(message, c.where);
-    EXPECT_CONTAINS(message, c.what);
-  }
+  expect_read_errors(
+      "e.ply",
+      {
+          {"plyx\nformat ascii 1.0\n", "e.ply:1:", "not a PLY file"},
+          {"PLY\n", "e.ply:1:", "not a PLY file"},
+          {"ply\nformat ascii\nend_header\n", "e.ply:2:", "bad format line"},
+          {"ply\nformat binary 1.0\nend_header\n", "e.ply:2:", "unknown PLY format 'binary'"},
+          {"ply\nformat ascii 2.0\nend_header\n", "e.ply:2:", "version"},
+          {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n",
+           "e.ply:4:", "unknown type 'float128'"},
+          {"ply\nformat ascii 1.0\nelement vertex 1\nproperty list uchar x\nend_header\n", "e.ply:4:", "list property"},
+          {"ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n",
+           "e.ply:4:", "integer type"},
+          {"ply\nformat ascii 1.0\nproperty float x\nend_header\n", "e.ply:3:", "before any element"},
+          {"ply\nformat ascii 1.0\nelement vertex many\nend_header\n", "e.ply:3:", "bad element line"},
+          {"ply\nformat ascii 1.0\nelement vertex 1\nelement vertex 1\nend_header\n", "e.ply:4:", "second element"},
+          {"ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n",
+           "e.ply:5:", "no 'vertex' element"},
+          {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float z\nend_header\n1 2\n",
+           "e.ply:3:", "no 'y' property"},
+          {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+           "property list uchar int extra\nend_header\n",
+           "e.ply:7:", "list property 'extra' on the vertex element"},
+          {"ply\nelement vertex 1\nend_header\n", "e.ply:3:", "no format line"},
+          {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n", "e.ply:4:", "no 'end_header'"},
+          {"ply\nformat ascii 1.0\nvertex 1\nend_header\n", "e.ply:3:", "unexpected line"},
+      });
 }
 
 TEST(PlyReader, AsciiBodyErrorsNameTheLine) {
-  TempFolder folder;
   const std::string header =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
       "element face 1\nproperty list uchar int vertex_indices\nend_header\n";  // the body starts on line 10
-  const HeaderCase cases[] = {
-      {"1 2 3\n4 5 6\n", "e.ply:11:", "promises 3 'vertex' elements"},
-      {"1 2 3\n4 5 6\n7 8 9\n3 0 1\n", "e.ply:13:", "promises 1 'face'"},
-      {"1 2 3\n4 five 6\n7 8 9\n3 0 1 2\n", "e.ply:11:", "expected a number for y, found 'five'"},
-      {"1 2 1e999\n4 5 6\n7 8 9\n3 0 1 2\n", "e.ply:10:", "'1e999' for z does not fit its type float32"},
-      {"1 2 3\n4 5 6\n7 8 9\n300 0 1 2\n", "e.ply:13:", "length of list 'vertex_indices'"},
-      {"1 2 3\n4 5 6\n7 8 9\nthree 0 1 2\n", "e.ply:13:", "length of list 'vertex_indices'"},
-      {"1 2 3\n4 5 6\n7 8 9\n3 0 1 x\n", "e.ply:13:", "'x'"},
-      {"1 2 3\n4 5 6\n7 8 9\n3 0 1 2\n\n5\n", "e.ply:15:", "after the last element"},
-  };
-  for (const HeaderCase& c : cases) {
-    write_file(folder / "e.ply", header + c.content);
-    const std::string message = point_read_error(folder / "e.ply");
-    EXPECT_CONTAINS(message, c.where);
-    EXPECT_CONTAINS(message, c.what);
-  }
+  expect_read_errors(
+      "e.ply",
+      {
+          {header + "1 2 3\n4 5 6\n", "e.ply:11:", "promises 3 'vertex' elements"},
+          {header + "1 2 3\n4 5 6\n7 8 9\n3 0 1\n", "e.ply:13:", "promises 1 'face'"},
+          {header + "1 2 3\n4 five 6\n7 8 9\n3 0 1 2\n", "e.ply:11:", "expected a number for y, found 'five'"},
+          {header + "1 2 1e999\n4 5 6\n7 8 9\n3 0 1 2\n", "e.ply:10:", "'1e999' for z does not fit its type float32"},
+          {header + "1 2 3\n4 5 6\n7 8 9\n300 0 1 2\n", "e.ply:13:", "length of list 'vertex_indices'"},
+          {header + "1 2 3\n4 5 6\n7 8 9\nthree 0 1 2\n", "e.ply:13:", "length of list 'vertex_indices'"},
+          {header + "1 2 3\n4 5 6\n7 8 9\n3 0 1 x\n", "e.ply:13:", "'x'"},
+          {header + "1 2 3\n4 5 6\n7 8 9\n3 0 1 2\n\n5\n", "e.ply:15:", "after the last element"},
+      });
 }
 
 TEST(PlyReader, TruncatedBinarySaysWhichVertexAndByte) {

@@ -1,6 +1,7 @@
 // read_points / write_points: format choice, the text formats (xyz, pts,
 // obj, off), PCD, errors common to all formats, and the real data sets.
-// PLY has its own file, ply_test.cpp.
+// PLY has its own file, ply_test.cpp; the round trips of every format are in
+// round_trip_test.cpp.
 
 #include "recon/io/point_io.h"
 
@@ -10,57 +11,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 
 namespace recon::io {
 namespace {
 
-using testing::as_format;
-using testing::Bytes;
-using testing::message_of;
-using testing::point_read_error;
-using testing::random_cloud;
-using testing::TempFolder;
-using testing::write_file;
-
-void expect_same(const PointCloud& expected, const PointCloud& actual) {
-  ASSERT_EQ(actual.size(), expected.size());
-  ASSERT_EQ(actual.normals.size(), expected.normals.size());
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    ASSERT_EQ(actual.positions[i], expected.positions[i]) << "point " << i;
-    if (expected.has_normals()) {
-      ASSERT_EQ(actual.normals[i], expected.normals[i]) << "normal " << i;
-    }
-  }
-}
-
-// Same values to a relative 1e-15 (for text written by the tests themselves).
-void expect_close(const PointCloud& expected, const PointCloud& actual) {
-  ASSERT_EQ(actual.size(), expected.size());
-  ASSERT_EQ(actual.normals.size(), expected.normals.size());
-  const auto close = [](const Vec3& a, const Vec3& b) {
-    for (int k = 0; k < 3; ++k) {
-      if (std::abs(a[k] - b[k]) > 1e-15 * std::max(std::abs(a[k]), std::abs(b[k]))) return false;
-    }
-    return true;
-  };
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    ASSERT_TRUE(close(expected.positions[i], actual.positions[i])) << "point " << i;
-    if (expected.has_normals()) {
-      ASSERT_TRUE(close(expected.normals[i], actual.normals[i])) << "normal " << i;
-    }
-  }
-}
-
-std::string number(double value) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-
-std::string vec(const Vec3& v) { return number(v.x()) + " " + number(v.y()) + " " + number(v.z()); }
+using namespace testing;  // io_test_helpers.h
 
 // --------------------------------------------------------------------------
 // Format names and extensions
@@ -183,37 +140,16 @@ TEST(PointIoXyz, CommasSeparateToo) {
   EXPECT_EQ(cloud.positions[1], Vec3(4, 5, 6));
 }
 
-TEST(PointIoXyz, RoundTrip) {
-  TempFolder folder;
-  for (const bool normals : {false, true}) {
-    const PointCloud cloud = random_cloud(500, normals, 7);
-    write_points(folder / "r.xyz", cloud);
-    expect_same(cloud, read_points(folder / "r.xyz"));  // shortest round-trip text is exact
-  }
-}
-
 TEST(PointIoXyz, Errors) {
-  TempFolder folder;
-  struct Case {
-    const char* content;
-    const char* where;
-    const char* what;
-  };
-  const Case errors[] = {
-      {"1 2 3\n4 5 6 7 8 9\n", "e.xyz:2:", "every line must have the same count"},
-      {"1 2 3 4 5\n", "e.xyz:1:", "found 5"},
-      {"1 2 3\n\n1 2 x\n", "e.xyz:3:", "expected a number for z, found 'x'"},
-      {"# c\n1 2 1e999\n", "e.xyz:2:", "too large for a double"},
-      {"1,,2,3\n", "e.xyz:1:", "comma"},
-      {"1 2 3,\n", "e.xyz:1:", "comma"},
-      {"1 2 3\n1 2 3e\n", "e.xyz:2:", "'3e'"},
-  };
-  for (const Case& c : errors) {
-    write_file(folder / "e.xyz", c.content);
-    const std::string message = point_read_error(folder / "e.xyz");
-    EXPECT_CONTAINS(message, c.where);
-    EXPECT_CONTAINS(message, c.what);
-  }
+  expect_read_errors("e.xyz", {
+                                  {"1 2 3\n4 5 6 7 8 9\n", "e.xyz:2:", "every line must have the same count"},
+                                  {"1 2 3 4 5\n", "e.xyz:1:", "found 5"},
+                                  {"1 2 3\n\n1 2 x\n", "e.xyz:3:", "expected a number for z, found 'x'"},
+                                  {"# c\n1 2 1e999\n", "e.xyz:2:", "too large for a double"},
+                                  {"1,,2,3\n", "e.xyz:1:", "comma"},
+                                  {"1 2 3,\n", "e.xyz:1:", "comma"},
+                                  {"1 2 3\n1 2 3e\n", "e.xyz:2:", "'3e'"},
+                              });
 }
 
 TEST(PointIoXyz, TinyValuesBecomeZeroInsteadOfFailing) {
@@ -255,31 +191,12 @@ TEST(PointIoPts, PlainColumns) {
   EXPECT_EQ(cloud.positions[1], Vec3(-0.5, 6.8, 2.1));
 }
 
-TEST(PointIoPts, RoundTripThroughHoppeText) {
-  TempFolder folder;
-  const PointCloud cloud = random_cloud(200, false, 3);
-  std::string text = "# test\nd 0 0 0\n";
-  for (const Vec3& p : cloud.positions) text += "p " + vec(p) + "\n";
-  write_file(folder / "r.pts", text);
-  expect_close(cloud, read_points(folder / "r.pts"));
-}
-
 TEST(PointIoPts, Errors) {
-  TempFolder folder;
-  write_file(folder / "e.pts", "p 1 2 3\np 1 2\n");
-  std::string message = point_read_error(folder / "e.pts");
-  EXPECT_CONTAINS(message, "e.pts:2:");
-  EXPECT_CONTAINS(message, "found 2");
-
-  write_file(folder / "e.pts", "# c\np 1 2 3\n4 5 6\n");
-  message = point_read_error(folder / "e.pts");
-  EXPECT_CONTAINS(message, "e.pts:3:");
-  EXPECT_CONTAINS(message, "line 2");
-
-  write_file(folder / "e.pts", "p 1 2 3\npoint 5 6 7\n");
-  message = point_read_error(folder / "e.pts");
-  EXPECT_CONTAINS(message, "e.pts:2:");
-  EXPECT_CONTAINS(message, "'point'");
+  expect_read_errors("e.pts", {
+                                  {"p 1 2 3\np 1 2\n", "e.pts:2:", "found 2"},
+                                  {"# c\np 1 2 3\n4 5 6\n", "e.pts:3:", "line 2"},
+                                  {"p 1 2 3\npoint 5 6 7\n", "e.pts:2:", "'point'"},
+                              });
 }
 
 // --------------------------------------------------------------------------
@@ -309,26 +226,11 @@ TEST(PointIoObj, NormalsOfAnotherCountAreDropped) {
   EXPECT_FALSE(cloud.has_normals());
 }
 
-TEST(PointIoObj, RoundTripThroughText) {
-  TempFolder folder;
-  const PointCloud cloud = random_cloud(100, true, 11);
-  std::string text;
-  for (const Vec3& p : cloud.positions) text += "v " + vec(p) + "\n";
-  for (const Vec3& n : cloud.normals) text += "vn " + vec(n) + "\n";
-  write_file(folder / "r.obj", text);
-  expect_close(cloud, read_points(folder / "r.obj"));
-}
-
 TEST(PointIoObj, Errors) {
-  TempFolder folder;
-  write_file(folder / "e.obj", "v 1 2 3\n# c\nv 1 2\n");
-  std::string message = point_read_error(folder / "e.obj");
-  EXPECT_CONTAINS(message, "e.obj:3:");
-  EXPECT_CONTAINS(message, "3 numbers");
-  write_file(folder / "e.obj", "v 1 2 3\nvn a 0 1\n");
-  message = point_read_error(folder / "e.obj");
-  EXPECT_CONTAINS(message, "e.obj:2:");
-  EXPECT_CONTAINS(message, "'a'");
+  expect_read_errors("e.obj", {
+                                  {"v 1 2 3\n# c\nv 1 2\n", "e.obj:3:", "3 numbers"},
+                                  {"v 1 2 3\nvn a 0 1\n", "e.obj:2:", "'a'"},
+                              });
 }
 
 // --------------------------------------------------------------------------
@@ -364,38 +266,17 @@ TEST(PointIoOff, NoffHasNormalsAndColoursAreIgnored) {
   EXPECT_EQ(cloud.positions[1], Vec3(4, 5, 6));
 }
 
-TEST(PointIoOff, RoundTripThroughText) {
-  TempFolder folder;
-  const PointCloud cloud = random_cloud(100, true, 12);
-  std::string text = "NOFF\n" + std::to_string(cloud.size()) + " 0 0\n";
-  for (std::size_t i = 0; i < cloud.size(); ++i) text += vec(cloud.positions[i]) + " " + vec(cloud.normals[i]) + "\n";
-  write_file(folder / "r.off", text);
-  expect_close(cloud, read_points(folder / "r.off"));
-}
-
 TEST(PointIoOff, Errors) {
-  TempFolder folder;
-  struct Case {
-    const char* content;
-    const char* where;
-    const char* what;
-  };
-  const Case errors[] = {
-      {"OFF\n3 0 0\n0 0 0\n1 0 0\n", "e.off:4:", "promises 3"},
-      {"OFF\n2 0 0\n0 0 0\n1 0\n", "e.off:4:", "needs 3 numbers"},
-      {"NOFF\n1 0 0\n0 0 0\n", "e.off:3:", "needs 6 numbers"},
-      {"OFF\n1 0 0\n0 x 0\n", "e.off:3:", "'x'"},
-      {"# c\nPLY\n1 0 0\n", "e.off:2:", "not an OFF file"},
-      {"OFF\nmany 0 0\n", "e.off:2:", "counts"},
-      {"4OFF\n1 0 0\n", "e.off:1:", "not supported"},
-      {"OFF BINARY\n", "e.off:1:", "binary OFF"},
-  };
-  for (const Case& c : errors) {
-    write_file(folder / "e.off", c.content);
-    const std::string message = point_read_error(folder / "e.off");
-    EXPECT_CONTAINS(message, c.where);
-    EXPECT_CONTAINS(message, c.what);
-  }
+  expect_read_errors("e.off", {
+                                  {"OFF\n3 0 0\n0 0 0\n1 0 0\n", "e.off:4:", "promises 3"},
+                                  {"OFF\n2 0 0\n0 0 0\n1 0\n", "e.off:4:", "needs 3 numbers"},
+                                  {"NOFF\n1 0 0\n0 0 0\n", "e.off:3:", "needs 6 numbers"},
+                                  {"OFF\n1 0 0\n0 x 0\n", "e.off:3:", "'x'"},
+                                  {"# c\nPLY\n1 0 0\n", "e.off:2:", "not an OFF file"},
+                                  {"OFF\nmany 0 0\n", "e.off:2:", "counts"},
+                                  {"4OFF\n1 0 0\n", "e.off:1:", "not supported"},
+                                  {"OFF BINARY\n", "e.off:1:", "binary OFF"},
+                              });
 }
 
 // --------------------------------------------------------------------------
@@ -447,47 +328,23 @@ TEST(PointIoPcd, BinaryRecordsInFieldOrder) {
   EXPECT_EQ(cloud.positions[1], Vec3(100, -0.125, 12));
 }
 
-TEST(PointIoPcd, BinaryWithNormals) {
-  TempFolder folder;
-  const PointCloud cloud = random_cloud(50, true, 5);
-  Bytes bytes;
-  bytes.text("FIELDS x y z normal_x normal_y normal_z\nSIZE 8 8 8 8 8 8\nTYPE F F F F F F\nWIDTH 50\nDATA binary\n");
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    for (int k = 0; k < 3; ++k) bytes.put(cloud.positions[i][k]);
-    for (int k = 0; k < 3; ++k) bytes.put(cloud.normals[i][k]);
-  }
-  write_file(folder / "n.pcd", bytes.str());
-  expect_same(cloud, read_points(folder / "n.pcd"));
-}
-
 TEST(PointIoPcd, Errors) {
-  TempFolder folder;
   const std::string header = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\nPOINTS 2\n";
-  struct Case {
-    std::string content;
-    const char* where;
-    const char* what;
-  };
-  const Case errors[] = {
-      {header + "DATA binary_compressed\n", "e.pcd: byte 84:", "the file ends before the two sizes"},
-      {header + "DATA ascii\n1 2 3\n", "e.pcd:8:", "promises 2"},
-      {header + "DATA ascii\n1 2 3\n1 2\n", "e.pcd:9:", "expected 3 values"},
-      {header + "DATA ascii\n1 2 3\n1 2 3\n1 2 3\n", "e.pcd:10:", "more data lines"},
-      {header + "DATA ascii\n1 2 3\n1 b 3\n", "e.pcd:9:", "'b'"},
-      {header + "DATA zip\n", "e.pcd:7:", "DATA"},
-      {"FIELDS a y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", "e.pcd:1:", "'x'"},
-      {"FIELDS x y z\nSIZE 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", "e.pcd:2:", "SIZE lists 2"},
-      {"FIELDS x y z\nSIZE 4 4 3\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", "e.pcd:3:", "not supported"},
-      {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nPOINTS 2\nDATA ascii\n", "e.pcd:5:", "WIDTH"},
-      {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\n", "e.pcd:4:", "no DATA line"},
-      {"FIELDS x y z\nCOLOUR red\n", "e.pcd:2:", "unexpected line"},
-  };
-  for (const Case& c : errors) {
-    write_file(folder / "e.pcd", c.content);
-    const std::string message = point_read_error(folder / "e.pcd");
-    EXPECT_CONTAINS(message, c.where);
-    EXPECT_CONTAINS(message, c.what);
-  }
+  expect_read_errors(
+      "e.pcd", {
+                   {header + "DATA binary_compressed\n", "e.pcd: byte 84:", "the file ends before the two sizes"},
+                   {header + "DATA ascii\n1 2 3\n", "e.pcd:8:", "promises 2"},
+                   {header + "DATA ascii\n1 2 3\n1 2\n", "e.pcd:9:", "expected 3 values"},
+                   {header + "DATA ascii\n1 2 3\n1 2 3\n1 2 3\n", "e.pcd:10:", "more data lines"},
+                   {header + "DATA ascii\n1 2 3\n1 b 3\n", "e.pcd:9:", "'b'"},
+                   {header + "DATA zip\n", "e.pcd:7:", "DATA"},
+                   {"FIELDS a y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", "e.pcd:1:", "'x'"},
+                   {"FIELDS x y z\nSIZE 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", "e.pcd:2:", "SIZE lists 2"},
+                   {"FIELDS x y z\nSIZE 4 4 3\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n", "e.pcd:3:", "not supported"},
+                   {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nPOINTS 2\nDATA ascii\n", "e.pcd:5:", "WIDTH"},
+                   {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\n", "e.pcd:4:", "no DATA line"},
+                   {"FIELDS x y z\nCOLOUR red\n", "e.pcd:2:", "unexpected line"},
+               });
 }
 
 TEST(PointIoPcd, TruncatedBinarySaysWhere) {

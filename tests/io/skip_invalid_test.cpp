@@ -19,11 +19,7 @@
 namespace recon::io {
 namespace {
 
-using testing::Bytes;
-using testing::message_of;
-using testing::point_read_error;
-using testing::TempFolder;
-using testing::write_file;
+using namespace testing;  // io_test_helpers.h
 
 PointCloud read_skipping(const std::filesystem::path& path, ReadNotes& notes) {
   return testing::read_with_notes(path, notes, true);

@@ -22,10 +22,7 @@
 namespace recon::io {
 namespace {
 
-using testing::message_of;
-using testing::point_read_error;
-using testing::TempFolder;
-using testing::write_file;
+using namespace testing;  // io_test_helpers.h
 
 /// A cloud read from text written to a fresh file, with the notes.
 struct TextRead {
