@@ -1,5 +1,6 @@
 #include "recon/reconstruct.h"
 
+#include "recon/detail/seed_wave.h"
 #include "recon/errors.h"
 #include "recon/parallel.h"
 #include "recon/resource_usage.h"
@@ -106,7 +107,7 @@ class FirstWave {
   // threads at once, after prepare().
   void drain() {
     const std::size_t count = plane_.size();
-    const Lattice& lattice = wave_->lattice();
+    const Lattice<3>& lattice = wave_->lattice();
     for (;;) {
       const std::size_t begin = next_.fetch_add(chunk, std::memory_order_relaxed);
       if (begin >= count) return;
@@ -447,8 +448,9 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   mc.max_cubes = static_cast<std::size_t>(
       std::max(0.0, (static_cast<double>(limit) - static_cast<double>(r.order.size()) * bytes_per_point_held) /
                         bytes_per_cube));
-  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc, options.keep_corners)
-                           : marching_cubes(std::cref(f), r.points(), mc, options.keep_corners);
+  mc.keep_corners = options.keep_corners;
+  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc)
+                           : marching_cubes(std::cref(f), r.points(), mc);
   if (options.method == Method::refined) {
     starting("refinement");
     const RefinementInput input = refinement_input_of(r, f);
