@@ -38,6 +38,14 @@ struct Lattice {
   static constexpr int key_bits = 64 / D;
   static constexpr std::int32_t max_cells_per_axis = D == 3 ? (std::int32_t{1} << key_bits) - 2 : std::int32_t{1} << 30;
 
+  /// One evaluated corner, for inspection and the visual feedback
+  /// (LatticeCorner in 3D, SquareCorner in 2D).
+  struct Corner {
+    Index index{};       ///< lattice coordinates
+    double value = 0.0;  ///< f, when defined
+    bool defined = false;
+  };
+
   Vec<D> origin = Vec<D>::Zero();  ///< position of corner (0, ..., 0)
   double cell = 0.0;               ///< side of a cell (a length)
   Index size{};                    ///< cells along each axis (corners: size + 1)

@@ -19,7 +19,8 @@
 // Costs: find and insert take expected O(1) probes, the table being at most
 // half full; it doubles when it would be fuller, rehashing every key
 // (amortised O(1) per insert). Memory: 8 bytes per key, plus 8 to 16 bytes
-// per key for the table. At most 2^32 - 2 keys.
+// per key for the table. Precondition: fewer than 2^32 keys (slots are
+// 32-bit, and the largest value marks an empty cell).
 //
 // Threads: find() and key() are safe from many threads at once while
 // nothing is inserted; insert() is not.

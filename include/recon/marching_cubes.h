@@ -48,12 +48,7 @@ struct MarchingCubesOptions {
   bool keep_corners = false;             ///< keep every evaluated corner in the result
 };
 
-/// One evaluated lattice corner, for inspection and the visual feedback.
-struct LatticeCorner {
-  std::array<std::int32_t, 3> index{};  ///< lattice coordinates
-  double value = 0.0;                   ///< f, when defined
-  bool defined = false;
-};
+using LatticeCorner = Lattice<3>::Corner;
 
 struct MarchingCubesResult {
   Mesh mesh;

@@ -65,12 +65,7 @@ struct MarchingSquaresOptions {
   bool keep_corners = false;             ///< keep the evaluated corners and the visited squares in the result
 };
 
-/// One evaluated lattice corner, for inspection and the visual feedback.
-struct SquareCorner {
-  std::array<std::int32_t, 2> index{};  ///< lattice coordinates
-  double value = 0.0;                   ///< f, when defined
-  bool defined = false;
-};
+using SquareCorner = Lattice<2>::Corner;
 
 struct MarchingSquaresResult {
   PolylineSet curves;
