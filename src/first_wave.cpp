@@ -22,7 +22,7 @@ void FirstWave::prepare(Reconstruction& r, double cell, const SignedDistanceOpti
 
 void FirstWave::drain() {
   const std::size_t count = plane_.size();
-  const Lattice& lattice = wave_->lattice();
+  const Lattice<3>& lattice = wave_->lattice();
   for (;;) {
     const std::size_t begin = next_.fetch_add(chunk, std::memory_order_relaxed);
     if (begin >= count) return;

@@ -46,85 +46,104 @@ Vec3 edge_midpoint(int e) {
   return 0.5 * (corner_position(ends[0]) + corner_position(ends[1]));
 }
 
-CubeCase build_case(unsigned config) {
+using Successors = std::array<int, 12>;  // per edge: the crossing its segment leads to, or -1
+
+// Step 1 on one face (normal axis a, side s): each inside corner that is cut
+// off on this face, or each run of inside corners, gives one segment between
+// the crossings around it, entered in `next`.
+void join_face(unsigned config, int a, int s, Successors& next) {
   auto inside = [config](int c) { return ((config >> c) & 1u) != 0; };
-  std::array<int, 12> next;
-  next.fill(-1);
-  // Faces: normal axis a, side s; corners in cyclic order around the face.
-  for (int a = 0; a < 3; ++a) {
-    for (int s = 0; s < 2; ++s) {
-      const int b = (a + 1) % 3, c = (a + 2) % 3;
-      const std::array<int, 4> ring = {(s << a), (s << a) | (1 << b), (s << a) | (1 << b) | (1 << c),
-                                        (s << a) | (1 << c)};
-      Vec3 outward = Vec3::Zero();
-      outward[a] = s == 0 ? -1.0 : 1.0;
-      // Each inside corner that is cut off on this face, or each run of
-      // inside corners, gives one segment between the crossings around it.
-      std::vector<std::pair<int, int>> segments;  // (edge entering the inside run, edge leaving it)
-      int inside_count = 0;
-      for (int corner : ring) inside_count += inside(corner) ? 1 : 0;
-      if (inside_count == 0 || inside_count == 4) continue;
-      for (int r = 0; r < 4; ++r) {
-        const int here = ring[static_cast<std::size_t>(r)];
-        const int prev = ring[static_cast<std::size_t>((r + 3) % 4)];
-        if (!inside(here) || inside(prev)) continue;  // start of an inside run
-        int last = r;
-        while (inside(ring[static_cast<std::size_t>((last + 1) % 4)])) last = (last + 1) % 4;
-        const int after = ring[static_cast<std::size_t>((last + 1) % 4)];
-        segments.emplace_back(edge_between(prev, here),
-                              edge_between(ring[static_cast<std::size_t>(last)], after));
-      }
-      // Diagonal inside corners give two runs of one corner each: two
-      // segments, each cutting off its inside corner (the fixed rule).
-      for (auto [e0, e1] : segments) {
-        // Direct the segment so that, seen from outside the cube, the
-        // inside corners are on its right: then loops run clockwise around
-        // the inside, i.e. counter-clockwise seen from the outside region.
-        const Vec3 p = edge_midpoint(e0), q = edge_midpoint(e1);
-        const int corner = edge_corners(e0)[inside(edge_corners(e0)[0]) ? 0 : 1];
-        const double side = (q - p).cross(corner_position(corner) - p).dot(outward);
-        if (side > 0.0) std::swap(e0, e1);
-        next[static_cast<std::size_t>(e0)] = e1;
-      }
-    }
+  const int b = (a + 1) % 3, c = (a + 2) % 3;
+  // The face's corners in cyclic order around it.
+  const std::array<int, 4> ring = {(s << a), (s << a) | (1 << b), (s << a) | (1 << b) | (1 << c), (s << a) | (1 << c)};
+  int inside_count = 0;
+  for (int corner : ring) inside_count += inside(corner) ? 1 : 0;
+  if (inside_count == 0 || inside_count == 4) return;
+  Vec3 outward = Vec3::Zero();
+  outward[a] = s == 0 ? -1.0 : 1.0;
+  for (int r = 0; r < 4; ++r) {
+    const int here = ring[static_cast<std::size_t>(r)];
+    const int prev = ring[static_cast<std::size_t>((r + 3) % 4)];
+    if (!inside(here) || inside(prev)) continue;  // start of an inside run
+    int last = r;
+    while (inside(ring[static_cast<std::size_t>((last + 1) % 4)])) last = (last + 1) % 4;
+    const int after = ring[static_cast<std::size_t>((last + 1) % 4)];
+    // (edge entering the inside run, edge leaving it). Diagonal inside
+    // corners give two runs of one corner each: two segments, each cutting
+    // off its inside corner (the fixed rule).
+    int e0 = edge_between(prev, here), e1 = edge_between(ring[static_cast<std::size_t>(last)], after);
+    // Direct the segment so that, seen from outside the cube, the inside
+    // corners are on its right: then loops run clockwise around the inside,
+    // i.e. counter-clockwise seen from the outside region.
+    const Vec3 p = edge_midpoint(e0), q = edge_midpoint(e1);
+    const int corner = edge_corners(e0)[inside(edge_corners(e0)[0]) ? 0 : 1];
+    const double side = (q - p).cross(corner_position(corner) - p).dot(outward);
+    if (side > 0.0) std::swap(e0, e1);
+    next[static_cast<std::size_t>(e0)] = e1;
   }
-  CubeCase result;
+}
+
+// Step 2: every crossing has one segment on each of its two faces, so the
+// segments chain into closed loops (of edges), taken from the lowest edge.
+std::vector<std::vector<int>> chain_loops(const Successors& next) {
+  std::vector<std::vector<int>> loops;
   std::array<bool, 12> used{};
   for (int start = 0; start < 12; ++start) {
     if (next[static_cast<std::size_t>(start)] < 0 || used[static_cast<std::size_t>(start)]) continue;
-    std::vector<int> loop;
+    std::vector<int>& loop = loops.emplace_back();
     for (int e = start; !used[static_cast<std::size_t>(e)]; e = next[static_cast<std::size_t>(e)]) {
       used[static_cast<std::size_t>(e)] = true;
       loop.push_back(e);
     }
-    const int l = result.loop_count++;
-    auto& loop_edges = result.loops[static_cast<std::size_t>(l)];
-    loop_edges.size = static_cast<int>(loop.size());
-    for (std::size_t i = 0; i < loop.size(); ++i) loop_edges.edges[i] = static_cast<std::uint8_t>(loop[i]);
-    // Fan from an apex whose diagonals all cross the cube's interior. A
-    // diagonal between two crossings on one face would also be drawn by the
-    // neighbour across that face when it fans its own loop there: an edge of
-    // four triangles. When no apex avoids that, fan around the loop's centre.
-    const std::size_t size = loop.size();
-    int apex = -1;
-    for (std::size_t r = 0; r < size && apex < 0; ++r) {
-      bool clean = true;
-      for (std::size_t i = 2; i + 1 < size && clean; ++i)
-        clean = !share_face(loop[r], loop[(r + i) % size]);
-      if (clean) apex = static_cast<int>(r);
-    }
-    auto add = [&](int a, int b, int c) {
-      result.triangles[static_cast<std::size_t>(result.triangle_count++)] = {
-          static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b), static_cast<std::uint8_t>(c)};
-    };
-    if (apex >= 0) {
-      const auto r = static_cast<std::size_t>(apex);
-      for (std::size_t i = 1; i + 1 < size; ++i) add(loop[r], loop[(r + i) % size], loop[(r + i + 1) % size]);
-    } else {
-      loop_edges.centred = true;
-      for (std::size_t i = 0; i < size; ++i) add(loop_centre + l, loop[i], loop[(i + 1) % size]);
-    }
   }
+  return loops;
+}
+
+// An apex whose diagonals all cross the cube's interior, or -1. A diagonal
+// between two crossings on one face would also be drawn by the neighbour
+// across that face when it fans its own loop there: an edge of four
+// triangles.
+int fan_apex(const std::vector<int>& loop) {
+  const std::size_t size = loop.size();
+  for (std::size_t r = 0; r < size; ++r) {
+    bool clean = true;
+    for (std::size_t i = 2; i + 1 < size && clean; ++i) clean = !share_face(loop[r], loop[(r + i) % size]);
+    if (clean) return static_cast<int>(r);
+  }
+  return -1;
+}
+
+// Step 3: loop l becomes a fan of triangles from its apex, or, when no apex
+// avoids the faces, around the loop's centre.
+void triangulate(const std::vector<int>& loop, CubeCase& result) {
+  const int l = result.loop_count++;
+  auto& loop_edges = result.loops[static_cast<std::size_t>(l)];
+  loop_edges.size = static_cast<int>(loop.size());
+  for (std::size_t i = 0; i < loop.size(); ++i) loop_edges.edges[i] = static_cast<std::uint8_t>(loop[i]);
+  auto add = [&](int a, int b, int c) {
+    result.triangles[static_cast<std::size_t>(result.triangle_count++)] = {
+        static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b), static_cast<std::uint8_t>(c)};
+  };
+  const std::size_t size = loop.size();
+  if (const int apex = fan_apex(loop); apex >= 0) {
+    const auto r = static_cast<std::size_t>(apex);
+    for (std::size_t i = 1; i + 1 < size; ++i) add(loop[r], loop[(r + i) % size], loop[(r + i + 1) % size]);
+  } else {
+    loop_edges.centred = true;
+    for (std::size_t i = 0; i < size; ++i) add(loop_centre + l, loop[i], loop[(i + 1) % size]);
+  }
+}
+
+// A configuration's case, in the three steps of the header: join the
+// crossings on each face, chain the segments into loops, cut the loops into
+// triangles.
+CubeCase build_case(unsigned config) {
+  Successors next;
+  next.fill(-1);
+  for (int a = 0; a < 3; ++a)
+    for (int s = 0; s < 2; ++s) join_face(config, a, s, next);
+  CubeCase result;
+  for (const std::vector<int>& loop : chain_loops(next)) triangulate(loop, result);
   return result;
 }
 

@@ -293,8 +293,9 @@ void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   MarchingCubesOptions mc;
   mc.cell = cell;
   mc.max_cubes = max_cubes_within(run.limit, r.order.size());
-  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc, run.options.keep_corners)
-                           : marching_cubes(std::cref(f), r.points(), mc, run.options.keep_corners);
+  mc.keep_corners = run.options.keep_corners;
+  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc)
+                           : marching_cubes(std::cref(f), r.points(), mc);
 }
 
 // Phase V (refined): the mesh moved onto the fits, creases sharpened.

@@ -38,7 +38,8 @@ CurveReconstruction reconstruct_curve(std::span<const Vec2> points, const CurveR
   // from the samples alone would not find them.
   std::vector<Vec2> seeds(points.begin(), points.end());
   seeds.insert(seeds.end(), r.planes.origins.begin(), r.planes.origins.end());
-  r.contour = marching_squares(std::cref(f), seeds, squares, options.keep_corners);
+  squares.keep_corners = options.keep_corners;
+  r.contour = marching_squares(std::cref(f), seeds, squares);
   return r;
 }
 

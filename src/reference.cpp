@@ -3,7 +3,7 @@
 #include "recon/brute_force_search.h"
 #include "recon/complete_graph_mst.h"
 #include "recon/errors.h"
-#include "recon/marching_cubes.h"
+#include "recon/lattice.h"
 #include "recon/marching_cubes_table.h"
 #include "recon/pca.h"
 
@@ -15,11 +15,12 @@
 #include <optional>
 #include <queue>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace recon::reference {
 namespace {
 
-using Corner = std::array<std::int32_t, 3>;
+using Corner = Lattice<3>::Index;
 
 // ---------------------------------------------------------------------------
 // Phase I: a plane through each neighbourhood.
@@ -155,16 +156,10 @@ Corner corner_of(const Corner& cube, int c) {  // marching-cubes corner c = (c &
 
 class Walk {
  public:
-  Walk(const SignedDistance& f, const Lattice& lattice) : f_(f), lattice_(lattice) {}
+  Walk(const SignedDistance& f, const Lattice<3>& lattice) : f_(f), lattice_(lattice) {}
 
   Mesh run(std::span<const Vec3> seeds) {
-    for (const Vec3& p : seeds) {  // the cubes holding a sample
-      Corner cube;
-      for (int a = 0; a < 3; ++a)
-        cube[static_cast<std::size_t>(a)] =
-            static_cast<std::int32_t>(std::floor((p[a] - lattice_.origin[a]) / lattice_.cell));
-      visit(cube);
-    }
+    for (const Vec3& p : seeds) visit(lattice_.cell_of(p));  // the cubes holding a sample
     while (!queue_.empty()) {
       const Corner cube = queue_.front();
       queue_.pop();
@@ -175,10 +170,7 @@ class Walk {
 
  private:
   void visit(const Corner& cube) {
-    for (int a = 0; a < 3; ++a)
-      if (cube[static_cast<std::size_t>(a)] < 0 || cube[static_cast<std::size_t>(a)] >= lattice_.size[static_cast<std::size_t>(a)])
-        return;
-    if (visited_.emplace(cube, true).second) queue_.push(cube);
+    if (lattice_.contains(cube) && visited_.insert(cube).second) queue_.push(cube);
   }
   std::optional<double> value(const Corner& corner) {
     const auto found = values_.find(corner);
@@ -246,9 +238,9 @@ class Walk {
   }
 
   const SignedDistance& f_;
-  const Lattice& lattice_;
+  const Lattice<3>& lattice_;
   std::unordered_map<Corner, std::optional<double>, CornerHash> values_;
-  std::unordered_map<Corner, bool, CornerHash> visited_;
+  std::unordered_set<Corner, CornerHash> visited_;
   std::array<std::unordered_map<Corner, std::uint32_t, CornerHash>, 3> edge_vertices_;
   std::queue<Corner> queue_;
   Mesh mesh_;
@@ -272,7 +264,7 @@ Result reconstruct(std::span<const Vec3> points, const Options& options) {
   result.graph = riemannian_graph(planes, result.emst);
   orient(planes, result.graph, result);
   const SignedDistance f{points, planes, options.rho, options.delta};           // III
-  result.mesh = Walk(f, make_lattice(points, options.cell)).run(points);        // IV
+  result.mesh = Walk(f, make_lattice<3>(points, options.cell)).run(points);        // IV
   result.origins = std::move(planes.origins);
   result.normals = std::move(planes.normals);
   return result;

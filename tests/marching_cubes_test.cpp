@@ -1,5 +1,6 @@
 #include "recon/marching_cubes.h"
 
+#include "recon/detail/seed_wave.h"
 #include "recon/errors.h"
 #include "recon/marching_cubes_table.h"
 #include "recon/mesh.h"
@@ -229,7 +230,7 @@ TEST(MarchingCubes, VisitedCubesGrowWithAreaNotVolume) {
 TEST(MarchingCubes, SeedWaveHoldsTheCubesOfTheSeedsAndTheirCorners) {
   const PointCloud seeds = make_torus()->sample(4000, 4);
   const SeedWave wave(seeds.positions, 0.07);
-  const Lattice& lattice = wave.lattice();
+  const Lattice<3>& lattice = wave.lattice();
   EXPECT_EQ(lattice.cell, 0.07);
   std::set<std::array<std::int32_t, 3>> cubes, seen;
   std::vector<std::array<std::int32_t, 3>> expected;
@@ -277,7 +278,8 @@ TEST(MarchingCubes, SeedWaveValuesAreTakenAndChangeNothing) {
   const PointCloud seeds = make_sphere()->sample(3000, 5);
   MarchingCubesOptions options;
   options.cell = 0.06;
-  const MarchingCubesResult plain = marching_cubes(f, seeds.positions, options, true);
+  options.keep_corners = true;
+  const MarchingCubesResult plain = marching_cubes(f, seeds.positions, options);
   const std::size_t plain_calls = calls.exchange(0);
   EXPECT_EQ(plain_calls, plain.evaluated_corners);
 
@@ -292,7 +294,7 @@ TEST(MarchingCubes, SeedWaveValuesAreTakenAndChangeNothing) {
   EXPECT_TRUE(std::isnan(wave.value(0)));  // none given yet
   give_values(wave, 0.0, 1);
   calls = 0;
-  const MarchingCubesResult with = marching_cubes(f, std::move(wave), options, true);
+  const MarchingCubesResult with = marching_cubes(f, std::move(wave), options);
   EXPECT_EQ(calls.load(), plain.evaluated_corners - known);  // the known ones, not again
   EXPECT_GT(known, plain.evaluated_corners / 2);
   EXPECT_TRUE(with.mesh.vertices == plain.mesh.vertices);

@@ -256,7 +256,9 @@ TEST(MarchingSquares, KeepsCornersAndSquaresWhenAsked) {
     return p.norm() - 1.0;
   };
   const std::vector<Vec2> seeds = circle_seeds(Vec2::Zero(), 1.0, 24);
-  const MarchingSquaresResult r = marching_squares(f, seeds, with_cell(0.1), true);
+  MarchingSquaresOptions options = with_cell(0.1);
+  options.keep_corners = true;
+  const MarchingSquaresResult r = marching_squares(f, seeds, options);
   EXPECT_EQ(r.corners.size(), r.evaluated_corners);
   EXPECT_EQ(r.squares.size(), r.visited_squares);
   std::size_t undefined = 0;
@@ -278,8 +280,9 @@ TEST(MarchingSquares, RefusesBadCellsAndOverlongWalks) {
   const std::vector<Vec2> seeds = circle_seeds(Vec2::Zero(), 1.0, 8);
   for (const double cell : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
     EXPECT_THROW((void)marching_squares(f, seeds, with_cell(cell)), InvalidInputError) << cell;
-  EXPECT_THROW((void)marching_squares(f, seeds, {.cell = 0.001, .max_slope = 0.0, .max_squares = 100}),
-               ResourceLimitError);
+  EXPECT_THROW(
+      (void)marching_squares(f, seeds, {.cell = 0.001, .max_slope = 0.0, .max_squares = 100, .keep_corners = false}),
+      ResourceLimitError);
   EXPECT_THROW((void)marching_squares(f, seeds, with_cell(1e-12)), ResourceLimitError);
   EXPECT_TRUE(marching_squares(f, {}, with_cell(0.1)).curves.polylines.empty());
 }

@@ -1,7 +1,12 @@
 #pragma once
 // Phase IV in two dimensions: the zero set of the signed distance f becomes
-// polylines by marching squares over a lattice, visiting only the squares
-// near the curve (the 2D twin of marching_cubes.h).
+// polylines by marching squares over a lattice (lattice.h), visiting only
+// the squares near the curve (the 2D twin of marching_cubes.h).
+//
+// The textbook algorithm: for every square of a lattice over the bounding
+// box, evaluate f at its 4 corners, and draw a segment between the sides
+// where f changes sign (two segments in the two saddle cases); chain the
+// segments into polylines.
 //
 // Lattice: squares of side `cell`, aligned on the seeds' bounding box with
 // the same margin as the cubes (lattice_margin). The walk starts from the
@@ -40,8 +45,9 @@
 // to its start, open when it ends at an undefined square or the lattice's
 // edge.
 
-#include "recon/polyline.h"
+#include "recon/lattice.h"
 #include "recon/point_cloud.h"
+#include "recon/polyline.h"
 
 #include <array>
 #include <cstdint>
@@ -56,14 +62,10 @@ struct MarchingSquaresOptions {
   double cell = 0.0;                     ///< square side (a length); must be > 0
   double max_slope = 0.0;                ///< seam test (see above); 0: none
   std::size_t max_squares = 50'000'000;  ///< refuse walks that would visit more (memory guard)
+  bool keep_corners = false;             ///< keep the evaluated corners and the visited squares in the result
 };
 
-/// One evaluated lattice corner, for inspection and the visual feedback.
-struct SquareCorner {
-  std::array<std::int32_t, 2> index{};  ///< lattice coordinates
-  double value = 0.0;                   ///< f, when defined
-  bool defined = false;
-};
+using SquareCorner = Lattice<2>::Corner;
 
 struct MarchingSquaresResult {
   PolylineSet curves;
@@ -89,9 +91,9 @@ using ScalarField2 = std::function<std::optional<double>(const Vec2&)>;
 /// Contours f = 0 starting from the squares that contain `seeds` (normally
 /// the input points). No seeds: no curves. Throws InvalidInputError for a
 /// cell that is not a positive length, ResourceLimitError when the lattice
-/// needs more than 2^30 squares along an axis or the walk would exceed
-/// max_squares.
+/// needs more than Lattice<2>::max_cells_per_axis (2^30) squares along an
+/// axis or the walk would exceed max_squares.
 [[nodiscard]] MarchingSquaresResult marching_squares(const ScalarField2& f, std::span<const Vec2> seeds,
-                                                     const MarchingSquaresOptions& options, bool keep_corners = false);
+                                                     const MarchingSquaresOptions& options);
 
 }  // namespace recon

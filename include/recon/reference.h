@@ -20,7 +20,9 @@
 //        against its parent's is flipped.
 //   III. Signed distance. f(p) = (p - o_i) . n_i for the origin o_i nearest
 //        p. f is undefined unless a sample lies within rho + delta of the
-//        foot point p - f(p) n_i, or within 1.5 rho + delta + |f(p)| of p.
+//        foot point p - f(p) n_i (Hoppe's rule), or within
+//        1.5 rho + delta + |f(p)| of p (signed_distance.h; that ball holds
+//        the first, so it alone decides, and the first is a quick try).
 //   IV.  Contouring. Marching cubes of side `cell` on the lattice of
 //        make_lattice(), walked from the cubes holding a sample through the
 //        faces the surface crosses (or touches at a corner where f = 0);

@@ -11,12 +11,16 @@
 // I) and delta the noise level. Elsewhere f is UNDEFINED, and the surface is
 // left open there: this is what keeps holes and open boundaries open rather
 // than inventing surface across them. One addition to Hoppe's rule: p is
-// also defined when a sample lies within rho_i + delta + |f(p)| of p itself
-// (a ball around p reaching as far as the foot point's ball would). Near a
-// sharp corner, the projection onto one face's plane can overshoot the data
-// while p is plainly next to it. Over a hole or beyond a boundary, points
-// near the surface (|f| small, where a zero crossing could be drawn) are as
-// far from the data as their foot points, so holes stay open.
+// also defined when a sample lies within rho_i / 2 + rho_i + delta + |f(p)|
+// of p itself (a ball around p reaching a little further than the foot
+// point's ball would). Near a sharp corner, the projection onto one face's
+// plane can overshoot the data while p is plainly next to it. Over a hole or
+// beyond a boundary, points near the surface (|f| small, where a zero
+// crossing could be drawn) are as far from the data as their foot points, so
+// holes wider than about 1.5 rho_i + delta stay open. The ball around p
+// contains the foot point's ball, so in effect f(p) is undefined exactly
+// where no sample lies within 1.5 rho_i + delta + |f(p)| of p; the foot
+// point's test comes first only because it is cheaper and usually settles it.
 //
 // delta, when not given, is estimated from the PCA residuals: twice phase
 // I's noise (the median RMS distance of a neighbourhood to its plane).

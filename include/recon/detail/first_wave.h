@@ -12,7 +12,7 @@
 // plane, is the value phase III gives, and the mesh is the same bit for bit
 // as in the textbook order (reconstruct_test compares them).
 
-#include "recon/marching_cubes.h"
+#include "recon/detail/seed_wave.h"
 #include "recon/reconstruct.h"
 
 #include <atomic>

@@ -1,0 +1,43 @@
+#include "recon/lattice.h"
+
+#include "recon/errors.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace recon {
+
+void check_lattice_cell(double cell) {
+  if (!std::isfinite(cell) || !(cell > 0.0))  // isfinite first: see fp_traps.h
+    throw InvalidInputError("the lattice cell size must be a positive length");
+}
+
+template <int D>
+Lattice<D> make_lattice(std::span<const Vec<D>> seeds, double cell) {
+  check_lattice_cell(cell);
+  Box<D> box;
+  for (const Vec<D>& p : seeds) box.extend(p);
+  Lattice<D> lattice;
+  lattice.cell = cell;
+  const double margin = lattice_margin * cell;
+  lattice.origin = box.min - Vec<D>::Constant(margin);
+  for (int a = 0; a < D; ++a) {
+    const double cells = std::ceil((box.max[a] - box.min[a] + 2.0 * margin) / cell);
+    if (!(cells <= Lattice<D>::max_cells_per_axis)) {
+      char count[400];
+      std::snprintf(count, sizeof count, "%.0f", cells);
+      throw ResourceLimitError(std::string("the lattice would need ") + count + (D == 3 ? " cubes" : " squares") +
+                               " along axis " + "xyz"[a] + " (at most " +
+                               std::to_string(Lattice<D>::max_cells_per_axis) + "): use a larger --cell" +
+                               (D == 3 ? " or a smaller --resolution" : ""));
+    }
+    lattice.size[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(cells);
+  }
+  return lattice;
+}
+
+template Lattice<2> make_lattice<2>(std::span<const Vec<2>>, double);
+template Lattice<3> make_lattice<3>(std::span<const Vec<3>>, double);
+
+}  // namespace recon
