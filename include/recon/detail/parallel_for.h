@@ -26,14 +26,14 @@ void parallel_for(std::size_t n, Body&& body) {
 }
 
 template <class Body>
-void parallel_for_dynamic(std::size_t n, int chunk, Body&& body) {
+void parallel_for_dynamic(std::size_t n, [[maybe_unused]] int chunk, Body&& body) {
   const auto count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(dynamic, chunk)
   for (std::int64_t s = 0; s < count; ++s) body(static_cast<std::size_t>(s));
 }
 
 template <class Body>
-[[nodiscard]] std::size_t parallel_count(std::size_t n, int chunk, Body&& body) {
+[[nodiscard]] std::size_t parallel_count(std::size_t n, [[maybe_unused]] int chunk, Body&& body) {
   static_assert(std::is_integral_v<std::invoke_result_t<Body&, std::size_t>>, "parallel_count adds integers");
   const auto count = static_cast<std::int64_t>(n);
   std::size_t total = 0;
