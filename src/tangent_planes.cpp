@@ -1,5 +1,6 @@
 #include "recon/tangent_planes.h"
 
+#include "recon/detail/parallel_for.h"
 #include "recon/errors.h"
 #include "recon/interruption.h"
 #include "recon/pca.h"
@@ -42,13 +43,9 @@ bool residual_is_noise(std::span<const Vec<D>> points, const TangentPlanes<D>& p
   return median(std::move(residual)) < 1.4 * planes.noise;
 }
 
-// The phase over a built tree; `given` holds the points by index, or is
-// empty when the tree is numbered by leaf order and its own copy serves.
+// Throws unless the options and the point count make a neighbourhood.
 template <int D>
-TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, const TangentPlaneOptions& options,
-                             double seconds_tree) {
-  const std::span<const Vec<D>> points = given.empty() ? tree.points() : given;
-  const std::size_t n = points.size();
+void check_request(std::size_t n, const TangentPlaneOptions& options) {
   const int k = options.k;
   if (k < D || k > max_k)
     throw InvalidInputError("k = " + std::to_string(k) + " is out of range: a neighbourhood needs at least " +
@@ -59,24 +56,57 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
     throw InvalidInputError("only " + std::to_string(n) + " point" + (n == 1 ? "" : "s") + "; k = " +
                             std::to_string(k) + " needs at least " + std::to_string(k + 1) +
                             (n > static_cast<std::size_t>(D) + 1 ? " (lower --k)" : ": too few to fit a surface"));
+}
 
-  TangentPlanes<D> result;
-  result.k = k;
-  Timer timer;
-  result.point_tree = std::move(tree);  // (moving keeps its buffers: `points` stays valid)
-  result.seconds_tree = seconds_tree;
+// What fitting one neighbourhood found, for the phase's counts.
+struct FitFlags {
+  bool distinct;    // x_i is no exact copy of an earlier point
+  bool degenerate;  // no unique normal
+};
 
-  // One pass per point: its k nearest neighbours, then the plane through
-  // them. Points are visited in the tree's leaf order, so consecutive
-  // queries touch the same nodes and the same neighbourhoods.
-  const auto kk = static_cast<std::size_t>(k);
-  result.neighbors.k = k;
+// The plane through point i's neighbourhood `found` (k entries), kept in
+// `result`, and the distance from x_i to its nearest distinct sample.
+template <int D>
+FitFlags fit_neighbourhood(TangentPlanes<D>& result, std::span<const Vec<D>> points, std::size_t i,
+                           std::span<const Neighbor> found, float& nn_distance) {
+  const std::size_t kk = found.size();
+  std::uint32_t* row = result.neighbors.indices.data() + i * kk;
+  for (std::size_t j = 0; j < kk; ++j) row[j] = found[j].index;
+  // A row's first entry is the smallest index among exact copies of the
+  // query (ties go to the smaller index), so x_i is a first occurrence
+  // exactly when it heads its own row.
+  const bool distinct = row[0] == i;
+  const PlaneFit<D> fit = fit_plane<D>(points, std::span<const std::uint32_t>(row, kk));
+  result.origins[i] = fit.centroid;
+  result.normals[i] = fit.normal;
+  result.eigenvalues[i] = fit.eigenvalues.template cast<float>();
+  // No unique normal when the two smallest spreads are both negligible
+  // against the largest (the neighbourhood is a line or a point).
+  const bool degenerate = fit.eigenvalues[1] <= 1e-12 * fit.eigenvalues[D - 1];
+  result.radius[i] = static_cast<float>(std::sqrt(found[kk - 1].distance2));
+  for (std::size_t j = 0; j < kk; ++j)
+    if (found[j].distance2 > 0.0) {
+      nn_distance = static_cast<float>(std::sqrt(found[j].distance2));
+      break;
+    }
+  return {distinct, degenerate};
+}
+
+// One pass per point: its k nearest neighbours, then the plane through
+// them. Points are visited in the tree's leaf order, so consecutive queries
+// touch the same nodes and the same neighbourhoods. Returns each point's
+// distance to its nearest distinct sample (0 when it has none).
+template <int D>
+std::vector<float> fit_planes(TangentPlanes<D>& result, std::span<const Vec<D>> points) {
+  const std::size_t n = points.size();
+  const auto kk = static_cast<std::size_t>(result.k);
+  result.neighbors.k = result.k;
   result.neighbors.indices.resize(n * kk);
   result.origins.resize(n);
   result.normals.resize(n);
   result.eigenvalues.resize(n);
   result.radius.resize(n);
-  std::vector<float> nn_distance(n, 0.0f);  // to the nearest distinct sample
+  std::vector<float> nn_distance(n, 0.0f);
   std::size_t degenerate = 0, distinct = 0;
   const auto count = static_cast<std::int64_t>(n);
   const std::span<const std::uint32_t> leaf_order = result.point_tree.order();
@@ -107,180 +137,223 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
       previous = t;
       previous_point = q;
       previous_radius = std::sqrt(found[kk - 1].distance2);
-      std::uint32_t* row = result.neighbors.indices.data() + i * kk;
-      for (std::size_t j = 0; j < kk; ++j) row[j] = found[j].index;
-      // A row's first entry is the smallest index among exact copies of the
-      // query (ties go to the smaller index), so x_i is a first occurrence
-      // exactly when it heads its own row.
-      if (row[0] == i) ++distinct;
-      const PlaneFit<D> fit = fit_plane<D>(points, std::span<const std::uint32_t>(row, kk));
-      result.origins[i] = fit.centroid;
-      result.normals[i] = fit.normal;
-      result.eigenvalues[i] = fit.eigenvalues.template cast<float>();
-      // No unique normal when the two smallest spreads are both negligible
-      // against the largest (the neighbourhood is a line or a point).
-      if (fit.eigenvalues[1] <= 1e-12 * fit.eigenvalues[D - 1]) ++degenerate;
-      result.radius[i] = static_cast<float>(std::sqrt(found[kk - 1].distance2));
-      for (std::size_t j = 0; j < kk; ++j)
-        if (found[j].distance2 > 0.0) {
-          nn_distance[i] = static_cast<float>(std::sqrt(found[j].distance2));
-          break;
-        }
+      const FitFlags flags = fit_neighbourhood<D>(result, points, i, row_found, nn_distance[i]);
+      if (flags.distinct) ++distinct;
+      if (flags.degenerate) ++degenerate;
     }
   }
-  result.seconds_knn_pca = timer.lap();
-  interruption_point();
   result.distinct_points = distinct;
-  if (distinct < kk + 1) {
+  result.degenerate = degenerate;
+  return nn_distance;
+}
+
+// Throws when too few points are distinct, or no neighbourhood has a plane.
+template <int D>
+void check_fits(const TangentPlanes<D>& result) {
+  const std::size_t n = result.origins.size(), distinct = result.distinct_points;
+  const int k = result.k;
+  if (distinct < static_cast<std::size_t>(k) + 1) {
     std::string message = "only " + std::to_string(distinct) + " distinct point" + (distinct == 1 ? "" : "s") +
                           " (of " + std::to_string(n) + "); k = " + std::to_string(k) + " needs at least " +
                           std::to_string(k + 1);
     message += distinct > static_cast<std::size_t>(D) + 1 ? " (lower --k)" : ": too few to fit a surface";
     throw InvalidInputError(message);
   }
-  result.degenerate = degenerate;
-  if (degenerate == n)
+  if (result.degenerate == n)
     throw InvalidInputError(D == 3 ? "all points lie on one line (or coincide): no surface to reconstruct"
                                    : "all points coincide: no curve to reconstruct");
+}
 
-  // The noise: the median RMS distance of the neighbourhoods to their planes.
-  auto noise_median = [&] {
-    std::vector<double> residual(n);
-    for (std::size_t i = 0; i < n; ++i) residual[i] = std::sqrt(static_cast<double>(result.eigenvalues[i][0]));
-    return median(std::move(residual));
-  };
-  result.local_rho.resize(n);
-  result.local_gap.resize(n);
-  if (options.rho) {
-    result.noise = noise_median();
-    result.rho_given = true;
-    result.rho = result.gap = *options.rho;
-    std::fill(result.local_rho.begin(), result.local_rho.end(), static_cast<float>(*options.rho));
-    std::fill(result.local_gap.begin(), result.local_gap.end(), static_cast<float>(*options.rho));
-  } else {
-    // How irregular the spacing is: the coefficient of variation of each
-    // nearest-neighbour distance over the mean of its neighbourhood's (so a
-    // density that varies smoothly does not count). Random samples give
-    // about 0.5, scanners' grids 0.05 to 0.15.
-    // (Summed serially afterwards: a parallel reduction's rounding would
-    // depend on the thread count, and the output must not.)
-    std::vector<float> relative(n, 1.0f);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t s = 0; s < count; ++s) {
-      const auto i = static_cast<std::size_t>(s);
-      float widest = 0.0f;
-      double sum = 0.0;
-      for (std::uint32_t j : result.neighbors.row(i)) {
-        widest = std::max(widest, nn_distance[j]);
-        sum += static_cast<double>(nn_distance[j]);
-      }
-      result.local_gap[i] = widest;
-      if (sum > 0.0) relative[i] = static_cast<float>(static_cast<double>(nn_distance[i]) * static_cast<double>(kk) / sum);
+// The noise: the median RMS distance of the neighbourhoods to their planes.
+template <int D>
+double noise_median(const TangentPlanes<D>& result) {
+  const std::size_t n = result.eigenvalues.size();
+  std::vector<double> residual(n);
+  for (std::size_t i = 0; i < n; ++i) residual[i] = std::sqrt(static_cast<double>(result.eigenvalues[i][0]));
+  return median(std::move(residual));
+}
+
+// A given rho replaces every rho_i and gap_i.
+template <int D>
+void use_given_rho(TangentPlanes<D>& result, double rho) {
+  result.noise = noise_median(result);
+  result.rho_given = true;
+  result.rho = result.gap = rho;
+  std::fill(result.local_rho.begin(), result.local_rho.end(), static_cast<float>(rho));
+  std::fill(result.local_gap.begin(), result.local_gap.end(), static_cast<float>(rho));
+}
+
+// gap_i, and how irregular the spacing is: the coefficient of variation of
+// each nearest-neighbour distance over the mean of its neighbourhood's (so
+// a density that varies smoothly does not count). Random samples give
+// about 0.5, scanners' grids 0.05 to 0.15.
+// (Summed serially afterwards: a parallel reduction's rounding would depend
+// on the thread count, and the output must not.)
+template <int D>
+double local_gaps_and_irregularity(TangentPlanes<D>& result, const std::vector<float>& nn_distance) {
+  const std::size_t n = nn_distance.size();
+  const auto kk = static_cast<std::size_t>(result.k);
+  std::vector<float> relative(n, 1.0f);
+  detail::parallel_for(n, [&](std::size_t i) {
+    float widest = 0.0f;
+    double sum = 0.0;
+    for (std::uint32_t j : result.neighbors.row(i)) {
+      widest = std::max(widest, nn_distance[j]);
+      sum += static_cast<double>(nn_distance[j]);
     }
-    double sum_relative = 0.0, sum_relative2 = 0.0;
-    for (const float r : relative) {
-      sum_relative += static_cast<double>(r);
-      sum_relative2 += static_cast<double>(r) * static_cast<double>(r);
-    }
-    const double mean = sum_relative / static_cast<double>(n);
-    const double variance = std::max(0.0, sum_relative2 / static_cast<double>(n) - mean * mean);
-    result.irregularity = std::sqrt(variance) / mean;
-    // rho_i, the radius within which every surface point has a sample:
-    // 1.5 gap_i for a regular grid (its holes are at most ~0.7 spacing wide,
-    // with room for scan lines farther apart than the points along them),
-    // the whole neighbourhood radius for random samples, in between by the
-    // irregularity.
-    const double w = std::clamp((result.irregularity - 0.15) / 0.3, 0.0, 1.0);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t s = 0; s < count; ++s) {
-      const auto i = static_cast<std::size_t>(s);
-      const auto radius = static_cast<double>(result.radius[i]);
-      const double regular = std::min(1.5 * static_cast<double>(result.local_gap[i]), radius);
-      result.local_rho[i] = static_cast<float>(regular + w * (radius - regular));
-    }
-    // Medians over the neighbourhoods that have a spacing: when most of the
-    // cloud is copies of a few points, theirs (0) would otherwise be the median.
-    auto median_of_measured = [](const std::vector<float>& values) {
-      std::vector<double> measured;
-      measured.reserve(values.size());
-      for (const float v : values)
-        if (v > 0.0f) measured.push_back(static_cast<double>(v));
-      return measured.empty() ? 0.0 : median(std::move(measured));
-    };
-    // (The three medians of the cloud, side by side.)
+    result.local_gap[i] = widest;
+    if (sum > 0.0) relative[i] = static_cast<float>(static_cast<double>(nn_distance[i]) * static_cast<double>(kk) / sum);
+  });
+  double sum_relative = 0.0, sum_relative2 = 0.0;
+  for (const float r : relative) {
+    sum_relative += static_cast<double>(r);
+    sum_relative2 += static_cast<double>(r) * static_cast<double>(r);
+  }
+  const double mean = sum_relative / static_cast<double>(n);
+  const double variance = std::max(0.0, sum_relative2 / static_cast<double>(n) - mean * mean);
+  return std::sqrt(variance) / mean;
+}
+
+// rho_i, the radius within which every surface point has a sample: 1.5
+// gap_i for a regular grid (its holes are at most ~0.7 spacing wide, with
+// room for scan lines farther apart than the points along them), the whole
+// neighbourhood radius for random samples, in between by the irregularity.
+template <int D>
+void local_rhos(TangentPlanes<D>& result) {
+  const double w = std::clamp((result.irregularity - 0.15) / 0.3, 0.0, 1.0);
+  detail::parallel_for(result.radius.size(), [&](std::size_t i) {
+    const auto radius = static_cast<double>(result.radius[i]);
+    const double regular = std::min(1.5 * static_cast<double>(result.local_gap[i]), radius);
+    result.local_rho[i] = static_cast<float>(regular + w * (radius - regular));
+  });
+}
+
+// The median over the neighbourhoods that have a spacing: when most of the
+// cloud is copies of a few points, theirs (0) would otherwise be the median.
+double median_of_measured(const std::vector<float>& values) {
+  std::vector<double> measured;
+  measured.reserve(values.size());
+  for (const float v : values)
+    if (v > 0.0f) measured.push_back(static_cast<double>(v));
+  return measured.empty() ? 0.0 : median(std::move(measured));
+}
+
+// gap_i, rho_i, and the cloud's medians of them and of the noise.
+template <int D>
+void measure_spacing(TangentPlanes<D>& result, const std::vector<float>& nn_distance) {
+  result.irregularity = local_gaps_and_irregularity(result, nn_distance);
+  local_rhos(result);
+  // (The three medians of the cloud, side by side.)
 #pragma omp parallel sections
-    {
-#pragma omp section
-      result.rho = median_of_measured(result.local_rho);
-#pragma omp section
-      result.gap = median_of_measured(result.local_gap);
-#pragma omp section
-      result.noise = noise_median();
-    }
-    // A neighbourhood made only of copies of one point has no spacing to
-    // measure and no plane: its gap is taken as the typical one (phase II
-    // compares edges with it), and its rho_i stays 0, so that its plane, whose
-    // normal is arbitrary, draws no surface (a scanner's "no return" written
-    // as 0 0 0 thousands of times must not become a blob at the origin).
-    for (std::size_t i = 0; i < n; ++i)
-      if (result.local_gap[i] == 0.0f) result.local_gap[i] = static_cast<float>(result.gap);
-  }
-  // Isolated samples (see the header): a neighbourhood reaching more than
-  // isolation_factor times as far as those of the lower quarter of its
-  // neighbours'. Their rho_i = 0 leaves f undefined around them, so their
-  // planes draw no surface.
   {
-    std::size_t isolated = 0;
+#pragma omp section
+    result.rho = median_of_measured(result.local_rho);
+#pragma omp section
+    result.gap = median_of_measured(result.local_gap);
+#pragma omp section
+    result.noise = noise_median(result);
+  }
+  // A neighbourhood made only of copies of one point has no spacing to
+  // measure and no plane: its gap is taken as the typical one (phase II
+  // compares edges with it), and its rho_i stays 0, so that its plane, whose
+  // normal is arbitrary, draws no surface (a scanner's "no return" written
+  // as 0 0 0 thousands of times must not become a blob at the origin).
+  for (float& gap : result.local_gap)
+    if (gap == 0.0f) gap = static_cast<float>(result.gap);
+}
+
+// Isolated samples (see the header): a neighbourhood reaching more than
+// isolation_factor times as far as those of the lower quarter of its
+// neighbours'. Their rho_i = 0 leaves f undefined around them, so their
+// planes draw no surface.
+template <int D>
+void mark_isolated(TangentPlanes<D>& result) {
+  const auto count = static_cast<std::int64_t>(result.radius.size());
+  std::size_t isolated = 0;
 #pragma omp parallel reduction(+ : isolated)
-    {
-      std::vector<float> others;
+  {
+    std::vector<float> others;
 #pragma omp for schedule(static)
-      for (std::int64_t s = 0; s < count; ++s) {
-        const auto i = static_cast<std::size_t>(s);
-        if (result.radius[i] == 0.0f) {  // copies of one point only: no plane (see above), given rho or not
-          result.local_rho[i] = 0.0f;
-          continue;
-        }
-        const double limit = static_cast<double>(result.radius[i]) / isolation_factor;
-        // Cheap first: no neighbour's radius under the limit, no quarter of them.
-        bool any_below = false;
-        for (std::uint32_t j : result.neighbors.row(i)) {
-          const auto r_j = static_cast<double>(result.radius[j]);
-          any_below = any_below || (j != i && r_j > 0.0 && r_j < limit);
-        }
-        if (!any_below) continue;
-        others.clear();
-        for (std::uint32_t j : result.neighbors.row(i))  // copies of one point have no radius to compare
-          if (j != i && result.radius[j] > 0.0f) others.push_back(result.radius[j]);
-        const auto quarter = others.begin() + static_cast<std::ptrdiff_t>(others.size() / 4);
-        std::nth_element(others.begin(), quarter, others.end());
-        if (static_cast<double>(*quarter) < limit) {
-          result.local_rho[i] = 0.0f;
-          ++isolated;
-        }
+    for (std::int64_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      if (result.radius[i] == 0.0f) {  // copies of one point only: no plane (see above), given rho or not
+        result.local_rho[i] = 0.0f;
+        continue;
+      }
+      const double limit = static_cast<double>(result.radius[i]) / isolation_factor;
+      // Cheap first: no neighbour's radius under the limit, no quarter of them.
+      bool any_below = false;
+      for (std::uint32_t j : result.neighbors.row(i)) {
+        const auto r_j = static_cast<double>(result.radius[j]);
+        any_below = any_below || (j != i && r_j > 0.0 && r_j < limit);
+      }
+      if (!any_below) continue;
+      others.clear();
+      for (std::uint32_t j : result.neighbors.row(i))  // copies of one point have no radius to compare
+        if (j != i && result.radius[j] > 0.0f) others.push_back(result.radius[j]);
+      const auto quarter = others.begin() + static_cast<std::ptrdiff_t>(others.size() / 4);
+      std::nth_element(others.begin(), quarter, others.end());
+      if (static_cast<double>(*quarter) < limit) {
+        result.local_rho[i] = 0.0f;
+        ++isolated;
       }
     }
-    result.isolated = isolated;
   }
-  result.seconds_spacing = timer.lap();
-  result.k_requested = k;
+  result.isolated = isolated;
+}
 
+// The k to run the phase again with when the noise is large against the
+// neighbourhoods (see the header), or 0 when once is enough.
+template <int D>
+int adapted_k(std::span<const Vec<D>> points, const TangentPlanes<D>& result, const TangentPlaneOptions& options) {
   constexpr double noise_limit = 0.1;  // noise / rho above which k is raised
   constexpr int max_adapted_k = 64;
-  if (options.adapt_k && !options.rho && result.noise > noise_limit * result.rho && k < max_adapted_k &&
-      residual_is_noise(points, result, 2 * k)) {
-    const double wanted = std::ceil(k * result.noise / (noise_limit * result.rho));
+  const int k = options.k;
+  if (!options.adapt_k || options.rho || !(result.noise > noise_limit * result.rho) || k >= max_adapted_k ||
+      !residual_is_noise(points, result, 2 * k))
+    return 0;
+  const double wanted = std::ceil(k * result.noise / (noise_limit * result.rho));
+  const int raised = static_cast<int>(std::min<double>(max_adapted_k, wanted));
+  return static_cast<std::size_t>(raised) + 1 <= result.distinct_points ? raised : 0;
+}
+
+// The phase over a built tree; `given` holds the points by index, or is
+// empty when the tree is numbered by leaf order and its own copy serves.
+template <int D>
+TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, const TangentPlaneOptions& options,
+                             double seconds_tree) {
+  const std::span<const Vec<D>> points = given.empty() ? tree.points() : given;
+  check_request<D>(points.size(), options);
+  TangentPlanes<D> result;
+  result.k = options.k;
+  Timer timer;
+  result.point_tree = std::move(tree);  // (moving keeps its buffers: `points` stays valid)
+  result.seconds_tree = seconds_tree;
+
+  const std::vector<float> nn_distance = fit_planes<D>(result, points);
+  result.seconds_knn_pca = timer.lap();
+  interruption_point();
+  check_fits(result);
+  result.local_rho.resize(points.size());
+  result.local_gap.resize(points.size());
+  if (options.rho)
+    use_given_rho(result, *options.rho);
+  else
+    measure_spacing(result, nn_distance);
+  mark_isolated(result);
+  result.seconds_spacing = timer.lap();
+  result.k_requested = options.k;
+
+  if (const int raised_k = adapted_k<D>(points, result, options); raised_k > 0) {
     TangentPlaneOptions raised = options;
     raised.adapt_k = false;
-    raised.k = static_cast<int>(std::min<double>(max_adapted_k, wanted));
-    if (static_cast<std::size_t>(raised.k) + 1 <= result.distinct_points) {
-      TangentPlanes<D> again = planes_over<D>(std::move(result.point_tree), given, raised, 0.0);
-      again.k_requested = k;
-      again.seconds_tree += result.seconds_tree;
-      again.seconds_knn_pca += result.seconds_knn_pca;
-      again.seconds_spacing += result.seconds_spacing;
-      return again;
-    }
+    raised.k = raised_k;
+    TangentPlanes<D> again = planes_over<D>(std::move(result.point_tree), given, raised, 0.0);
+    again.k_requested = options.k;
+    again.seconds_tree += result.seconds_tree;
+    again.seconds_knn_pca += result.seconds_knn_pca;
+    again.seconds_spacing += result.seconds_spacing;
+    return again;
   }
   return result;
 }
