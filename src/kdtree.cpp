@@ -1,5 +1,6 @@
 #include "recon/kdtree.h"
 
+#include "recon/detail/parallel_for.h"
 #include "recon/errors.h"
 
 #include <algorithm>
@@ -62,6 +63,109 @@ struct CountingKnnVisitor : KnnVisitor {
   [[nodiscard]] std::uint64_t distance_evaluations() const { return evaluations; }
 };
 
+// The build works on (point, input index) pairs so that the median
+// selection moves contiguous data rather than chasing indices.
+template <int D>
+using Item = std::pair<Vec<D>, std::uint32_t>;
+
+// The points moved by -shift, each with its input index.
+template <int D>
+std::vector<Item<D>> shifted_items(std::span<const Vec<D>> points, const Vec<D>& shift) {
+  std::vector<Item<D>> items(points.size());
+  if (shift == Vec<D>::Zero()) {
+    for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i], static_cast<std::uint32_t>(i)};
+  } else {
+    for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i] - shift, static_cast<std::uint32_t>(i)};
+  }
+  return items;
+}
+
+// The shape of the tree depends only on the sizes (each node splits its
+// points into halves of sizes m / 2 and m - m / 2), so every subtree's node
+// count is known in advance: node ids are pre-order positions computed,
+// not appended, and the subtrees can be built in parallel.
+struct TreeShape {
+  std::uint32_t leaf;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> memo;  // size -> nodes, for every size in the tree
+  // Fills the memo: the recursion meets every size the tree has (at most
+  // two per level).
+  std::uint32_t count(std::uint32_t size) {
+    if (size <= leaf) return 1;
+    for (const auto& [s, c] : memo)
+      if (s == size) return c;
+    const std::uint32_t c = 1 + count(size / 2) + count(size - size / 2);
+    memo.emplace_back(size, c);
+    return c;
+  }
+  [[nodiscard]] std::uint32_t nodes(std::uint32_t size) const {
+    if (size <= leaf) return 1;
+    for (const auto& [s, c] : memo)
+      if (s == size) return c;
+    return 0;  // not reached: count() saw every size
+  }
+  [[nodiscard]] int depth(std::uint32_t size) const { return size <= leaf ? 0 : 1 + depth(size - size / 2); }
+};
+
+// Builds node `id` over items [begin, end), then its subtrees: the two
+// halves at the median of the axis along which the points spread most.
+// Subtrees of more than 65536 points are OpenMP tasks.
+template <int D>
+struct Builder {
+  using Node = typename KdTree<D>::Node;
+  std::vector<Node>& nodes;
+  std::vector<Box<D>>& boxes;
+  std::vector<Item<D>>& items;
+  const TreeShape& shape;
+
+  void build(std::uint32_t id, std::uint32_t begin, std::uint32_t end) {
+    Node node;
+    node.begin = begin;
+    node.end = end;
+    Box<D> box;
+    for (auto t = begin; t < end; ++t) box.extend(items[t].first);
+    boxes[id] = box;
+    node.identical = box.min == box.max;
+    // Copies of one point, in index order (any order is a valid tree, as
+    // they coincide): a search then finds the smallest indices among them
+    // at the front (see descend).
+    if (node.identical &&
+        !std::is_sorted(items.begin() + begin, items.begin() + end,
+                        [](const auto& a, const auto& b) { return a.second < b.second; }))
+      std::sort(items.begin() + begin, items.begin() + end,
+                [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (end - begin > shape.leaf) {
+      const Vec<D> extent = box.extent();
+      std::uint8_t axis = 0;
+      for (std::uint8_t a = 1; a < D; ++a)
+        if (extent[a] > extent[axis]) axis = a;
+      const std::uint32_t mid = begin + (end - begin) / 2;
+      if (!node.identical)
+        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                         [axis](const auto& a, const auto& b) { return a.first[axis] < b.first[axis]; });
+      node.axis = axis;
+      node.left = id + 1;
+      node.right = id + 1 + shape.nodes(mid - begin);
+      if (end - begin > 65536) {
+#pragma omp task default(shared) firstprivate(node, begin, mid)
+        build(node.left, begin, mid);
+#pragma omp task default(shared) firstprivate(node, mid, end)
+        build(node.right, mid, end);
+#pragma omp taskwait
+      } else {
+        build(node.left, begin, mid);
+        build(node.right, mid, end);
+      }
+      node.left_max = boxes[node.left].max[axis];
+      node.right_min = boxes[node.right].min[axis];
+      node.min_index = std::min(nodes[node.left].min_index, nodes[node.right].min_index);
+    } else {
+      node.min_index = KdTree<D>::no_child;
+      for (auto t = begin; t < end; ++t) node.min_index = std::min(node.min_index, items[t].second);
+    }
+    nodes[id] = node;
+  }
+};
+
 // A table of n rows of k for all_knn to fill, after checking 1 <= k <= n.
 KnnTable empty_knn_table(int k, std::size_t n) {
   if (k < 1 || static_cast<std::size_t>(k) > n)
@@ -104,99 +208,13 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options, const Po
   check_coordinates<D>(points);
   if (points.empty()) return;
 
-  // Build over (point, input index) pairs so that the median selection moves
-  // contiguous data rather than chasing indices.
-  std::vector<std::pair<Point, std::uint32_t>> items(points.size());
-  if (shift == Point::Zero()) {
-    for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i], static_cast<std::uint32_t>(i)};
-  } else {
-    for (std::size_t i = 0; i < points.size(); ++i) items[i] = {points[i] - shift, static_cast<std::uint32_t>(i)};
-  }
-
-  // The shape of the tree depends only on the sizes (each node splits its
-  // points into halves of sizes m / 2 and m - m / 2), so every subtree's node
-  // count is known in advance: node ids are pre-order positions computed,
-  // not appended, and the subtrees are built in parallel as OpenMP tasks.
-  const auto leaf = static_cast<std::uint32_t>(options_.leaf_size);
-  struct Shape {
-    std::uint32_t leaf;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> memo;  // size -> nodes, for every size in the tree
-    // Fills the memo: the recursion meets every size the tree has (at most
-    // two per level).
-    std::uint32_t count(std::uint32_t size) {
-      if (size <= leaf) return 1;
-      for (const auto& [s, c] : memo)
-        if (s == size) return c;
-      const std::uint32_t c = 1 + count(size / 2) + count(size - size / 2);
-      memo.emplace_back(size, c);
-      return c;
-    }
-    [[nodiscard]] std::uint32_t nodes(std::uint32_t size) const {
-      if (size <= leaf) return 1;
-      for (const auto& [s, c] : memo)
-        if (s == size) return c;
-      return 0;  // not reached: count() saw every size
-    }
-    [[nodiscard]] int depth(std::uint32_t size) const { return size <= leaf ? 0 : 1 + depth(size - size / 2); }
-  } shape{leaf, {}};
+  std::vector<Item<D>> items = shifted_items<D>(points, shift);
+  TreeShape shape{static_cast<std::uint32_t>(options_.leaf_size), {}};
   const auto n = static_cast<std::uint32_t>(points.size());
   nodes_.resize(shape.count(n));
   boxes_.resize(nodes_.size());
   depth_ = shape.depth(n);
-  struct Builder {
-    KdTree& tree;
-    std::vector<std::pair<Point, std::uint32_t>>& items;
-    const Shape& shape;
-
-    void build(std::uint32_t id, std::uint32_t begin, std::uint32_t end) {
-      Node node;
-      node.begin = begin;
-      node.end = end;
-      Box<D> box;
-      for (auto t = begin; t < end; ++t) box.extend(items[t].first);
-      tree.boxes_[id] = box;
-      node.identical = box.min == box.max;
-      // Copies of one point, in index order (any order is a valid tree, as
-      // they coincide): a search then finds the smallest indices among them
-      // at the front (see descend).
-      if (node.identical &&
-          !std::is_sorted(items.begin() + begin, items.begin() + end,
-                          [](const auto& a, const auto& b) { return a.second < b.second; }))
-        std::sort(items.begin() + begin, items.begin() + end,
-                  [](const auto& a, const auto& b) { return a.second < b.second; });
-      if (end - begin > shape.leaf) {
-        const Point extent = box.extent();
-        std::uint8_t axis = 0;
-        for (std::uint8_t a = 1; a < D; ++a)
-          if (extent[a] > extent[axis]) axis = a;
-        const std::uint32_t mid = begin + (end - begin) / 2;
-        if (!node.identical)
-          std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                           [axis](const auto& a, const auto& b) { return a.first[axis] < b.first[axis]; });
-        node.axis = axis;
-        node.left = id + 1;
-        node.right = id + 1 + shape.nodes(mid - begin);
-        if (end - begin > 65536) {
-#pragma omp task default(shared) firstprivate(node, begin, mid)
-          build(node.left, begin, mid);
-#pragma omp task default(shared) firstprivate(node, mid, end)
-          build(node.right, mid, end);
-#pragma omp taskwait
-        } else {
-          build(node.left, begin, mid);
-          build(node.right, mid, end);
-        }
-        node.left_max = tree.boxes_[node.left].max[axis];
-        node.right_min = tree.boxes_[node.right].min[axis];
-        node.min_index = std::min(tree.nodes_[node.left].min_index, tree.nodes_[node.right].min_index);
-      } else {
-        node.min_index = no_child;
-        for (auto t = begin; t < end; ++t) node.min_index = std::min(node.min_index, items[t].second);
-      }
-      tree.nodes_[id] = node;
-    }
-  };
-  Builder builder{*this, items, shape};
+  Builder<D> builder{nodes_, boxes_, items, shape};
 #pragma omp parallel
 #pragma omp single
   builder.build(0, 0, n);
@@ -408,24 +426,18 @@ KdTree<D> KdTree<D>::refit(std::span<const Point> points) const {
   tree.nodes_ = nodes_;
   tree.boxes_.resize(nodes_.size());
   tree.points_.resize(points.size());
-  const auto n = static_cast<std::int64_t>(points.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t t = 0; t < n; ++t)
-    tree.points_[static_cast<std::size_t>(t)] = points[order_[static_cast<std::size_t>(t)]];
+  detail::parallel_for(points.size(), [&](std::size_t t) { tree.points_[t] = points[order_[t]]; });
   // Leaves first (in parallel), then each inner node from its children:
   // children follow their parent in pre-order, so a backward pass finds them done.
-  const auto node_count = static_cast<std::int64_t>(nodes_.size());
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::int64_t s = 0; s < node_count; ++s) {
-    const auto id = static_cast<std::size_t>(s);
+  detail::parallel_for_dynamic(nodes_.size(), 256, [&](std::size_t id) {
     Node& node = tree.nodes_[id];
-    if (!node.is_leaf()) continue;
+    if (!node.is_leaf()) return;
     Box<D> box;
     for (auto t = node.begin; t < node.end; ++t) box.extend(tree.points_[t]);
     tree.boxes_[id] = box;
     // Copies of one point must be stored by increasing index (see Node).
     node.identical = box.min == box.max && std::is_sorted(order_.begin() + node.begin, order_.begin() + node.end);
-  }
+  });
   for (std::size_t id = nodes_.size(); id-- > 0;) {
     Node& node = tree.nodes_[id];
     if (node.is_leaf()) continue;
@@ -456,18 +468,14 @@ std::vector<std::uint32_t> KdTree<D>::renumber_by_leaf_order() {
 template <int D>
 template <class Visitor>
 std::uint64_t KdTree<D>::fill_knn_table(KnnTable& table) const {
-  const auto n = static_cast<std::int64_t>(size());
   const auto kk = static_cast<std::size_t>(table.k);
-  std::uint64_t evaluations = 0;
-#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : evaluations)
-  for (std::int64_t t = 0; t < n; ++t) {
-    const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(t)]);
+  return detail::parallel_count(size(), 4096, [&](std::size_t t) {
+    const auto i = static_cast<std::size_t>(order_[t]);
     const std::span<Neighbor> row(table.entries.data() + i * kk, kk);
     Visitor visitor{KnnVisitor{KnnCollector{row, 0, infinity}, order_.data()}};
-    search(points_[static_cast<std::size_t>(t)], visitor);
-    evaluations += visitor.distance_evaluations();
-  }
-  return evaluations;
+    search(points_[t], visitor);
+    return visitor.distance_evaluations();
+  });
 }
 
 template <int D>
