@@ -2,6 +2,12 @@
 // The exact Euclidean minimum spanning tree (EMST) of a point set, by
 // Borůvka's algorithm with kd-tree queries.
 //
+// The textbook EMST is Prim's algorithm on the complete graph of the points:
+// grow one tree from a point, always adding the shortest edge from the tree
+// to a point outside it. O(n^2) time, O(n) memory, no spatial structure
+// (complete_graph_mst.h; the tests' oracle). The version below gives the
+// same tree in about O(n log n) per round:
+//
 // Borůvka works in rounds: every current component (a fragment of the final
 // tree) finds its shortest edge to a point outside it, and all those edges
 // join the tree at once; the number of components at least halves per round,

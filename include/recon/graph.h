@@ -13,13 +13,11 @@
 // graph lists a vertex's nearest neighbours first).
 // Memory: 8 bytes per vertex + 4 bytes per directed edge (+ 8 with weights).
 
+#include "recon/detail/uninitialized_allocator.h"
 #include "recon/union_find.h"
 
 #include <cstdint>
-#include <memory>
-#include <new>
 #include <span>
-#include <utility>
 #include <vector>
 
 namespace recon {
@@ -30,35 +28,11 @@ struct Edge {
   friend bool operator==(const Edge&, const Edge&) = default;
 };
 
-/// An allocator for vectors of plain numbers whose resize() leaves the new
-/// elements unwritten instead of zeroing them. The Riemannian graph's 21
-/// million targets are all written by parallel threads right after the
-/// resize; zeroing them first was a serial 30 ms at a million points (and
-/// this way the pages are first touched by the threads that fill them).
-template <class T>
-struct UninitializedAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
-  template <class U>
-  explicit UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;  // default-initialised: no value for a plain number
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-
 struct Graph {
   std::vector<std::uint64_t> offsets;  ///< vertex_count() + 1 entries
   /// Every entry is written by whoever builds the graph (resize() leaves
-  /// new ones unwritten).
-  std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>> targets;
+  /// new ones unwritten: detail/uninitialized_allocator.h).
+  std::vector<std::uint32_t, detail::UninitializedAllocator<std::uint32_t>> targets;
   std::vector<double> weights;          ///< empty, or one per target
 
   [[nodiscard]] std::size_t vertex_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }

@@ -18,6 +18,13 @@
 // of the axis along which they spread most, so the depth is about
 // log2(n / leaf_size). Leaves hold up to `leaf_size` points (see bench/ for the
 // measurement behind the default).
+//
+// The textbook search descends to the query's side of each split first,
+// then visits the other side only if the splitting plane is nearer than the
+// k-th best distance so far. The version here compares the distance to the
+// other child's slab, kept incrementally per axis (Arya and Mount), skips
+// subtrees a visitor rules out (labels, ties), and builds the subtrees in
+// parallel, knowing every node's position in advance from the sizes alone.
 
 #include "recon/operation_counts.h"
 #include "recon/point_cloud.h"

@@ -13,9 +13,19 @@
 // the samples x_i, whose neighbourhoods phase I has already found: an origin
 // is the centroid of its sample's neighbourhood, a fraction of a spacing
 // away, so the two graphs differ only in near-ties, and reusing phase I's
-// lists saves a second k-NN search over all the points, more than half of
-// this phase's time (docs/benchmarks.md). CGAL's Hoppe orientation makes the
-// same choice. The gap test below measures edges between origins.
+// lists saves a second k-NN search over all the points (docs/benchmarks.md).
+// CGAL's Hoppe orientation makes the same choice. The gap test below
+// measures edges between origins.
+//
+// The textbook construction lists the edges and sorts them into a graph:
+// every EMST edge and every pair (i, j) with x_j in N(x_i), as one edge
+// list, then make_graph (graph.h), which drops the repeats. The version here
+// lays the rows out directly from phase I's lists, in parallel, in this
+// order per row: i's own kept neighbours (nearest first), the points that
+// list i without i listing them (by index), and the EMST edges that neither
+// lists; the same edges, in a fixed order that does not depend on the
+// thread count. It also finds the pieces of the data from the EMST and the
+// few k-NN edges between its pieces, without walking the graph.
 // An edge costs 1 - |n_i . n_j| (orientation_cost): near 0 between nearly
 // parallel planes, where propagating the orientation is safe; near 1
 // between perpendicular ones, where it is a guess. Costs are computed from

@@ -3,9 +3,8 @@
 // that points close in the array are close in space.
 //
 // Every phase reads per-point arrays by neighbour index. When neighbours are
-// far apart in memory, each read is a cache miss: on a million points in
-// random order, phases I and II run several times slower than on the same
-// points sorted (see docs/benchmarks.md). reconstruct() and the command line
+// far apart in memory, each read is a cache miss, and the phases slow down
+// several times over (docs/benchmarks.md). reconstruct() and the command line
 // get the same effect from phase I's kd-tree (KdTree::renumber_by_leaf_order:
 // its leaf order is a spatial order, and its copy of the points is the only
 // one). This Morton order is for callers of the phases who want their own

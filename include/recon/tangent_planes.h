@@ -19,7 +19,7 @@
 //   the sampling is: on a scanner's grid it is under a spacing, so rho_i =
 //   1.5 gap_i; in a random (Poisson) sample, chance leaves holes several
 //   spacings wide, and only the radius of the k-neighbourhood bounds them
-//   (checked up to a million points at k = 15). The irregularity of the
+//   (docs/benchmarks.md). The irregularity of the
 //   spacing (measured below) moves rho_i between the two. `rho` is the
 //   median of the rho_i, the figure reported; a value given by the user
 //   replaces every rho_i.
@@ -39,6 +39,13 @@
 // isolated by this test (it would be a small object).
 //
 // Works in D = 2 (tangent lines of a curve) and D = 3.
+//
+// The textbook phase is one loop: for each point, a k-NN query and a PCA
+// fit; then the spacing measures from the lists. The version here runs the
+// loop in parallel over the kd-tree's leaf order (consecutive queries touch
+// the same nodes), bounds each query by the previous one's k-th distance
+// plus the step between them, and answers a run of exact copies with one
+// query. The answers are those of the textbook loop.
 
 #include "recon/kdtree.h"
 #include "recon/point_cloud.h"
@@ -61,9 +68,8 @@ namespace recon {
 // plane fits average moderate noise, rho (for random samples the
 // 20-neighbourhood radius) covers their random gaps, and at sharp edges
 // and corners the tilted planes of neighbourhoods straddling a crease are
-// few enough not to draw fins: a box of 20k random samples reconstructs as
-// one closed surface for 19 of 20 seeds at k = 20, 14 of 20 at k = 15,
-// 2 of 20 at k = 10. Smaller k follows thinner features.
+// few enough not to draw fins (measured on a box: docs/benchmarks.md).
+// Smaller k follows thinner features.
 
 /// A sample whose neighbourhood radius exceeds this many times that of the
 /// lower quarter of its neighbours is isolated (see above).
