@@ -1,18 +1,13 @@
 #include "recon/minimum_spanning_tree.h"
 
-#include "recon/complete_graph_mst.h"
-#include "recon/emst.h"
 #include "recon/errors.h"
 #include "recon/kruskal.h"
-#include "recon/riemannian_graph.h"
-#include "recon/shapes.h"
 #include "random_graphs.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <limits>
-#include <random>
 
 namespace recon {
 namespace {
@@ -129,101 +124,6 @@ TEST(MinimumSpanningTree, NeverTakesAnInfiniteEdge) {
   EXPECT_EQ(forest.parent[4], 1u);
   EXPECT_EQ(forest.parent[3], 4u);
   EXPECT_DOUBLE_EQ(forest.total_weight, 102.0);
-}
-
-TEST(Graph, MergesRepeatedEdgesKeepingTheLightest) {
-  const std::vector<Edge> edges = {{0, 1, 3.0}, {1, 0, 2.0}, {1, 1, 0.5}, {1, 2, 1.0}};
-  const Graph g = make_graph(3, edges);
-  EXPECT_EQ(g.edge_count(), 2u);
-  ASSERT_EQ(g.neighbors(1).size(), 2u);
-  EXPECT_EQ(g.neighbors(1)[0], 0u);
-  EXPECT_EQ(g.neighbor_weights(1)[0], 2.0);
-  EXPECT_EQ(g.neighbor_weights(0)[0], 2.0);
-}
-
-// Oracle for the EMST: Prim on the complete graph, O(n^2), with the same
-// (length, smaller end, larger end) edge order (complete_graph_mst.h).
-template <int D>
-std::vector<Edge> brute_force_emst(const std::vector<Vec<D>>& pts) {
-  return complete_graph_minimum_spanning_tree<D>(pts).edges;
-}
-
-// The same edge set (endpoints and lengths), whatever the order.
-void expect_same_edges(std::vector<Edge> got, std::vector<Edge> expected) {
-  ASSERT_EQ(got.size(), expected.size());
-  auto by_ends = [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); };
-  std::sort(got.begin(), got.end(), by_ends);
-  std::sort(expected.begin(), expected.end(), by_ends);
-  for (std::size_t e = 0; e < got.size(); ++e) {
-    ASSERT_EQ(got[e].u, expected[e].u) << "edge " << e;
-    ASSERT_EQ(got[e].v, expected[e].v) << "edge " << e;
-    ASSERT_DOUBLE_EQ(got[e].weight, expected[e].weight) << "edge " << e;
-  }
-}
-
-template <int D>
-void check_emst(std::size_t n, std::uint32_t seed, bool clustered, bool with_knn) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<Vec<D>> pts(n);
-  for (auto& p : pts) {
-    for (int a = 0; a < D; ++a) p[a] = unit(rng);
-    if (clustered) p = (p * 0.05).eval() + Vec<D>::Constant(static_cast<double>(rng() % 4));
-  }
-  if (n > 10) pts[n - 1] = pts[n / 2];  // an exact duplicate
-  const KdTree<D> tree(pts, {4});
-  const KnnTable knn = tree.all_knn(static_cast<int>(std::min<std::size_t>(6, n)));
-  const auto got =
-      with_knn ? euclidean_minimum_spanning_tree<D>(tree, pts, knn) : euclidean_minimum_spanning_tree<D>(tree, pts);
-  ASSERT_EQ(got.size(), n - 1);
-  expect_same_edges(got, brute_force_emst<D>(pts));
-}
-
-TEST(EuclideanMst, EqualsBruteForceMst3D) {
-  for (std::size_t n : {2u, 3u, 50u, 500u, 3000u}) {
-    check_emst<3>(n, static_cast<std::uint32_t>(n), false, true);
-    check_emst<3>(n, static_cast<std::uint32_t>(n + 1), true, true);
-  }
-  check_emst<3>(800, 99, true, false);  // without the k-NN shortcut
-}
-
-TEST(EuclideanMst, EqualsBruteForceMst2D) {
-  for (std::size_t n : {2u, 40u, 2000u}) check_emst<2>(n, static_cast<std::uint32_t>(n + 7), false, true);
-}
-
-// Phase II's EMST is hinted by phase I's neighbourhoods, kept as indices
-// with float radii: still exact, with noise, lone outliers and duplicates.
-TEST(EuclideanMst, RiemannianGraphEmstEqualsBruteForce) {
-  for (const std::uint32_t seed : {5u, 6u}) {
-    PointCloud cloud = make_torus()->sample(2500, seed);
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> noise(0.0, 0.01);
-    for (Vec3& p : cloud.positions) p += Vec3(noise(rng), noise(rng), noise(rng));
-    cloud.positions[7] = Vec3(3.0, 0.0, 0.0);  // lone outliers
-    cloud.positions[8] = Vec3(0.0, 0.0, 0.9);
-    cloud.positions[9] = cloud.positions[10];
-    TangentPlaneOptions options;
-    options.k = 10;
-    const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
-    expect_same_edges(build_riemannian_graph<3>(planes).emst, brute_force_emst<3>(cloud.positions));
-  }
-}
-
-TEST(EuclideanMst, GridWithManyEqualLengthsIsATree) {
-  // All edges of a grid have the same length: only the tie-breaking order
-  // keeps Borůvka from closing cycles.
-  std::vector<Vec3> pts;
-  for (int i = 0; i < 20; ++i)
-    for (int j = 0; j < 20; ++j) pts.emplace_back(i, j, 0.0);
-  const KdTree<3> tree(pts);
-  const KnnTable knn = tree.all_knn(5);
-  const auto edges = euclidean_minimum_spanning_tree<3>(tree, pts, knn);
-  ASSERT_EQ(edges.size(), pts.size() - 1);
-  UnionFind sets(pts.size());
-  for (const Edge& e : edges) {
-    EXPECT_TRUE(sets.unite(e.u, e.v));
-    EXPECT_DOUBLE_EQ(e.weight, 1.0);
-  }
 }
 
 }  // namespace
