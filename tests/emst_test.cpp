@@ -8,16 +8,21 @@
 #include "recon/riemannian_graph.h"
 #include "recon/shapes.h"
 #include "recon/tangent_planes.h"
+#include "search_clouds.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
+#include <string>
 #include <tuple>
 #include <vector>
 
 namespace recon {
 namespace {
+
+using testing::Cloud;
+using testing::make_cloud;
 
 // Oracle: Prim on the complete graph, O(n^2), with the same
 // (length, smaller end, larger end) edge order.
@@ -39,24 +44,10 @@ void expect_same_edges(std::vector<Edge> got, std::vector<Edge> expected) {
   }
 }
 
-// n random points in the unit cube (square), or in four small clusters,
-// with one exact duplicate.
 template <int D>
-std::vector<Vec<D>> random_points(std::size_t n, std::uint32_t seed, bool clustered) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<Vec<D>> pts(n);
-  for (auto& p : pts) {
-    for (int a = 0; a < D; ++a) p[a] = unit(rng);
-    if (clustered) p = (p * 0.05).eval() + Vec<D>::Constant(static_cast<double>(rng() % 4));
-  }
-  if (n > 10) pts[n - 1] = pts[n / 2];  // an exact duplicate
-  return pts;
-}
-
-template <int D>
-void check_emst(std::size_t n, std::uint32_t seed, bool clustered, bool with_knn) {
-  const std::vector<Vec<D>> pts = random_points<D>(n, seed, clustered);
+void check_emst(Cloud cloud, std::size_t n, std::uint32_t seed, bool with_knn) {
+  SCOPED_TRACE(testing::name_of(cloud) + ", " + std::to_string(n) + " points" + (with_knn ? "" : ", no hints"));
+  const std::vector<Vec<D>> pts = make_cloud<D>(cloud, n, seed);
   const KdTree<D> tree(pts, {4});
   const KnnTable knn = tree.all_knn(static_cast<int>(std::min<std::size_t>(6, n)));
   const auto got =
@@ -65,16 +56,19 @@ void check_emst(std::size_t n, std::uint32_t seed, bool clustered, bool with_knn
   expect_same_edges(got, brute_force_emst<D>(pts));
 }
 
+// Uniform points, a surface, clusters with far outliers, and an integer
+// lattice (copies and equal lengths everywhere, where only the order of
+// the edges keeps the tree unique).
 TEST(EuclideanMst, EqualsBruteForceMst3D) {
-  for (std::size_t n : {2u, 3u, 50u, 500u, 3000u}) {
-    check_emst<3>(n, static_cast<std::uint32_t>(n), false, true);
-    check_emst<3>(n, static_cast<std::uint32_t>(n + 1), true, true);
+  for (const Cloud cloud : testing::all_clouds) {
+    for (const std::size_t n : {2u, 3u, 50u, 500u, 3000u}) check_emst<3>(cloud, n, static_cast<std::uint32_t>(n), true);
+    check_emst<3>(cloud, 800, 99, false);  // without the k-NN shortcut
   }
-  check_emst<3>(800, 99, true, false);  // without the k-NN shortcut
 }
 
 TEST(EuclideanMst, EqualsBruteForceMst2D) {
-  for (std::size_t n : {2u, 40u, 2000u}) check_emst<2>(n, static_cast<std::uint32_t>(n + 7), false, true);
+  for (const Cloud cloud : testing::all_clouds)
+    for (const std::size_t n : {2u, 40u, 2000u}) check_emst<2>(cloud, n, static_cast<std::uint32_t>(n + 7), true);
 }
 
 TEST(EuclideanMst, NoEdgesForFewerThanTwoPoints) {
@@ -87,7 +81,7 @@ TEST(EuclideanMst, NoEdgesForFewerThanTwoPoints) {
 // Hints that do not fit the points (another count) are not used: the tree
 // is still exact.
 TEST(EuclideanMst, HintsOfAnotherSizeAreIgnored) {
-  const std::vector<Vec3> pts = random_points<3>(400, 12, true);
+  const std::vector<Vec3> pts = make_cloud<3>(Cloud::clusters_and_outliers, 400, 12);
   const KdTree<3> tree(pts);
   NeighborLists lists;
   lists.k = 3;
@@ -101,7 +95,7 @@ TEST(EuclideanMst, HintsOfAnotherSizeAreIgnored) {
 // 0 0 0 again and again): only the first of a run of copies asks the tree,
 // and the tree is still exact.
 TEST(EuclideanMst, ManyCopiesOfAFewPoints) {
-  std::vector<Vec3> pts = random_points<3>(600, 21, false);
+  std::vector<Vec3> pts = make_cloud<3>(Cloud::uniform, 600, 21);
   for (std::size_t i = 0; i < pts.size(); i += 3) pts[i] = Vec3::Zero();
   for (std::size_t i = 1; i < pts.size(); i += 7) pts[i] = Vec3(0.5, 0.5, 0.5);
   const KdTree<3> tree(pts);
@@ -111,7 +105,7 @@ TEST(EuclideanMst, ManyCopiesOfAFewPoints) {
 // The rounds run in parallel; the tree, and the order of its edges, do not
 // depend on the thread count.
 TEST(EuclideanMst, SameEdgesInTheSameOrderForAnyThreadCount) {
-  const std::vector<Vec3> pts = random_points<3>(5000, 31, true);
+  const std::vector<Vec3> pts = make_cloud<3>(Cloud::clusters_and_outliers, 5000, 31);
   const KdTree<3> tree(pts);
   const KnnTable knn = tree.all_knn(6);
   const int threads = thread_count();
