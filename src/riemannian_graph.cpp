@@ -142,18 +142,22 @@ RowPlan mark_list_entries(const Neighbourhoods<D>& lists, std::size_t n) {
   plan.own.assign(n, 0);
   plan.degree.assign(n, 0);
   parallel_for_dynamic(n, 4096, [&](std::size_t s) {
+    // (Local copies, which the writes below cannot reach: the loop keeps
+    // them in registers instead of reading them again after every write.)
+    const Neighbourhoods<D> own_lists = lists;
+    std::uint64_t* const marks = plan.marks.data() + s * plan.words;
     const auto i = static_cast<std::uint32_t>(s);
-    const auto r = lists.row(i);
+    const auto r = own_lists.row(i);
     for (std::size_t e = 0; e < k; ++e) {
       const std::uint32_t j = r[e];
-      if (j == i || lists.is_gap(i, j)) continue;
+      if (j == i || own_lists.is_gap(i, j)) continue;
       ++plan.own[i];
       std::uint64_t bits = 1;
-      if (!lists.listed(j, i)) {
+      if (!own_lists.listed(j, i)) {
         bits |= 2;
         AtomicRef<std::uint32_t>(plan.degree[j]).fetch_add(1, std::memory_order_relaxed);
       }
-      plan.marks[i * plan.words + e / 32] |= bits << (2 * (e % 32));
+      marks[e / 32] |= bits << (2 * (e % 32));
     }
   });
   return plan;
@@ -200,11 +204,12 @@ void fill_rows(const Neighbourhoods<D>& lists, RowPlan& plan, std::span<const Ed
   std::fill(plan.degree.begin(), plan.degree.end(), 0u);
   const std::size_t k = lists.k;
   parallel_for_dynamic(n, 4096, [&](std::size_t s) {
+    const std::uint64_t* const marks = plan.marks.data() + s * plan.words;  // (a local copy, as above)
     const auto i = static_cast<std::uint32_t>(s);
     const auto r = lists.row(i);
     std::uint64_t write = g.offsets[i];
     for (std::size_t e = 0; e < k; ++e) {
-      const std::uint64_t bits = plan.bits(i, e);
+      const std::uint64_t bits = marks[e / 32] >> (2 * (e % 32));
       if (bits & 1) g.targets[write++] = r[e];
       if (bits & 2) {
         const std::uint32_t j = r[e];
