@@ -19,10 +19,9 @@
 //   the sampling is: on a scanner's grid it is under a spacing, so rho_i =
 //   1.5 gap_i; in a random (Poisson) sample, chance leaves holes several
 //   spacings wide, and only the radius of the k-neighbourhood bounds them
-//   (docs/benchmarks.md). The irregularity of the
-//   spacing (measured below) moves rho_i between the two. `rho` is the
-//   median of the rho_i, the figure reported; a value given by the user
-//   replaces every rho_i.
+//   (docs/benchmarks.md). The irregularity of the spacing (measured below)
+//   moves rho_i between the two. `rho` is the median of the rho_i, the
+//   figure reported; a value given by the user replaces every rho_i.
 //
 // Isolated samples. A stray point far from the rest (a scanner's outlier, a
 // speck of dust, a handful of them) has a neighbourhood of distant samples:
