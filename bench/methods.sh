@@ -26,19 +26,6 @@ echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for run in $(seq 1 "$runs"); do
   for method in refined hoppe92; do
     nice "$recon" reconstruct "$scratch/cloud.ply" --method "$method" -o "$scratch/mesh.ply" --stats "$scratch/stats.json" --quiet
-    /usr/bin/python3 - "$scratch/stats.json" "$method" "$run" <<'EOF'
-import json, sys
-s = json.load(open(sys.argv[1]))
-def total(section, keys):
-    d = s.get(section, {})
-    return sum(d.get(k, 0.0) for k in keys)
-planes = total("tangent_planes", ["seconds_tree", "seconds_knn_pca", "seconds_spacing"])
-planes += s["tangent_planes"].get("quadrics", {}).get("seconds", 0.0)
-print("| %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %d |" % (
-    sys.argv[2], sys.argv[3], s["seconds_total"], planes,
-    total("orientation", ["seconds_emst", "seconds_graph", "seconds_mst"]),
-    total("signed_distance", ["seconds"]), total("contouring", ["seconds"]), total("refinement", ["seconds"]),
-    s["memory"]["peak_mib_total"], s["mesh"]["faces"]))
-EOF
+    /usr/bin/python3 "$root/bench/stats_row.py" "$scratch/stats.json" "$method" "$run"
   done
 done
