@@ -68,6 +68,28 @@ void stop_cleanly_on_interrupt() {
   action.sa_handler = on_bus_error;
   sigaction(SIGBUS, &action, nullptr);
 }
+
+// Runs the chosen subcommand; errors become one line and an exit code (1
+// for what the user can act on, 2 for a fault of recon's own).
+int run_commands(const CLI::App& app, const std::map<CLI::App*, recon::cli::Command>& commands,
+                 const recon::cli::GlobalOptions& global, bool trap_fp) {
+  try {
+    recon::set_thread_count(global.threads);
+    if (trap_fp && !recon::set_fp_traps(true))
+      throw recon::Error("--trap-fp: this platform cannot trap floating-point exceptions");
+    for (CLI::App* sub : app.get_subcommands()) commands.at(sub)();
+  } catch (const recon::Error& e) {
+    std::cerr << "recon: error: " << e.what() << '\n';
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "recon: error: out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "recon: internal error: " << e.what() << '\n';
+    return 2;
+  }
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -119,20 +141,5 @@ int main(int argc, char** argv) {
     std::cerr << "recon: error: " << e.what() << " (see recon --help)\n";
     return 2;
   }
-  try {
-    recon::set_thread_count(global.threads);
-    if (trap_fp && !recon::set_fp_traps(true))
-      throw recon::Error("--trap-fp: this platform cannot trap floating-point exceptions");
-    for (CLI::App* sub : app.get_subcommands()) commands.at(sub)();
-  } catch (const recon::Error& e) {
-    std::cerr << "recon: error: " << e.what() << '\n';
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::cerr << "recon: error: out of memory\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "recon: internal error: " << e.what() << '\n';
-    return 2;
-  }
-  return 0;
+  return run_commands(app, commands, global, trap_fp);
 }

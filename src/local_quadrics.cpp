@@ -490,6 +490,55 @@ std::vector<std::uint8_t> crease_band(const TangentPlanes<3>& planes, const std:
   return band;
 }
 
+// What step 3 did for one sample.
+struct Taken {
+  bool borrowed;  // a neighbour's quadric
+  bool flat;      // a flat plane (no surface, an unresolved misfit, or a flat fit)
+};
+
+// Step 3 for sample i: the quadric it takes (its own, or a better one of a
+// neighbour's where its fit is poor), and the sample moved onto it, into
+// `result`. `poor`: the residual beyond which a fit looks for a better one;
+// `far_radius`: the neighbourhood radius beyond which there is no surface.
+Taken take_quadric(const TangentPlanes<3>& planes, const Fits& fits, const LocalQuadricOptions& options,
+                   std::uint32_t i, double poor, double far_radius, LocalQuadrics& result) {
+  const std::span<const Vec3> x = planes.point_tree.points();
+  const bool look = fits.residual(i) > poor && std::isfinite(fits.residual(i));
+  const std::uint32_t j = look ? support_of(planes, i, fits, options, poor) : i;
+  const Quadric q = fits[j];
+  result.residual[i] = static_cast<float>(q.residual);
+  const auto radius = static_cast<double>(planes.radius[i]);
+  if (radius > far_radius || !(q.residual <= options.surface_residual * radius)) {
+    // No surface here (a blob of strays, copies of one point): phase I's
+    // plane stays, which passes through no sample (it draws nothing).
+    result.origins[i] = planes.origins[i];
+    result.normals[i] = planes.normals[i];
+    return {j != i, true};
+  }
+  const Foot foot = foot_on(q, x[i], planes.normals[i]);
+  if (q.residual > 2.5 * poor) {
+    // Unresolved, and far beyond what noise explains (a corner's samples
+    // may find no neighbourhood on one face): the sample itself is nearer
+    // the surface than its foot on a misfit, and the plane there is flat.
+    result.origins[i] = x[i];
+    result.normals[i] = foot.normal;
+    return {j != i, true};
+  }
+  result.origins[i] = foot.point;
+  result.normals[i] = foot.normal;
+  result.curvature[i] = q.flat ? Curvature{} : foot.curvature;
+  return {j != i, q.flat};
+}
+
+// The median of the residuals of the quadrics taken (0 when not finite).
+double median_taken_residual(const std::vector<float>& residual) {
+  std::vector<double> taken(residual.begin(), residual.end());
+  if (taken.empty()) return 0.0;
+  const auto middle = taken.begin() + static_cast<std::ptrdiff_t>(taken.size() / 2);
+  std::nth_element(taken.begin(), middle, taken.end());
+  return std::isfinite(*middle) ? *middle : 0.0;
+}
+
 }  // namespace
 
 LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuadricOptions& options) {
@@ -497,7 +546,6 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
     throw InvalidInputError("fit_local_quadrics: the planes need their neighbour lists and a tree numbered by leaf order");
   Timer timer;
   const std::size_t n = planes.origins.size();
-  const std::span<const Vec3> x = planes.point_tree.points();
   LocalQuadrics result;
   std::vector<std::uint8_t> banded;
   Fits fits = fit_all(planes, options, banded);
@@ -520,45 +568,14 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
   const auto count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(dynamic, 1024) reduction(+ : borrowed, flat)
   for (std::int64_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::uint32_t>(s);
-    const bool look = fits.residual(i) > poor && std::isfinite(fits.residual(i));
-    const std::uint32_t j = look ? support_of(planes, i, fits, options, poor) : i;
-    borrowed += j != i ? 1u : 0u;
-    const Quadric q = fits[j];
-    result.residual[i] = static_cast<float>(q.residual);
-    const auto radius = static_cast<double>(planes.radius[i]);
-    if (radius > far_radius || !(q.residual <= options.surface_residual * radius)) {
-      // No surface here (a blob of strays, copies of one point): phase I's
-      // plane stays, which passes through no sample (it draws nothing).
-      result.origins[i] = planes.origins[i];
-      result.normals[i] = planes.normals[i];
-      ++flat;
-      continue;
-    }
-    const Foot foot = foot_on(q, x[i], planes.normals[i]);
-    if (q.residual > 2.5 * poor) {
-      // Unresolved, and far beyond what noise explains (a corner's samples
-      // may find no neighbourhood on one face): the sample itself is nearer
-      // the surface than its foot on a misfit, and the plane there is flat.
-      result.origins[i] = x[i];
-      result.normals[i] = foot.normal;
-      ++flat;
-      continue;
-    }
-    flat += q.flat ? 1u : 0u;
-    result.origins[i] = foot.point;
-    result.normals[i] = foot.normal;
-    result.curvature[i] = q.flat ? Curvature{} : foot.curvature;
+    const Taken taken = take_quadric(planes, fits, options, static_cast<std::uint32_t>(s), poor, far_radius, result);
+    borrowed += taken.borrowed ? 1u : 0u;
+    flat += taken.flat ? 1u : 0u;
   }
   result.borrowed = borrowed;
   result.flat = flat;
   result.near_crease = crease_band(planes, result.normals);
-  std::vector<double> taken(result.residual.begin(), result.residual.end());
-  if (!taken.empty()) {
-    const auto middle = taken.begin() + static_cast<std::ptrdiff_t>(taken.size() / 2);
-    std::nth_element(taken.begin(), middle, taken.end());
-    result.noise = std::isfinite(*middle) ? *middle : 0.0;
-  }
+  result.noise = median_taken_residual(result.residual);
   result.seconds = timer.lap();
   return result;
 }

@@ -1,5 +1,6 @@
 #include "recon/orientation.h"
 
+#include "recon/detail/parallel_for.h"
 #include "recon/errors.h"
 #include "recon/timer.h"
 
@@ -265,6 +266,75 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const Orientat
   return orient_normals<D>(planes, build_riemannian_graph<D>(planes, options.graph), options);
 }
 
+namespace {
+
+// One root per component: its origin of largest last coordinate.
+template <int D>
+std::vector<std::uint32_t> highest_origins(const TangentPlanes<D>& planes, const Components& components) {
+  std::vector<std::uint32_t> roots(components.sizes.size(), UINT32_MAX);
+  for (std::uint32_t i = 0; i < planes.origins.size(); ++i) {
+    std::uint32_t& r = roots[components.label[i]];
+    if (r == UINT32_MAX || planes.origins[i][D - 1] > planes.origins[r][D - 1]) r = i;
+  }
+  return roots;
+}
+
+// The signs decided so far, as the walk and the vote read them: plane i's
+// guide normal turned by result.flipped, and whether the edge (a, b) joins
+// facing sheets (across which the normals must disagree).
+template <int D>
+struct Signs {
+  const TangentPlanes<D>& planes;
+  const Guide<D>& guide;
+  const OrientedNormals<D>& result;
+  std::span<const float> sheet_misfit;
+
+  [[nodiscard]] Vec<D> normal(std::size_t i) const { return signed_normal<D>(guide, result.flipped, i); }
+  [[nodiscard]] bool reversed(std::uint32_t a, std::uint32_t b) const {
+    return !sheet_misfit.empty() && joins_facing_sheets<D>(planes, sheet_misfit, a, b);
+  }
+};
+
+// Hoppe's walk: parents first, each root made to point up (+ last axis),
+// each child flipped when it points against its parent (or, across facing
+// sheets, along it).
+template <int D>
+void walk_the_tree(const Signs<D>& signs, OrientedNormals<D>& result) {
+  for (std::uint32_t v : result.tree.order) {
+    const std::uint32_t p = result.tree.parent[v];
+    const bool across = p != SpanningForest::no_parent && signs.reversed(v, p);
+    result.sheet_edges += across ? 1u : 0u;
+    const bool flip = p == SpanningForest::no_parent ? signs.normal(v)[D - 1] < 0.0
+                                                     : (signs.normal(v).dot(signs.normal(p)) < 0.0) != across;
+    if (flip) result.flipped[v] = 1;
+  }
+}
+
+// Clean-up vote: the tree decides each sign through one edge, and where
+// noise tilts a normal that one edge can be wrong. A normal that points
+// against most of its graph neighbours is turned round, from the signs of
+// the previous round (so the outcome does not depend on visiting order).
+template <int D>
+void vote(const Signs<D>& signs, const Graph& g, int rounds, OrientedNormals<D>& result) {
+  const std::size_t n = result.flipped.size();
+  std::vector<std::uint8_t> turn(n);
+  for (int round = 0; round < rounds; ++round) {
+    const std::size_t turned = detail::parallel_count(n, 4096, [&](std::size_t i) {
+      const auto v = static_cast<std::uint32_t>(i);
+      double agreement = 0.0;
+      for (const std::uint32_t u : g.neighbors(v))
+        agreement += (signs.reversed(v, u) ? -1.0 : 1.0) * signs.normal(v).dot(signs.normal(u));
+      turn[v] = agreement < 0.0 ? 1 : 0;
+      return turn[v];
+    });
+    if (turned == 0) break;
+    for (std::size_t v = 0; v < n; ++v) result.flipped[v] ^= turn[v];
+    result.vote_flips += turned;
+  }
+}
+
+}  // namespace
+
 template <int D>
 OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGraph<D> graph,
                                   const OrientationOptions& options) {
@@ -272,63 +342,27 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
   result.graph = std::move(graph);
   Timer timer;
   const std::size_t n = planes.origins.size();
-
-  // One root per component: its origin of largest last coordinate.
-  const Components& components = result.graph.components;
-  std::vector<std::uint32_t> roots(components.sizes.size(), UINT32_MAX);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    std::uint32_t& r = roots[components.label[i]];
-    if (r == UINT32_MAX || planes.origins[i][D - 1] > planes.origins[r][D - 1]) r = i;
-  }
   const Graph& g = result.graph.graph;
   std::span<const Eigen::Vector3f> given;
   if constexpr (D == 3) given = options.guide;
   const Guide<D> guide(planes.normals, given);
   if (guide.size() != n) throw InvalidInputError("orientation: the guide normals are not one per plane");
-  result.tree = prim_minimum_spanning_forest(g, roots, [&](std::uint32_t v, std::uint64_t e) {
-    const double cost = orientation_cost<D>(guide[v], guide[g.targets[e]]);
-    return guide.is_own() ? cost : std::max(0.0, cost);  // (single-precision normals are unit to 1e-7 only)
-  });
 
+  // Prim's minimum spanning forest, from the highest origin of each component.
+  result.tree = prim_minimum_spanning_forest(g, highest_origins(planes, result.graph.components),
+                                             [&](std::uint32_t v, std::uint64_t e) {
+                                               const double cost = orientation_cost<D>(guide[v], guide[g.targets[e]]);
+                                               // (single-precision normals are unit to 1e-7 only)
+                                               return guide.is_own() ? cost : std::max(0.0, cost);
+                                             });
   result.flipped.assign(n, 0);
-  auto normal = [&](std::size_t i) { return signed_normal<D>(guide, result.flipped, i); };
-  // Across an edge between facing sheets the normals must disagree.
-  auto reversed = [&](std::uint32_t a, std::uint32_t b) {
-    return !options.sheet_misfit.empty() && joins_facing_sheets<D>(planes, options.sheet_misfit, a, b);
-  };
-  for (std::uint32_t v : result.tree.order) {
-    const std::uint32_t p = result.tree.parent[v];
-    const bool across = p != SpanningForest::no_parent && reversed(v, p);
-    result.sheet_edges += across ? 1u : 0u;
-    const bool flip = p == SpanningForest::no_parent ? normal(v)[D - 1] < 0.0
-                                                     : (normal(v).dot(normal(p)) < 0.0) != across;
-    if (flip) result.flipped[v] = 1;
-  }
-
-  // Clean-up vote: the tree decides each sign through one edge, and where
-  // noise tilts a normal that one edge can be wrong. A normal that points
-  // against most of its graph neighbours is turned round, from the signs of
-  // the previous round (so the outcome does not depend on visiting order).
-  std::vector<std::uint8_t> turn(n);
-  const auto count = static_cast<std::int64_t>(n);
-  for (int round = 0; round < options.vote_rounds; ++round) {
-    std::size_t turned = 0;
-#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : turned)
-    for (std::int64_t s = 0; s < count; ++s) {
-      const auto v = static_cast<std::uint32_t>(s);
-      double agreement = 0.0;
-      for (const std::uint32_t u : g.neighbors(v))
-        agreement += (reversed(v, u) ? -1.0 : 1.0) * normal(v).dot(normal(u));
-      turn[v] = agreement < 0.0 ? 1 : 0;
-      turned += turn[v];
-    }
-    if (turned == 0) break;
-    for (std::size_t v = 0; v < n; ++v) result.flipped[v] ^= turn[v];
-    result.vote_flips += turned;
-  }
+  const Signs<D> signs{planes, guide, result, options.sheet_misfit};
+  walk_the_tree(signs, result);
+  vote(signs, g, options.vote_rounds, result);
   if (!options.sheet_misfit.empty())
     result.crease_patches_turned = turn_crease_patches<D>(planes, g, options.sheet_misfit, result);
   if (options.sign_by_extremes) result.components_turned = turn_components_outward<D>(planes, guide, result);
+
   // The signs found (with the guide, where there is one), on the planes' own normals.
   result.normals.resize(n);
   for (std::size_t i = 0; i < n; ++i) result.normals[i] = signed_normal<D>(planes.normals, result.flipped, i);

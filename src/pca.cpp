@@ -9,71 +9,87 @@
 
 namespace recon {
 
+namespace {
+
+// One Jacobi rotation in the (p, q) plane, which zeroes a_pq:
+// A <- J^T A J, V <- V J.
+template <int D>
+void rotate(Mat<D>& a, Mat<D>& v, int p, int q) {
+  const double apq = a(p, q);
+  // Rotation angle theta with tan(2 theta) = 2 a_pq / (a_qq - a_pp);
+  // t = tan(theta) taken as the smaller root for stability. When a_pq is
+  // negligible against d = a_qq - a_pp, theta is so large that its square
+  // may overflow, and t = 1 / (2 theta) = a_pq / d to double precision (as
+  // in Numerical Recipes' jacobi).
+  const double d = a(q, q) - a(p, p);
+  double t = 0.0;
+  if (std::abs(d) + 100.0 * std::abs(apq) == std::abs(d)) {
+    t = apq / d;  // d is not 0 here: a_pq is not
+  } else {
+    const double theta = d / (2.0 * apq);
+    t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+  }
+  const double c = 1.0 / std::sqrt(t * t + 1.0);
+  const double s = t * c;
+  const double tau = s / (1.0 + c);  // c = 1 - s tau: updates as small corrections
+  // a_pq becomes 0, the diagonal moves by t a_pq, and only the entries in
+  // rows/columns p and q change.
+  a(p, p) -= t * apq;
+  a(q, q) += t * apq;
+  a(p, q) = a(q, p) = 0.0;
+  for (int r = 0; r < D; ++r) {
+    if (r == p || r == q) continue;
+    const double g = a(r, p), h = a(r, q);
+    a(r, p) = a(p, r) = g - s * (h + g * tau);
+    a(r, q) = a(q, r) = h + s * (g - h * tau);
+  }
+  for (int r = 0; r < D; ++r) {
+    const double g = v(r, p), h = v(r, q);
+    v(r, p) = g - s * (h + g * tau);
+    v(r, q) = h + s * (g - h * tau);
+  }
+}
+
+// The sum of squares of the entries above the diagonal.
+template <int D>
+double off_diagonal(const Mat<D>& a) {
+  double off = 0.0;
+  for (int p = 0; p < D; ++p)
+    for (int q = p + 1; q < D; ++q) off += a(p, q) * a(p, q);
+  return off;
+}
+
+// Selection sort of at most 3 values, ascending, carrying the vectors along.
+template <int D>
+void sort_ascending(SymmetricEigen<D>& e) {
+  for (int i = 0; i < D; ++i) {
+    int m = i;
+    for (int j = i + 1; j < D; ++j)
+      if (e.values[j] < e.values[m]) m = j;
+    if (m != i) {
+      std::swap(e.values[i], e.values[m]);
+      e.vectors.col(i).swap(e.vectors.col(m));
+    }
+  }
+}
+
+}  // namespace
+
 template <int D>
 SymmetricEigen<D> symmetric_eigen(const Mat<D>& input) {
   Mat<D> a = input.template selfadjointView<Eigen::Upper>();
   Mat<D> v = Mat<D>::Identity();
   const double scale = a.cwiseAbs().maxCoeff();
   if (scale > 0.0) {
-    for (int sweep = 0; sweep < 50; ++sweep) {
-      double off = 0.0;
+    for (int sweep = 0; sweep < 50 && off_diagonal<D>(a) > 1e-36 * scale * scale; ++sweep)
       for (int p = 0; p < D; ++p)
-        for (int q = p + 1; q < D; ++q) off += a(p, q) * a(p, q);
-      if (off <= 1e-36 * scale * scale) break;
-      for (int p = 0; p < D; ++p) {
-        for (int q = p + 1; q < D; ++q) {
-          const double apq = a(p, q);
-          if (apq == 0.0) continue;
-          // Rotation angle theta with tan(2 theta) = 2 a_pq / (a_qq - a_pp);
-          // t = tan(theta) taken as the smaller root for stability. When
-          // a_pq is negligible against d = a_qq - a_pp, theta is so large
-          // that its square may overflow, and t = 1 / (2 theta) = a_pq / d
-          // to double precision (as in Numerical Recipes' jacobi).
-          const double d = a(q, q) - a(p, p);
-          double t = 0.0;
-          if (std::abs(d) + 100.0 * std::abs(apq) == std::abs(d)) {
-            t = apq / d;  // d is not 0 here: a_pq is not
-          } else {
-            const double theta = d / (2.0 * apq);
-            t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
-          }
-          const double c = 1.0 / std::sqrt(t * t + 1.0);
-          const double s = t * c;
-          const double tau = s / (1.0 + c);  // c = 1 - s tau: updates as small corrections
-          // A <- J^T A J, V <- V J, with J the rotation in the (p, q) plane:
-          // a_pq becomes 0, the diagonal moves by t a_pq, and only the
-          // entries in rows/columns p and q change.
-          a(p, p) -= t * apq;
-          a(q, q) += t * apq;
-          a(p, q) = a(q, p) = 0.0;
-          for (int r = 0; r < D; ++r) {
-            if (r == p || r == q) continue;
-            const double g = a(r, p), h = a(r, q);
-            a(r, p) = a(p, r) = g - s * (h + g * tau);
-            a(r, q) = a(q, r) = h + s * (g - h * tau);
-          }
-          for (int r = 0; r < D; ++r) {
-            const double g = v(r, p), h = v(r, q);
-            v(r, p) = g - s * (h + g * tau);
-            v(r, q) = h + s * (g - h * tau);
-          }
-        }
-      }
-    }
+        for (int q = p + 1; q < D; ++q)
+          if (a(p, q) != 0.0) rotate<D>(a, v, p, q);
   }
   SymmetricEigen<D> result;
   result.values = a.diagonal();
   result.vectors = v;
-  // Selection sort of at most 3 entries, carrying the vectors along.
-  for (int i = 0; i < D; ++i) {
-    int m = i;
-    for (int j = i + 1; j < D; ++j)
-      if (result.values[j] < result.values[m]) m = j;
-    if (m != i) {
-      std::swap(result.values[i], result.values[m]);
-      result.vectors.col(i).swap(result.vectors.col(m));
-    }
-  }
+  sort_ascending(result);
   return result;
 }
 

@@ -667,69 +667,98 @@ std::vector<double> mean_sag(const Mesh& contoured, const Projected& pr, double 
 // spacing there are peeled off, starting from the boundary and moving
 // inwards only (a closed surface has no boundary and loses nothing, and no
 // hole is made inside the surface).
-std::size_t trim_boundaries(Builder& b, const Projected& pr) {
-  const std::size_t n = b.mesh.vertices.size();
-  std::vector<std::uint8_t> covered(n, 1);
-  for (std::size_t v = 0; v < n; ++v) {
+// Whether each vertex lies within the spacing of its plane's sample (or of
+// one of its two planes' samples, on a crease).
+std::vector<std::uint8_t> covered_vertices(const Builder& b, const Projected& pr) {
+  std::vector<std::uint8_t> covered(b.mesh.vertices.size(), 1);
+  for (std::size_t v = 0; v < covered.size(); ++v) {
     const auto& on = b.planes[v];
     if (on[0] != none) covered[v] = pr.covered[on[0]] || (on[1] != none && pr.covered[on[1]]);
   }
-  // The triangles touching an uncovered vertex, and their edges that have
-  // an uncovered end (all of whose triangles are among them).
-  std::vector<std::uint32_t> candidates;
-  for (std::uint32_t t = 0; t < b.mesh.triangles.size(); ++t) {
-    const auto& tri = b.mesh.triangles[t];
-    if (!covered[tri[0]] || !covered[tri[1]] || !covered[tri[2]]) candidates.push_back(t);
-  }
-  if (candidates.empty()) return 0;
-  auto key = [](std::uint32_t u, std::uint32_t v) { return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v); };
-  std::unordered_map<std::uint64_t, std::array<std::uint32_t, 2>> sides;  // the (up to) two triangles of an edge
-  for (const std::uint32_t t : candidates) {
-    const auto& tri = b.mesh.triangles[t];
-    for (std::size_t e = 0; e < 3; ++e) {
-      const std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
-      if (covered[u] && covered[v]) continue;
-      auto [it, added] = sides.try_emplace(key(u, v), std::array<std::uint32_t, 2>{t, none});
-      if (!added) it->second[1] = t;
+  return covered;
+}
+
+// The peeling's state: the triangles touching an uncovered vertex (the
+// candidates), the (up to) two triangles of each of their edges with an
+// uncovered end (all of whose triangles are candidates), and those removed.
+class Peeling {
+ public:
+  Peeling(const Mesh& mesh, const std::vector<std::uint8_t>& covered)
+      : mesh_(mesh), covered_(covered), removed_(mesh.triangles.size(), 0) {
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto& tri = mesh.triangles[t];
+      if (!covered[tri[0]] || !covered[tri[1]] || !covered[tri[2]]) candidates_.push_back(t);
     }
-  }
-  std::vector<std::uint8_t> removed(b.mesh.triangles.size(), 0);
-  auto peelable = [&](std::uint32_t t) {
-    const auto& tri = b.mesh.triangles[t];
-    return !removed[t] && !covered[tri[0]] && !covered[tri[1]] && !covered[tri[2]];
-  };
-  // Across edge (u, v) of t: the other triangle, or none at the boundary.
-  auto across = [&](std::uint32_t t, std::uint32_t u, std::uint32_t v) {
-    const auto& two = sides.at(key(u, v));
-    const std::uint32_t other = two[0] == t ? two[1] : two[0];
-    return other != none && !removed[other] ? other : none;
-  };
-  std::vector<std::uint32_t> queue;
-  for (const std::uint32_t t : candidates) {
-    if (!peelable(t)) continue;
-    const auto& tri = b.mesh.triangles[t];
-    for (std::size_t e = 0; e < 3; ++e)
-      if (across(t, tri[e], tri[(e + 1) % 3]) == none) {
-        queue.push_back(t);
-        break;
+    for (const std::uint32_t t : candidates_) {
+      const auto& tri = mesh.triangles[t];
+      for (std::size_t e = 0; e < 3; ++e) {
+        const std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
+        if (covered[u] && covered[v]) continue;
+        auto [it, added] = sides_.try_emplace(key(u, v), std::array<std::uint32_t, 2>{t, none});
+        if (!added) it->second[1] = t;
       }
-  }
-  std::size_t peeled = 0;
-  for (std::size_t q = 0; q < queue.size(); ++q) {
-    const std::uint32_t t = queue[q];
-    if (!peelable(t)) continue;
-    removed[t] = 1;
-    ++peeled;
-    const auto& tri = b.mesh.triangles[t];
-    for (std::size_t e = 0; e < 3; ++e) {
-      const std::uint32_t other = across(t, tri[e], tri[(e + 1) % 3]);
-      if (other != none && peelable(other)) queue.push_back(other);
     }
   }
-  if (peeled == 0) return 0;
-  std::vector<std::uint8_t> keep(removed.size());
-  for (std::size_t t = 0; t < keep.size(); ++t) keep[t] = removed[t] ? 0 : 1;
-  compact(b, keep);
+  // Peels from the open boundary inwards, breadth first: a triangle whose
+  // three vertices are uncovered goes once an edge of it is on the boundary.
+  std::size_t peel() {
+    std::vector<std::uint32_t> queue;
+    for (const std::uint32_t t : candidates_)
+      if (peelable(t) && on_boundary(t)) queue.push_back(t);
+    std::size_t peeled = 0;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::uint32_t t = queue[q];
+      if (!peelable(t)) continue;
+      removed_[t] = 1;
+      ++peeled;
+      const auto& tri = mesh_.triangles[t];
+      for (std::size_t e = 0; e < 3; ++e) {
+        const std::uint32_t other = across(t, tri[e], tri[(e + 1) % 3]);
+        if (other != none && peelable(other)) queue.push_back(other);
+      }
+    }
+    return peeled;
+  }
+  // 1 for each triangle kept.
+  [[nodiscard]] std::vector<std::uint8_t> kept() const {
+    std::vector<std::uint8_t> keep(removed_.size());
+    for (std::size_t t = 0; t < keep.size(); ++t) keep[t] = removed_[t] ? 0 : 1;
+    return keep;
+  }
+
+ private:
+  static std::uint64_t key(std::uint32_t u, std::uint32_t v) {
+    return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
+  }
+  [[nodiscard]] bool peelable(std::uint32_t t) const {
+    const auto& tri = mesh_.triangles[t];
+    return !removed_[t] && !covered_[tri[0]] && !covered_[tri[1]] && !covered_[tri[2]];
+  }
+  // Across edge (u, v) of t: the other triangle, or none at the boundary.
+  [[nodiscard]] std::uint32_t across(std::uint32_t t, std::uint32_t u, std::uint32_t v) const {
+    const auto& two = sides_.at(key(u, v));
+    const std::uint32_t other = two[0] == t ? two[1] : two[0];
+    return other != none && !removed_[other] ? other : none;
+  }
+  [[nodiscard]] bool on_boundary(std::uint32_t t) const {
+    const auto& tri = mesh_.triangles[t];
+    for (std::size_t e = 0; e < 3; ++e)
+      if (across(t, tri[e], tri[(e + 1) % 3]) == none) return true;
+    return false;
+  }
+
+  const Mesh& mesh_;
+  const std::vector<std::uint8_t>& covered_;
+  std::vector<std::uint32_t> candidates_;
+  std::unordered_map<std::uint64_t, std::array<std::uint32_t, 2>> sides_;
+  std::vector<std::uint8_t> removed_;
+};
+
+std::size_t trim_boundaries(Builder& b, const Projected& pr) {
+  const std::vector<std::uint8_t> covered = covered_vertices(b, pr);
+  Peeling peeling(b.mesh, covered);
+  const std::size_t peeled = peeling.peel();
+  if (peeled > 0) compact(b, peeling.kept());
   return peeled;
 }
 

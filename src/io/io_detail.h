@@ -195,6 +195,18 @@ inline Decoded non_finite(bool is_nan, bool negative, double& value) {
   return Decoded::infinite;
 }
 
+/// The raw bits of a B-sized scalar at `bytes` (no alignment needed), in the
+/// machine's byte order after swapping when `swap`.
+template <class B>
+B load_bits(const char* bytes, bool swap) {
+  B bits = 0;
+  std::memcpy(&bits, bytes, sizeof(B));
+  if constexpr (sizeof(B) > 1) {
+    if (swap) bits = byte_swap(bits);
+  }
+  return bits;
+}
+
 /// Reads one scalar of `type` at `bytes` (no alignment needed), swapping the
 /// byte order when `swap`. Floating-point values are classified from their
 /// bits before any conversion, so a signalling NaN in a file raises no
@@ -202,48 +214,32 @@ inline Decoded non_finite(bool is_nan, bool negative, double& value) {
 /// the same sign.
 inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, double& value) {
   switch (type) {
-    case ScalarType::int8: {
-      std::int8_t v = 0;
-      std::memcpy(&v, bytes, 1);
-      value = v;
+    case ScalarType::int8:
+      value = static_cast<std::int8_t>(load_bits<std::uint8_t>(bytes, swap));
       return Decoded::finite;
-    }
-    case ScalarType::uint8: {
-      std::uint8_t v = 0;
-      std::memcpy(&v, bytes, 1);
-      value = v;
+    case ScalarType::uint8:
+      value = load_bits<std::uint8_t>(bytes, swap);
       return Decoded::finite;
-    }
     case ScalarType::int16:
-    case ScalarType::uint16: {
-      std::uint16_t bits = 0;
-      std::memcpy(&bits, bytes, 2);
-      if (swap) bits = byte_swap(bits);
-      value = type == ScalarType::int16 ? static_cast<double>(static_cast<std::int16_t>(bits)) : bits;
+      value = static_cast<std::int16_t>(load_bits<std::uint16_t>(bytes, swap));
       return Decoded::finite;
-    }
+    case ScalarType::uint16:
+      value = load_bits<std::uint16_t>(bytes, swap);
+      return Decoded::finite;
     case ScalarType::int32:
-    case ScalarType::uint32: {
-      std::uint32_t bits = 0;
-      std::memcpy(&bits, bytes, 4);
-      if (swap) bits = byte_swap(bits);
-      value =
-          type == ScalarType::int32 ? static_cast<double>(static_cast<std::int32_t>(bits)) : static_cast<double>(bits);
+      value = static_cast<std::int32_t>(load_bits<std::uint32_t>(bytes, swap));
       return Decoded::finite;
-    }
+    case ScalarType::uint32:
+      value = load_bits<std::uint32_t>(bytes, swap);
+      return Decoded::finite;
     case ScalarType::int64:
-    case ScalarType::uint64: {
-      std::uint64_t bits = 0;
-      std::memcpy(&bits, bytes, 8);
-      if (swap) bits = byte_swap(bits);
-      value =
-          type == ScalarType::int64 ? static_cast<double>(static_cast<std::int64_t>(bits)) : static_cast<double>(bits);
+      value = static_cast<double>(static_cast<std::int64_t>(load_bits<std::uint64_t>(bytes, swap)));
       return Decoded::finite;
-    }
+    case ScalarType::uint64:
+      value = static_cast<double>(load_bits<std::uint64_t>(bytes, swap));
+      return Decoded::finite;
     case ScalarType::float32: {
-      std::uint32_t bits = 0;
-      std::memcpy(&bits, bytes, 4);
-      if (swap) bits = byte_swap(bits);
+      const auto bits = load_bits<std::uint32_t>(bytes, swap);
       if ((bits & 0x7f800000U) == 0x7f800000U)
         return non_finite((bits & 0x007fffffU) != 0, (bits >> 31) != 0, value);
       float f = 0.0F;
@@ -252,9 +248,7 @@ inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, doub
       return Decoded::finite;
     }
     case ScalarType::float64: {
-      std::uint64_t bits = 0;
-      std::memcpy(&bits, bytes, 8);
-      if (swap) bits = byte_swap(bits);
+      const auto bits = load_bits<std::uint64_t>(bytes, swap);
       constexpr std::uint64_t exponent = 0x7ff0000000000000ULL;
       if ((bits & exponent) == exponent)
         return non_finite((bits & ~(exponent | (1ULL << 63))) != 0, (bits >> 63) != 0, value);
