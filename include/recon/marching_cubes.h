@@ -18,7 +18,8 @@
 // time, in five steps per batch of a wave: find the corners already met,
 // add the new ones, evaluate f at those (in parallel), classify each cube,
 // and emit its triangles and the next wave. The mesh is the same for any
-// number of threads.
+// number of threads, and the same as reference.h's plain serial walk over
+// a std::unordered_map (tests/reference_test.cpp).
 //
 // Per cube: if a corner is undefined (phase III), the cube yields nothing and
 // the walk does not go on through it: the surface stays open there.
