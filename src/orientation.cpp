@@ -321,9 +321,10 @@ void vote(const Signs<D>& signs, const Graph& g, int rounds, OrientedNormals<D>&
   for (int round = 0; round < rounds; ++round) {
     const std::size_t turned = detail::parallel_count(n, 4096, [&](std::size_t i) {
       const auto v = static_cast<std::uint32_t>(i);
+      const Vec<D> normal = signs.normal(v);
       double agreement = 0.0;
       for (const std::uint32_t u : g.neighbors(v))
-        agreement += (signs.reversed(v, u) ? -1.0 : 1.0) * signs.normal(v).dot(signs.normal(u));
+        agreement += (signs.reversed(v, u) ? -1.0 : 1.0) * normal.dot(signs.normal(u));
       turn[v] = agreement < 0.0 ? 1 : 0;
       return turn[v];
     });

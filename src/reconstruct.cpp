@@ -133,19 +133,6 @@ Vec3 working_offset(std::span<const Vec3> points) {
   return centre;
 }
 
-namespace {
-// The final mesh's colours from the samples' (vertex_colors.h). Called
-// before the mesh moves back to the input's coordinates: its vertices and
-// phase I's tree over the samples are both in working coordinates then.
-template <class Run>
-void color_mesh(Reconstruction& r, const VertexColorOptions& options, const Run& run) {
-  run.starting("colours");
-  Timer timer;
-  Mesh& mesh = r.refinement ? r.refinement->mesh : r.contour.mesh;
-  mesh.colors = vertex_colors(mesh.vertices, r.planes.point_tree, r.colors, options);
-  r.seconds_colors = timer.elapsed();
-}
-}  // namespace
 
 WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options) {
   check_coordinates<3>(points);  // before the bounding box of working_offset
@@ -195,7 +182,7 @@ void check_cloud(PointCloudView cloud, const ReconstructionOptions& options) {
                             std::to_string(cloud.size()) + " points");
 }
 
-// One run's state besides the result: its options, memory limit and timers.
+// One run's settings besides the result: its options and memory limit.
 struct Run {
   const ReconstructionOptions& options;
   std::size_t limit;
@@ -307,6 +294,17 @@ void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   r.refinement = refine_mesh(r.contour.mesh, input, refinement);
 }
 
+// The final mesh's colours from the samples' (vertex_colors.h). Called
+// before the mesh moves back to the input's coordinates: its vertices and
+// phase I's tree over the samples are both in working coordinates then.
+void color_mesh(Reconstruction& r, const Run& run) {
+  run.starting("colours");
+  Timer timer;
+  Mesh& mesh = r.refinement ? r.refinement->mesh : r.contour.mesh;
+  mesh.colors = vertex_colors(mesh.vertices, r.planes.point_tree, r.colors, run.options.colors);
+  r.seconds_colors = timer.elapsed();
+}
+
 void move_back_to_input_coordinates(Reconstruction& r) {
   if (r.offset == Vec3::Zero()) return;
   for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
@@ -335,7 +333,7 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   const SignedDistance<3> f = phase_3(r, run, distance, seconds_wave);
   phase_4(r, run, f, cell, wave);
   if (run.refined()) phase_5(r, run, f, cell);
-  if (options.mesh_colors && !r.colors.empty()) color_mesh(r, options.colors, run);
+  if (options.mesh_colors && !r.colors.empty()) color_mesh(r, run);
   move_back_to_input_coordinates(r);
   return r;
 }

@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <span>
 #include <string>
 
 namespace recon {
@@ -112,17 +113,25 @@ TEST_P(ReferencePath, SamePlanesAndOrientation) {
   }
 }
 
+// Edges as (smaller, larger) input indices; `order` maps the optimised
+// path's spatial indices to input ones (empty: already input indices).
+std::set<std::pair<std::uint32_t, std::uint32_t>> edge_set(std::span<const Edge> edges,
+                                                           std::span<const std::uint32_t> order = {}) {
+  std::set<std::pair<std::uint32_t, std::uint32_t>> set;
+  for (const Edge& e : edges) {
+    const std::uint32_t u = order.empty() ? e.u : order[e.u], v = order.empty() ? e.v : order[e.v];
+    set.insert({std::min(u, v), std::max(u, v)});
+  }
+  return set;
+}
+
 TEST_P(ReferencePath, SameEmstAndGraph) {
   const RiemannianGraph<3>& g = optimised_->oriented->graph;
   ASSERT_EQ(g.emst.size(), reference_->emst.size());
-  std::set<std::pair<std::uint32_t, std::uint32_t>> emst, expected;
-  for (const Edge& e : g.emst) {
-    const std::uint32_t u = optimised_->order[e.u], v = optimised_->order[e.v];
-    emst.insert({std::min(u, v), std::max(u, v)});
-  }
-  for (const Edge& e : reference_->emst) expected.insert({e.u, e.v});
-  EXPECT_EQ(emst, expected);
+  EXPECT_EQ(edge_set(g.emst, optimised_->order), edge_set(reference_->emst));
   EXPECT_EQ(g.edge_count, reference_->graph.size());
+  const std::vector<Edge> graph = edge_list(g.graph, [](std::uint32_t, std::uint64_t) { return 0.0; });
+  EXPECT_EQ(edge_set(graph, optimised_->order), edge_set(reference_->graph));
 }
 
 TEST_P(ReferencePath, SameMesh) {
