@@ -15,9 +15,14 @@ void check_lattice_cell(double cell) {
 
 template <int D>
 Lattice<D> make_lattice(std::span<const Vec<D>> seeds, double cell) {
-  check_lattice_cell(cell);
   Box<D> box;
   for (const Vec<D>& p : seeds) box.extend(p);
+  return make_lattice<D>(box, cell);
+}
+
+template <int D>
+Lattice<D> make_lattice(const Box<D>& box, double cell) {
+  check_lattice_cell(cell);
   Lattice<D> lattice;
   lattice.cell = cell;
   const double margin = lattice_margin * cell;
@@ -39,5 +44,7 @@ Lattice<D> make_lattice(std::span<const Vec<D>> seeds, double cell) {
 
 template Lattice<2> make_lattice<2>(std::span<const Vec<2>>, double);
 template Lattice<3> make_lattice<3>(std::span<const Vec<3>>, double);
+template Lattice<2> make_lattice<2>(const Box<2>&, double);
+template Lattice<3> make_lattice<3>(const Box<3>&, double);
 
 }  // namespace recon

@@ -553,11 +553,13 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
   banded = {};
   // A fit is poor (a crease, a corner) beyond four times the typical
   // residual; only those look for a better one.
-  const double poor = 4.0 * median_residual(fits);
+  result.medians.fit_residual = options.cloud ? options.cloud->fit_residual : median_residual(fits);
+  const double poor = 4.0 * result.medians.fit_residual;
 
   // Neighbourhoods far wider than the typical one are strays' (scattered
   // outliers reach each other across empty space): no surface there.
-  const double far_radius = options.stray_radius * median_radius(planes.radius);
+  result.medians.radius = options.cloud ? options.cloud->radius : median_radius(planes.radius);
+  const double far_radius = options.stray_radius * result.medians.radius;
 
   // Step 3, and each sample onto the quadric it takes.
   result.origins.resize(n);
@@ -575,7 +577,8 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
   result.borrowed = borrowed;
   result.flat = flat;
   result.near_crease = crease_band(planes, result.normals);
-  result.noise = median_taken_residual(result.residual);
+  result.noise = options.cloud ? options.cloud->noise : median_taken_residual(result.residual);
+  result.medians.noise = result.noise;
   result.seconds = timer.lap();
   return result;
 }

@@ -124,16 +124,28 @@ void check_corner(const SeedWave& wave, std::size_t i) {
 SeedWave::SeedWave(std::span<const Vec3> seeds, double cell) : walk_(std::make_unique<Walk>()) {
   if (seeds.empty()) throw InvalidInputError("the lattice walk needs at least one seed");
   walk_->lattice = make_lattice<3>(seeds, cell);
+  add_seeds(seeds, nullptr);
+}
+
+SeedWave::SeedWave(std::span<const Vec3> seeds, double cell, const LatticeRegion& region)
+    : walk_(std::make_unique<Walk>()) {
+  if (region.lattice.cell != cell) throw InvalidInputError("the region's lattice has another cell than the walk's");
+  walk_->lattice = region.lattice;
+  add_seeds(seeds, &region);
+}
+
+// A cube's key is that of its lowest corner (corner 0): the cube and its
+// corners share the table, and the corners come in the order first met.
+// Seeds in spatial order repeat their cube often: a run of seeds in one
+// cube is looked at once.
+void SeedWave::add_seeds(std::span<const Vec3> seeds, const LatticeRegion* region) {
   CornerTable& corners = walk_->corners;
-  // A cube's key is that of its lowest corner (corner 0): the cube and its
-  // corners share the table, and the corners come in the order first met.
-  // Seeds in spatial order repeat their cube often: a run of seeds in one
-  // cube is looked at once.
   std::uint64_t previous = UINT64_MAX;
   for (const Vec3& p : seeds) {
     const Index3 cube = walk_->lattice.cell_of(p);
     if (pack(cube) == previous) continue;
     previous = pack(cube);
+    if (region && !LatticeRegion::inside(cube, region->walk_lo, region->walk_hi)) continue;
     const std::uint32_t slot = corners.find_or_insert(pack(cube));
     if (corners.flags[slot] & CornerTable::visited_cube) continue;
     corners.flags[slot] |= CornerTable::visited_cube;
@@ -217,6 +229,13 @@ class CubeWalk {
   void emit_cubes(std::size_t first, std::size_t count);
   void emit_triangles(const Index3& cube, const std::array<std::uint32_t, 8>& slots, unsigned config);
   void visit(const Index3& cube);
+  void add_vertex(const Vec3& p, std::uint64_t corner, std::uint32_t axis);
+  [[nodiscard]] bool owned(const Index3& cube) const {
+    return !options_.region || LatticeRegion::inside(cube, options_.region->own_lo, options_.region->own_hi);
+  }
+  [[nodiscard]] bool walked(const Index3& cube) const {
+    return !options_.region || LatticeRegion::inside(cube, options_.region->walk_lo, options_.region->walk_hi);
+  }
   void check_visited() const;
   void summarise();
 
@@ -336,7 +355,7 @@ void CubeWalk::emit_cubes(std::size_t first, std::size_t count) {
       continue;
     }
     const Index3 cube = unpack(wave_[first + w]);
-    emit_triangles(cube, slots_[w], config_[w]);
+    if (owned(cube)) emit_triangles(cube, slots_[w], config_[w]);
     for (int a = 0; a < 3; ++a)
       for (int side = 0; side < 2; ++side) {
         if (!((static_cast<unsigned>(faces_[w]) >> (2 * a + side)) & 1u)) continue;
@@ -371,14 +390,14 @@ void CubeWalk::emit_triangles(const Index3& cube, const std::array<std::uint32_t
         const double t = std::clamp(v0 / (v0 - v1), vertex_margin, 1.0 - vertex_margin);
         Vec3 p = lattice_.position(corner_of_cube(cube, ends[0]));
         p[axis] += t * options_.cell;
-        mesh.vertices.push_back(p);
+        add_vertex(p, pack(corner_of_cube(cube, ends[0])), static_cast<std::uint32_t>(axis));
       }
       vertex[static_cast<std::size_t>(e)] = id;
       centre += mesh.vertices[id];
     }
     if (loop.centred) {
       vertex[static_cast<std::size_t>(mc::loop_centre + l)] = static_cast<std::uint32_t>(mesh.vertices.size());
-      mesh.vertices.push_back(centre / loop.size);
+      add_vertex(centre / loop.size, pack(cube), 3);
     }
   }
   for (int t = 0; t < cube_case.triangle_count; ++t) {
@@ -387,9 +406,14 @@ void CubeWalk::emit_triangles(const Index3& cube, const std::array<std::uint32_t
   }
 }
 
+void CubeWalk::add_vertex(const Vec3& p, std::uint64_t corner, std::uint32_t axis) {
+  result_.mesh.vertices.push_back(p);
+  if (options_.keep_vertex_edges) result_.vertex_edges.push_back({corner, axis});
+}
+
 // A cube of the lattice not visited yet joins the next wave.
 void CubeWalk::visit(const Index3& cube) {
-  if (!lattice_.contains(cube)) return;
+  if (!lattice_.contains(cube) || !walked(cube)) return;
   const std::uint32_t slot = corners_.find_or_insert(pack(cube));
   if (corners_.flags[slot] & CornerTable::visited_cube) return;
   corners_.flags[slot] |= CornerTable::visited_cube;
@@ -428,7 +452,7 @@ MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> s
     return result;
   }
   Timer timer;
-  SeedWave wave(seeds, options.cell);
+  SeedWave wave = options.region ? SeedWave(seeds, options.cell, *options.region) : SeedWave(seeds, options.cell);
   const double seconds_wave = timer.lap();
   MarchingCubesResult result = marching_cubes(f, std::move(wave), options);
   result.seconds += seconds_wave;

@@ -84,17 +84,13 @@ void fit_second_order(Reconstruction& r, const ReconstructionOptions& options, d
 
 }  // namespace
 
-namespace {
-// Phase III's options for a run: the refined method weighs 8 planes where
-// creases are near (signed_distance.h).
-SignedDistanceOptions phase_3_options(Method method, const SignedDistanceOptions& given,
-                                      const std::optional<LocalQuadrics>& quadrics) {
+SignedDistanceOptions signed_distance_options(Method method, const SignedDistanceOptions& given,
+                                              const std::optional<LocalQuadrics>& quadrics) {
   SignedDistanceOptions options = given;
   if (!options.candidates) options.candidates = method == Method::refined ? 8 : 1;
   if (quadrics && options.near_crease.empty()) options.near_crease = quadrics->near_crease;
   return options;
 }
-}  // namespace
 
 RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistance<3>& f) {
   if (!r.quadrics) throw InvalidInputError("refinement_input_of: the reconstruction has no second-order fits (hoppe92)");
@@ -121,11 +117,12 @@ RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistanc
 SignedDistance<3> signed_distance_of(const Reconstruction& r) {
   SignedDistanceOptions given;
   given.delta = r.delta;
-  return make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, phase_3_options(r.method, given, r.quadrics));
+  return make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, signed_distance_options(r.method, given, r.quadrics));
 }
 
-Vec3 working_offset(std::span<const Vec3> points) {
-  const Box<3> box = bounding_box<3>(points);
+Vec3 working_offset(std::span<const Vec3> points) { return working_offset(bounding_box<3>(points)); }
+
+Vec3 working_offset(const Box<3>& box) {
   if (box.empty()) return Vec3::Zero();
   const Vec3 centre = 0.5 * (box.min + box.max);
   // Near the origin already (within its own size): nothing to gain.
@@ -134,13 +131,24 @@ Vec3 working_offset(std::span<const Vec3> points) {
 }
 
 
-WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options) {
-  check_coordinates<3>(points);  // before the bounding box of working_offset
+namespace {
+WorkingTree checked_working_tree(std::span<const Vec3> points, const KdTreeOptions& options, const Vec3& offset) {
   WorkingTree w;
-  w.offset = working_offset(points);
+  w.offset = offset;
   w.tree = KdTree<3>(points, options, w.offset);
   w.order = w.tree.renumber_by_leaf_order();
   return w;
+}
+}  // namespace
+
+WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options) {
+  check_coordinates<3>(points);  // before the bounding box of working_offset
+  return checked_working_tree(points, options, working_offset(points));
+}
+
+WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options, const Vec3& offset) {
+  check_coordinates<3>(points);
+  return checked_working_tree(points, options, offset);
 }
 
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options) {
@@ -163,7 +171,8 @@ namespace {
 // more is read from `cloud`.
 Reconstruction take_the_cloud(PointCloudView cloud, const ReconstructionOptions& options,
                               const std::function<void()>& release, KdTree<3>& tree) {
-  WorkingTree working = working_tree(cloud.positions, options.planes.tree);
+  WorkingTree working = options.offset ? working_tree(cloud.positions, options.planes.tree, *options.offset)
+                                       : working_tree(cloud.positions, options.planes.tree);
   Reconstruction r;
   r.offset = working.offset;
   r.order = std::move(working.order);
@@ -231,9 +240,9 @@ void use_input_normals(Reconstruction& r) {
   r.planes.neighbors = {};
 }
 
-// The refined method decides each component's side at its best extreme
-// (orientation.h) and walks with the fits' guide normals and misfits.
-OrientationOptions phase_2_options(const Reconstruction& r, const ReconstructionOptions& options) {
+}  // namespace
+
+OrientationOptions orientation_options(const Reconstruction& r, const ReconstructionOptions& options) {
   OrientationOptions orientation = options.orientation;
   if (options.method == Method::refined) orientation.sign_by_extremes = true;
   if (r.quadrics) {
@@ -243,11 +252,13 @@ OrientationOptions phase_2_options(const Reconstruction& r, const Reconstruction
   return orientation;
 }
 
+namespace {
+
 // Phase II, with phase III's first wave beside it (detail/first_wave.h).
 void phase_2(Reconstruction& r, const Run& run, double cell, const SignedDistanceOptions& distance,
              detail::FirstWave& wave, double& seconds_wave) {
   run.starting("orientation");
-  const OrientationOptions orientation = phase_2_options(r, run.options);
+  const OrientationOptions orientation = orientation_options(r, run.options);
   RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
   r.planes.neighbors = {};  // the graph's source, no longer needed
   detail::orient_with_first_wave(r, std::move(graph), cell, orientation, distance, wave, seconds_wave);
@@ -314,6 +325,11 @@ void move_back_to_input_coordinates(Reconstruction& r) {
 
 }  // namespace
 
+Reconstruction reconstruct_phase_1(PointCloudView cloud, const ReconstructionOptions& options) {
+  check_cloud(cloud, options);
+  return phase_1(cloud, Run{options, memory_limit_or_default(options.max_memory)}, [] {});
+}
+
 Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
                                 const std::function<void()>& release) {
   check_cloud(cloud, options);
@@ -322,7 +338,7 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   const double cell = lattice_cell(r.points(), r.planes, options);
   check_memory_after_phase_1(r, run, cell);
 
-  const SignedDistanceOptions distance = phase_3_options(options.method, options.distance, r.quadrics);
+  const SignedDistanceOptions distance = signed_distance_options(options.method, options.distance, r.quadrics);
   detail::FirstWave wave;  // phase III's values at the first wave's corners, computed beside phase II
   double seconds_wave = 0.0;
   if (options.use_input_normals) {

@@ -238,20 +238,29 @@ double median_of_measured(const std::vector<float>& values) {
   return measured.empty() ? 0.0 : median(std::move(measured));
 }
 
-// gap_i, rho_i, and the cloud's medians of them and of the noise.
+// gap_i, rho_i, and the cloud's medians of them and of the noise (or the
+// whole cloud's, when given: the irregularity decides rho_i).
 template <int D>
-void measure_spacing(TangentPlanes<D>& result, const std::vector<float>& nn_distance) {
+void measure_spacing(TangentPlanes<D>& result, const std::vector<float>& nn_distance,
+                     const std::optional<CloudSpacing>& cloud) {
   result.irregularity = local_gaps_and_irregularity(result, nn_distance);
+  if (cloud) result.irregularity = cloud->irregularity;
   local_rhos(result);
-  // (The three medians of the cloud, side by side.)
+  if (cloud) {
+    result.rho = cloud->rho;
+    result.gap = cloud->gap;
+    result.noise = cloud->noise;
+  } else {
+    // (The three medians of the cloud, side by side.)
 #pragma omp parallel sections
-  {
+    {
 #pragma omp section
-    result.rho = median_of_measured(result.local_rho);
+      result.rho = median_of_measured(result.local_rho);
 #pragma omp section
-    result.gap = median_of_measured(result.local_gap);
+      result.gap = median_of_measured(result.local_gap);
 #pragma omp section
-    result.noise = noise_median(result);
+      result.noise = noise_median(result);
+    }
   }
   // A neighbourhood made only of copies of one point has no spacing to
   // measure and no plane: its gap is taken as the typical one (phase II
@@ -339,7 +348,7 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
   if (options.rho)
     use_given_rho(result, *options.rho);
   else
-    measure_spacing(result, nn_distance);
+    measure_spacing(result, nn_distance, options.cloud);
   mark_isolated(result);
   result.seconds_spacing = timer.lap();
   result.k_requested = options.k;

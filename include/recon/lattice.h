@@ -93,6 +93,9 @@ struct Lattice {
 /// cells.
 template <int D>
 [[nodiscard]] Lattice<D> make_lattice(std::span<const Vec<D>> seeds, double cell);
+/// The same over the seeds' bounding box, known beforehand (not empty).
+template <int D>
+[[nodiscard]] Lattice<D> make_lattice(const Box<D>& box, double cell);
 
 /// Throws InvalidInputError unless `cell` is a positive, finite length.
 void check_lattice_cell(double cell);

@@ -39,9 +39,20 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace recon {
+
+/// The cloud-wide medians the fits compare against: of the fits' residuals
+/// (poor fits look for a better one), of the neighbourhood radii (strays),
+/// and of the residuals of the fits taken (the noise). A tile of a larger
+/// cloud (tiles.h) is given the whole cloud's.
+struct QuadricMedians {
+  double fit_residual = 0.0;
+  double radius = 0.0;
+  double noise = 0.0;
+};
 
 struct LocalQuadricOptions {
   double crease_ratio = 0.5;  ///< borrow a neighbour's fit when its residual is below this fraction of one's own
@@ -59,6 +70,8 @@ struct LocalQuadricOptions {
   /// So does a neighbourhood this many times wider than the median one
   /// (strays scattered far from the data reach each other across empty space).
   double stray_radius = 20.0;
+  /// Given: these medians instead of those of these samples (see above).
+  std::optional<QuadricMedians> cloud;
 };
 
 /// The second fundamental form at s_i, as the height of the surface above
@@ -82,6 +95,7 @@ struct LocalQuadrics {
   /// where phase III weighs several planes.
   std::vector<std::uint8_t> near_crease;
   double noise = 0.0;           ///< median residual of the fits taken: the noise, without the curvature a plane misses
+  QuadricMedians medians;       ///< the medians used (noise among them)
   std::size_t borrowed = 0;     ///< samples that took a neighbour's quadric (near creases)
   std::size_t split = 0;        ///< neighbourhoods split into two sheets
   std::size_t flat = 0;         ///< fits that fell back to a plane (samples too few, collinear, or no surface)

@@ -43,10 +43,38 @@
 
 namespace recon {
 
+/// A walk over part of a lattice laid out beforehand (the tiles of a large
+/// cloud, tiles.h): the lattice is this one, not one over the seeds; the
+/// walk starts from the seeds in [walk_lo, walk_hi) and visits only cubes
+/// there, and emits the triangles of the cubes in [own_lo, own_hi) alone.
+/// Cubes are named by their lowest corner; the boxes are half-open.
+struct LatticeRegion {
+  Lattice<3> lattice;
+  Lattice<3>::Index walk_lo{}, walk_hi{};
+  Lattice<3>::Index own_lo{}, own_hi{};
+  [[nodiscard]] static bool inside(const Lattice<3>::Index& i, const Lattice<3>::Index& lo,
+                                   const Lattice<3>::Index& hi) {
+    for (std::size_t a = 0; a < 3; ++a)
+      if (i[a] < lo[a] || i[a] >= hi[a]) return false;
+    return true;
+  }
+};
+
 struct MarchingCubesOptions {
   double cell = 0.0;                     ///< cube side (a length); must be > 0
   std::size_t max_cubes = 200'000'000;   ///< refuse lattices that would visit more (memory guard)
   bool keep_corners = false;             ///< keep every evaluated corner in the result
+  std::optional<LatticeRegion> region;   ///< walk part of this lattice (see above); its cell must be `cell`
+  bool keep_vertex_edges = false;        ///< name each vertex's lattice edge in the result
+};
+
+/// The lattice edge a vertex lies on: the key of the edge's lower corner
+/// (Lattice<3>::key) and its axis (0, 1, 2). A vertex at the centre of a
+/// cube's loop has axis 3 and its cube's key: no other cube shares it.
+struct VertexEdge {
+  std::uint64_t corner = 0;
+  std::uint32_t axis = 0;
+  friend bool operator==(const VertexEdge&, const VertexEdge&) = default;
 };
 
 using LatticeCorner = Lattice<3>::Corner;
@@ -62,6 +90,7 @@ struct MarchingCubesResult {
   std::size_t evaluated_corners = 0;
   std::size_t undefined_corners = 0;
   std::vector<LatticeCorner> corners;     ///< every evaluated corner (if keep_corners)
+  std::vector<VertexEdge> vertex_edges;   ///< per mesh vertex, its edge (if keep_vertex_edges)
   double seconds = 0.0;                   ///< the whole walk, evaluations of f included
   double seconds_field = 0.0;             ///< of which evaluating f (phase III's share)
 };

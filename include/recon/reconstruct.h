@@ -49,6 +49,9 @@ struct ReconstructionOptions {
   /// 0: default_memory_limit(). The estimates are memory_budget.h's.
   std::size_t max_memory = 0;
   bool keep_corners = false;               ///< keep the evaluated lattice corners in the result
+  /// Move the cloud by this instead of working_offset (see Reconstruction):
+  /// a tile of a larger cloud takes the whole cloud's (tiles.h).
+  std::optional<Vec3> offset;
   /// Keep phase II's graph, EMST and spanning tree in the result (for
   /// inspection); when false they are released once the normals are
   /// oriented, before phases III and IV need their memory (on 10M points,
@@ -148,6 +151,13 @@ struct Reconstruction {
 [[nodiscard]] Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
                                               const std::function<void()>& release);
 
+/// Phase I alone, as reconstruct() runs it: the planes, and in the refined
+/// method the second-order fits (with a raised k undone where they find
+/// two sheets); r.order, r.offset and r.planes (neighbour lists kept), and
+/// r.quadrics. Tiled runs (tiles.h) take the cloud-wide measures from it
+/// and run the later phases tile by tile. Throws what reconstruct() does.
+[[nodiscard]] Reconstruction reconstruct_phase_1(PointCloudView cloud, const ReconstructionOptions& options);
+
 /// Phase III's f as reconstruct() built it for `r` (the same planes, delta
 /// and plane choice); it references r, which must outlive it.
 [[nodiscard]] SignedDistance<3> signed_distance_of(const Reconstruction& r);
@@ -161,6 +171,8 @@ struct Reconstruction {
 /// diagonal, zero otherwise (results of data near the origin are then
 /// expressed in the input's own coordinates).
 [[nodiscard]] Vec3 working_offset(std::span<const Vec3> points);
+/// The same from the points' bounding box.
+[[nodiscard]] Vec3 working_offset(const Box<3>& box);
 
 /// Phase I's kd-tree as reconstruct() and estimate_normals() start from it:
 /// over the points moved by working_offset (subtracted as the tree copies
@@ -173,6 +185,19 @@ struct WorkingTree {
 /// Throws InvalidInputError for coordinates that are not finite or beyond
 /// +-max_coordinate (check_coordinates), before anything else.
 [[nodiscard]] WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options);
+/// The same moved by a given offset (a tile of a larger cloud takes the
+/// whole cloud's, tiles.h).
+[[nodiscard]] WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options,
+                                       const Vec3& offset);
+
+/// Phase II's options in a run of `options` once phase I gave `r`: the
+/// refined method decides each component's side at its best extreme and
+/// walks with the fits' guide normals and misfits.
+[[nodiscard]] OrientationOptions orientation_options(const Reconstruction& r, const ReconstructionOptions& options);
+/// Phase III's options in a run of method `method`: the refined method
+/// weighs 8 planes where creases are near (signed_distance.h).
+[[nodiscard]] SignedDistanceOptions signed_distance_options(Method method, const SignedDistanceOptions& given,
+                                                            const std::optional<LocalQuadrics>& quadrics);
 
 /// A lattice cell a run asks for: `cell` when given; the longest side of
 /// the data's bounding box (computed only then) over `resolution` when that

@@ -44,7 +44,7 @@ inline constexpr int curve_default_k = 8;
 inline constexpr double curve_max_slope = 2.0;
 
 struct CurveReconstructionOptions {
-  TangentPlaneOptions planes{.k = curve_default_k, .adapt_k = true, .rho = std::nullopt, .tree = {}};  ///< phase I
+  TangentPlaneOptions planes{.k = curve_default_k, .adapt_k = true, .rho = std::nullopt, .tree = {}, .cloud = std::nullopt};  ///< phase I
   OrientationOptions orientation{};                   ///< phase II
   OrientationGraph graph = OrientationGraph::riemannian;  ///< the graph phase II walks (orientation_graphs.h)
   SignedDistanceOptions distance{};                   ///< phase III: delta

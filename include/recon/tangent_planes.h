@@ -74,11 +74,26 @@ namespace recon {
 /// lower quarter of its neighbours is isolated (see above).
 inline constexpr double isolation_factor = 10.0;
 
+/// The cloud-wide measures phase I takes over all the samples: the
+/// irregularity of the spacing and the medians of rho_i, gap_i and the
+/// noise. A tile of a larger cloud (tiles.h) is given the whole cloud's, so
+/// that its rho_i and everything after are the whole cloud's too.
+struct CloudSpacing {
+  double irregularity = 0.0;
+  double rho = 0.0;
+  double gap = 0.0;
+  double noise = 0.0;
+};
+
 struct TangentPlaneOptions {
   int k = 20;                          ///< neighbourhood size, the point itself included
   bool adapt_k = true;                 ///< raise k once for noisy data (see above)
   std::optional<double> rho;           ///< sampling density; estimated per point when absent
   KdTreeOptions tree{};                ///< kd-tree over the input points
+  /// Given: the cloud-wide measures are taken from here instead of being
+  /// measured over these points (the local values still are); with rho
+  /// estimated only.
+  std::optional<CloudSpacing> cloud;
 };
 
 // Storage. Positions, origins and normals are double: coordinates of
@@ -117,6 +132,8 @@ struct TangentPlanes {
 
   /// lambda_0 / (lambda_0 + ... ): 0 for a perfectly flat neighbourhood,
   /// 1/D for an isotropic blob.
+  [[nodiscard]] CloudSpacing spacing() const { return {irregularity, rho, gap, noise}; }
+
   [[nodiscard]] double surface_variation(std::size_t i) const {
     const auto sum = static_cast<double>(eigenvalues[i].sum());
     return sum > 0.0 ? static_cast<double>(eigenvalues[i][0]) / sum : 0.0;

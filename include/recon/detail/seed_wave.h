@@ -26,6 +26,9 @@ class SeedWave {
   /// Throws as marching_cubes() does for the cell and the lattice size, and
   /// InvalidInputError when there are no seeds.
   SeedWave(std::span<const Vec3> seeds, double cell);
+  /// The same on a region's lattice (MarchingCubesOptions::region): only
+  /// the seeds in its walk box count (there may be none).
+  SeedWave(std::span<const Vec3> seeds, double cell, const LatticeRegion& region);
   SeedWave(SeedWave&&) noexcept;
   SeedWave& operator=(SeedWave&&) noexcept;
   ~SeedWave();
@@ -48,6 +51,7 @@ class SeedWave {
   struct Walk;  // the walk's state: the lattice, its corner table and the first wave's cubes
 
  private:
+  void add_seeds(std::span<const Vec3> seeds, const LatticeRegion* region);
   std::unique_ptr<Walk> walk_;
   friend struct SeedWaveAccess;
 };

@@ -1,0 +1,443 @@
+// Step 1 of a tiled run (tiles.h): the passes over the input, the
+// cloud-wide choices, the tile size and the binning; and the plan's file.
+#include "recon/tiles.h"
+
+#include "recon/errors.h"
+#include "recon/memory_budget.h"
+#include "recon/timer.h"
+#include "tile_files.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <unordered_map>
+
+namespace recon {
+
+using tile_files::PointRecord;
+using Index3 = Lattice<3>::Index;
+
+PointPass pass_over(PointCloudView cloud, std::size_t chunk) {
+  return [cloud, chunk](const ChunkTaker& take) {
+    for (std::size_t first = 0; first < cloud.size(); first += chunk) {
+      const std::size_t n = std::min(chunk, cloud.size() - first);
+      const auto part = [&](auto span) { return span.empty() ? span : span.subspan(first, n); };
+      take(PointCloudView(part(cloud.positions), part(cloud.normals), part(cloud.colors)), first);
+    }
+  };
+}
+
+PointPass pass_over_file(const std::filesystem::path& path, const io::ReadPointsOptions& options) {
+  return [path, options](const ChunkTaker& take) {  // TEMPORARY: whole, until io/point_stream.h lands
+    const PointCloud cloud = io::read_points(path, options);
+    pass_over(cloud)(take);
+  };
+}
+
+TileWorkspace::TileWorkspace(const std::filesystem::path& parent) {
+  static std::atomic<int> count{0};
+  path_ = parent / ("recon-tiles-" + std::to_string(::getpid()) + "-" + std::to_string(count++));
+  std::error_code error;
+  std::filesystem::create_directories(path_, error);
+  if (error) throw IoError(path_.string() + ": cannot create the directory for the tiles (" + error.message() + ")");
+}
+
+TileWorkspace::~TileWorkspace() {
+  std::error_code ignored;
+  std::filesystem::remove_all(path_, ignored);
+}
+
+namespace tile_files {
+
+CoreBox core_of(const TilePlan& plan, std::size_t tile) {
+  CoreBox box;
+  for (std::size_t a = 0; a < 3; ++a) {
+    box.lo[a] = plan.tiles[tile].index[a] * plan.tile_cubes;
+    box.hi[a] = std::min(box.lo[a] + plan.tile_cubes, plan.lattice.size[a]);
+  }
+  return box;
+}
+
+ReconstructionOptions tile_options(const TilePlan& plan) {
+  ReconstructionOptions o;
+  o.method = plan.method;
+  o.planes.k = plan.k;
+  o.planes.adapt_k = false;
+  o.planes.rho = plan.rho;
+  if (!plan.rho) o.planes.cloud = plan.spacing;
+  if (plan.has_quadric_medians) o.quadrics.cloud = plan.quadric_medians;
+  o.cell = plan.lattice.cell;
+  o.offset = plan.offset;
+  o.distance.delta = plan.delta;
+  o.orientation.vote_rounds = plan.vote_rounds;
+  o.orientation.graph.gap_factor = plan.gap_factor;
+  o.orientation.graph.min_component_points = plan.min_component_points;
+  o.keep_graph = false;
+  o.mesh_colors = false;
+  return o;
+}
+
+}  // namespace tile_files
+
+namespace {
+
+// ---------------------------------------------------------------------------
+// Pass 1: the count and the bounding box (input coordinates).
+
+void bounds_pass(const PointPass& pass, TilePlan& plan, Box<3>& box) {
+  pass([&](PointCloudView chunk, std::size_t) {
+    check_coordinates<3>(chunk.positions);
+    for (const Vec3& p : chunk.positions) box.extend(p);
+    plan.input_points += chunk.size();
+  });
+  if (plan.input_points == 0) throw InvalidInputError("the cloud has no points");
+  plan.offset = working_offset(box);
+  plan.box.min = box.min - plan.offset;  // (rounding is monotonic: the box of the moved points)
+  plan.box.max = box.max - plan.offset;
+}
+
+// ---------------------------------------------------------------------------
+// Pass 2: the points phase I measures the cloud on, and a histogram of the
+// density for the tile size.
+
+// Bytes a point of a tile needs through phases I-IV (memory_budget.h's
+// estimates, with the lattice of a surface sampled about as finely as the cell).
+double bytes_per_point(int k, bool refined) {
+  constexpr std::size_t n = 1'000'000;
+  return (estimated_bytes_planes_and_graph(n, k, refined) + estimated_bytes_lattice(n, 3.0 * n)) / n;
+}
+
+struct Sample {
+  PointCloud cloud;
+  std::unordered_map<std::uint64_t, std::uint32_t> histogram;  // points per bin
+  double bin = 0.0;
+};
+
+std::uint64_t mix(std::uint64_t x) {  // splitmix64's finaliser
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ULL;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+std::uint64_t bin_key(const Vec3& w, const Vec3& low, double side) {
+  std::uint64_t key = 0;
+  for (int a = 0; a < 3; ++a) key = key << 21 | static_cast<std::uint64_t>(std::floor((w[a] - low[a]) / side));
+  return key;
+}
+
+// The whole cloud when it has at most `budget` points; else the points of
+// spatial patches (a grid of 16 along the longest side) drawn at random,
+// as many as the budget holds on average.
+Sample sample_pass(const PointPass& pass, const TilePlan& plan, std::size_t budget, std::uint64_t seed) {
+  Sample s;
+  const double longest = std::max(plan.box.extent().maxCoeff(), 1e-300);
+  s.bin = longest / 128.0 * (1.0 + 1e-9);
+  const double patch = longest / 16.0 * (1.0 + 1e-9);
+  const bool whole = plan.input_points <= budget;
+  const double fraction = whole ? 1.0 : 0.8 * static_cast<double>(budget) / static_cast<double>(plan.input_points);
+  const auto threshold = static_cast<std::uint64_t>(fraction * 18446744073709551615.0);
+  pass([&](PointCloudView chunk, std::size_t) {
+    for (const Vec3& p : chunk.positions) {
+      const Vec3 w = p - plan.offset;
+      ++s.histogram[bin_key(w, plan.box.min, s.bin)];
+      if (s.cloud.positions.size() >= budget) continue;
+      if (whole || mix(bin_key(w, plan.box.min, patch) ^ seed) < threshold) s.cloud.positions.push_back(p);
+    }
+  });
+  return s;
+}
+
+float quantile(std::vector<float> values, double q) {
+  if (values.empty()) return 0.0f;
+  const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
+// Phase I over the sample, as reconstruct() runs it: the cloud-wide choices.
+void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan& plan) {
+  ReconstructionOptions o = options.reconstruction;
+  o.offset = plan.offset;
+  const Reconstruction r = reconstruct_phase_1(PointCloudView(sample.cloud), o);
+  plan.method = o.method;
+  plan.k = r.planes.k;
+  plan.spacing = r.planes.spacing();
+  plan.has_quadric_medians = r.quadrics.has_value();
+  if (r.quadrics) plan.quadric_medians = r.quadrics->medians;
+  plan.rho = o.planes.rho;
+  plan.delta = o.distance.delta;
+  plan.vote_rounds = o.orientation.vote_rounds;
+  plan.gap_factor = o.orientation.graph.gap_factor;
+  plan.min_component_points = o.orientation.graph.min_component_points;
+  plan.radius_q = 1.5 * static_cast<double>(quantile(r.planes.radius, 0.999));
+  plan.rho_q = quantile(r.planes.local_rho, 0.999);
+  const double fallback = o.method == Method::hoppe92 ? r.planes.rho : r.planes.rho / std::numbers::sqrt2;
+  const double cell = chosen_cell(
+      o.cell, o.resolution, [&] { return plan.box.extent().maxCoeff(); }, fallback);
+  plan.lattice = make_lattice<3>(plan.box, cell);
+  const double delta = o.distance.delta ? *o.distance.delta : 2.0 * r.planes.noise;
+  // (Distances to a core are taken on the axes: a ball of radius R around
+  // a point within d of the core lies within d + R of it.)
+  const double reach = 1.5 * plan.rho_q + delta + 2.0 * cell;
+  plan.exact_margin = plan.walk_margin * cell + reach + plan.radius_q;
+  plan.halo = plan.exact_margin + 2.0 * plan.radius_q;
+  plan.statistics_points = sample.cloud.size();
+}
+
+// ---------------------------------------------------------------------------
+// The tile size: the largest core (in cubes) whose densest tile, halo
+// included, fits the points one tile may hold, judged on the histogram.
+
+std::size_t densest_tile(const Sample& s, const TilePlan& plan, std::int32_t cubes) {
+  const double side = cubes * plan.lattice.cell;
+  std::unordered_map<std::uint64_t, std::size_t> count;
+  for (const auto& [key, n] : s.histogram) {
+    std::uint64_t tile = 0;
+    for (int a = 0; a < 3; ++a) {
+      const auto bin = static_cast<double>((key >> (21 * (2 - a))) & ((1u << 21) - 1));
+      const double centre = plan.box.min[a] + (bin + 0.5) * s.bin - plan.lattice.origin[a];
+      tile = tile << 21 | static_cast<std::uint64_t>(std::max(0.0, std::floor(centre / side)));
+    }
+    count[tile] += n;
+  }
+  std::size_t most = 0;
+  for (const auto& [tile, n] : count) most = std::max(most, n);
+  const double grow = (side + 2.0 * plan.halo) / side;  // a surface's halo, on two axes
+  return static_cast<std::size_t>(static_cast<double>(most) * grow * grow);
+}
+
+std::int32_t choose_tile_cubes(const Sample& s, const TilingOptions& options, const TilePlan& plan) {
+  const std::int32_t least = 2 * plan.walk_margin + 2;
+  if (options.tile_size > 0.0) {
+    if (!std::isfinite(options.tile_size)) throw InvalidInputError("the tile size must be a positive length");
+    return std::max(least, static_cast<std::int32_t>(std::ceil(options.tile_size / plan.lattice.cell)));
+  }
+  const std::size_t limit = memory_limit_or_default(options.reconstruction.max_memory);
+  const double fits = 0.5 * static_cast<double>(limit) / bytes_per_point(plan.k, plan.method == Method::refined);
+  std::int32_t cubes = *std::max_element(plan.lattice.size.begin(), plan.lattice.size.end());
+  while (cubes > least && static_cast<double>(densest_tile(s, plan, cubes)) > fits)
+    cubes = std::max(least, static_cast<std::int32_t>(0.8 * cubes));
+  return cubes;
+}
+
+// ---------------------------------------------------------------------------
+// Pass 3: every point into the files of the tiles whose core, widened by
+// the halo, holds it.
+
+class Binner {
+ public:
+  Binner(TilePlan& plan, const std::filesystem::path& dir) : plan_(plan), dir_(dir) {}
+
+  void add(const Vec3& p, std::uint64_t index) {
+    const Vec3 w = p - plan_.offset;
+    const Index3 lo = tile_of(w - Vec3::Constant(plan_.halo)), hi = tile_of(w + Vec3::Constant(plan_.halo));
+    const Index3 own = tile_of(w);
+    for (std::int32_t x = lo[0]; x <= hi[0]; ++x)
+      for (std::int32_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::int32_t z = lo[2]; z <= hi[2]; ++z) put({x, y, z}, w, PointRecord{index, p.x(), p.y(), p.z()}, own);
+  }
+
+  // Keeps the tiles whose cores could own triangles: with a point within
+  // the exact margin of the core. In the order the tiles were first met.
+  void finish() {
+    std::vector<Tile*> order(tiles_.size());
+    for (auto& [key, tile] : tiles_) order[tile.id] = &tile;
+    for (Tile* t : order) {
+      if (t->near == 0) continue;  // (its temporary file goes with it)
+      t->flush();
+      t->file->commit();
+      plan_.tiles.push_back({t->index, t->id, t->points, t->core});
+    }
+    tiles_.clear();
+  }
+
+ private:
+  struct Tile {
+    Index3 index{};
+    std::uint32_t id = 0;
+    std::unique_ptr<detail::BinaryWriter> file;
+    std::vector<PointRecord> buffer;
+    std::uint64_t points = 0, core = 0, near = 0;
+    void flush() {
+      file->put_records<PointRecord>(buffer);
+      buffer.clear();
+    }
+  };
+
+  Tile& tile(const Index3& t) {
+    auto [at, added] = tiles_.try_emplace(Lattice<3>::key(t));
+    Tile& tile = at->second;
+    if (added) {
+      tile.index = t;
+      tile.id = static_cast<std::uint32_t>(tiles_.size() - 1);
+      tile.file = std::make_unique<detail::BinaryWriter>(tile_files::of_tile(dir_, tile.id, "points"),
+                                                         tile_files::points_magic);
+    }
+    return tile;
+  }
+
+  [[nodiscard]] Index3 tile_of(const Vec3& w) const {
+    Index3 t;
+    for (int a = 0; a < 3; ++a) {
+      const double cube = std::floor((w[a] - plan_.lattice.origin[a]) / plan_.lattice.cell);
+      t[static_cast<std::size_t>(a)] =
+          static_cast<std::int32_t>(std::clamp(std::floor(cube / plan_.tile_cubes), 0.0, last(a)));
+    }
+    return t;
+  }
+  [[nodiscard]] double last(int a) const {
+    return std::floor((plan_.lattice.size[static_cast<std::size_t>(a)] - 1) / static_cast<double>(plan_.tile_cubes));
+  }
+
+  void put(const Index3& t, const Vec3& w, const PointRecord& record, const Index3& own) {
+    Tile& tile = this->tile(t);
+    tile.buffer.push_back(record);
+    if (tile.buffer.size() == 4096) tile.flush();
+    ++tile.points;
+    if (t == own) ++tile.core;
+    if (distance_to_core(t, w) <= plan_.exact_margin) ++tile.near;
+  }
+
+  [[nodiscard]] double distance_to_core(const Index3& t, const Vec3& w) const {
+    double d = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      const double side = plan_.tile_cubes * plan_.lattice.cell;
+      const double lo = plan_.lattice.origin[a] + t[static_cast<std::size_t>(a)] * side;
+      d = std::max({d, lo - w[a], w[a] - (lo + side)});
+    }
+    return d;
+  }
+
+  TilePlan& plan_;
+  std::filesystem::path dir_;
+  std::unordered_map<std::uint64_t, Tile> tiles_;
+};
+
+void write_plan(const TilePlan& plan, const std::filesystem::path& dir);
+
+}  // namespace
+
+TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const std::filesystem::path& work_dir) {
+  if (std::filesystem::exists(tile_files::plan(work_dir)))
+    throw InvalidInputError(work_dir.string() + ": holds the plan of another tiled run already");
+  std::filesystem::create_directories(work_dir);
+  TilePlan plan;
+  Timer timer;
+  Box<3> box;
+  bounds_pass(pass, plan, box);
+  plan.seconds_bounds = timer.lap();
+  const std::size_t limit = memory_limit_or_default(options.reconstruction.max_memory);
+  const int k = options.reconstruction.planes.k;
+  const std::size_t budget =
+      options.statistics_points > 0
+          ? options.statistics_points
+          : static_cast<std::size_t>(0.25 * static_cast<double>(limit) /
+                                     bytes_per_point(k, options.reconstruction.method == Method::refined));
+  const Sample sample = sample_pass(pass, plan, std::max<std::size_t>(budget, 1), options.seed);
+  measure_cloud(sample, options, plan);
+  plan.tile_cubes = choose_tile_cubes(sample, options, plan);
+  plan.seconds_statistics = timer.lap();
+  // (Each tile holds a buffer of 4096 records, 128 KiB, while binning.)
+  Binner binner(plan, work_dir);
+  pass([&](PointCloudView chunk, std::size_t first) {
+    for (std::size_t i = 0; i < chunk.size(); ++i) binner.add(chunk.positions[i], first + i);
+  });
+  binner.finish();
+  plan.seconds_binning = timer.lap();
+  write_plan(plan, work_dir);
+  return plan;
+}
+
+}  // namespace recon
+
+namespace recon {
+namespace {
+
+void put_vec(detail::BinaryWriter& out, const Vec3& v) {
+  for (int a = 0; a < 3; ++a) out.put(v[a]);
+}
+Vec3 get_vec(detail::BinaryReader& in) {
+  Vec3 v;
+  for (int a = 0; a < 3; ++a) v[a] = in.get<double>();
+  return v;
+}
+template <class T>
+void put_optional(detail::BinaryWriter& out, const std::optional<T>& value) {
+  out.put(static_cast<std::uint8_t>(value.has_value()));
+  out.put(value.value_or(T{}));
+}
+template <class T>
+std::optional<T> get_optional(detail::BinaryReader& in) {
+  const bool has = in.get<std::uint8_t>() != 0;
+  const T value = in.get<T>();
+  return has ? std::optional<T>(value) : std::nullopt;
+}
+
+void write_plan(const TilePlan& plan, const std::filesystem::path& dir) {
+  detail::BinaryWriter out(tile_files::plan(dir), tile_files::plan_magic);
+  out.put(static_cast<std::int32_t>(plan.method));
+  out.put(plan.k);
+  out.put(plan.spacing);
+  out.put(static_cast<std::uint8_t>(plan.has_quadric_medians));
+  out.put(plan.quadric_medians);
+  put_optional(out, plan.rho);
+  put_optional(out, plan.delta);
+  out.put(plan.vote_rounds);
+  out.put(plan.gap_factor);
+  out.put(plan.min_component_points);
+  put_vec(out, plan.offset);
+  put_vec(out, plan.box.min);
+  put_vec(out, plan.box.max);
+  put_vec(out, plan.lattice.origin);
+  out.put(plan.lattice.cell);
+  out.put(plan.lattice.size);
+  for (const double v : {plan.halo, plan.exact_margin, plan.radius_q, plan.rho_q, plan.seconds_statistics,
+                         plan.seconds_binning, plan.seconds_bounds})
+    out.put(v);
+  out.put(plan.tile_cubes);
+  out.put(plan.walk_margin);
+  out.put(plan.input_points);
+  out.put(plan.statistics_points);
+  out.put_vector<TileInfo>(plan.tiles);
+  out.commit();
+}
+
+}  // namespace
+
+TilePlan read_tile_plan(const std::filesystem::path& work_dir) {
+  detail::BinaryReader in(tile_files::plan(work_dir), tile_files::plan_magic);
+  TilePlan plan;
+  plan.method = static_cast<Method>(in.get<std::int32_t>());
+  plan.k = in.get<int>();
+  plan.spacing = in.get<CloudSpacing>();
+  plan.has_quadric_medians = in.get<std::uint8_t>() != 0;
+  plan.quadric_medians = in.get<QuadricMedians>();
+  plan.rho = get_optional<double>(in);
+  plan.delta = get_optional<double>(in);
+  plan.vote_rounds = in.get<int>();
+  plan.gap_factor = in.get<double>();
+  plan.min_component_points = in.get<int>();
+  plan.offset = get_vec(in);
+  plan.box.min = get_vec(in);
+  plan.box.max = get_vec(in);
+  plan.lattice.origin = get_vec(in);
+  plan.lattice.cell = in.get<double>();
+  plan.lattice.size = in.get<Lattice<3>::Index>();
+  for (double* v : {&plan.halo, &plan.exact_margin, &plan.radius_q, &plan.rho_q, &plan.seconds_statistics,
+                    &plan.seconds_binning, &plan.seconds_bounds})
+    *v = in.get<double>();
+  plan.tile_cubes = in.get<std::int32_t>();
+  plan.walk_margin = in.get<std::int32_t>();
+  plan.input_points = in.get<std::uint64_t>();
+  plan.statistics_points = in.get<std::uint64_t>();
+  plan.tiles = in.get_vector<TileInfo>();
+  return plan;
+}
+
+}  // namespace recon

@@ -1,0 +1,453 @@
+// Steps 2 to 5 of a tiled run (tiles.h): orient each tile, reconcile the
+// signs, contour each tile, stitch.
+#include "recon/tiles.h"
+
+#include "recon/errors.h"
+#include "recon/io/mesh_io.h"  // TEMPORARY
+#include "recon/memory_budget.h"
+#include "recon/timer.h"
+#include "recon/union_find.h"
+#include "tile_files.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+namespace recon {
+namespace io {
+struct PlyMeshStream {  // TEMPORARY stand-in until the streaming writer lands
+  PlyMeshStream(const std::filesystem::path& p, bool) : path(p) {}
+  std::filesystem::path path;
+  Mesh mesh;
+  std::uint32_t add_vertex(const Vec3& v) { mesh.vertices.push_back(v); return static_cast<std::uint32_t>(mesh.vertices.size() - 1); }
+  void add_triangle(const std::array<std::uint32_t, 3>& t) { mesh.triangles.push_back(t); }
+  std::size_t vertex_count() const { return mesh.vertices.size(); }
+  std::size_t triangle_count() const { return mesh.triangles.size(); }
+  void finish() { write_mesh(path, mesh); }
+};
+}  // namespace io
+
+using tile_files::BorderRecord;
+using tile_files::CoreBox;
+using tile_files::MeshVertex;
+using tile_files::PieceTop;
+using tile_files::PointRecord;
+
+namespace {
+
+// A tile's points as its file holds them, in input order.
+struct TilePoints {
+  std::vector<Vec3> positions;
+  std::vector<std::uint64_t> index;  // in the input
+};
+
+TilePoints read_points(const std::filesystem::path& dir, const TileInfo& info) {
+  detail::BinaryReader in(tile_files::of_tile(dir, info.id, "points"), tile_files::points_magic);
+  const std::vector<PointRecord> records = in.get_rest<PointRecord>();
+  TilePoints t;
+  t.positions.reserve(records.size());
+  t.index.reserve(records.size());
+  for (const PointRecord& r : records) {
+    t.positions.emplace_back(r.x, r.y, r.z);
+    t.index.push_back(r.index);
+  }
+  return t;
+}
+
+const TileInfo& tile_info(const TilePlan& plan, std::size_t tile) {
+  if (tile >= plan.tiles.size())
+    throw InvalidInputError("tile " + std::to_string(tile) + " of a plan of " + std::to_string(plan.tiles.size()) +
+                            " tiles");
+  return plan.tiles[tile];
+}
+
+// How far a point (working coordinates) lies outside the tile's core: the
+// largest overshoot over the axes; negative inside, by the depth.
+double outside_core(const TilePlan& plan, const CoreBox& core, const Vec3& w) {
+  double d = -1e300;
+  for (std::size_t a = 0; a < 3; ++a) {
+    const double lo = plan.lattice.origin[static_cast<int>(a)] + core.lo[a] * plan.lattice.cell;
+    const double hi = plan.lattice.origin[static_cast<int>(a)] + core.hi[a] * plan.lattice.cell;
+    d = std::max({d, lo - w[static_cast<int>(a)], w[static_cast<int>(a)] - hi});
+  }
+  return d;
+}
+
+// Phase I over a tile, with the plan's cloud-wide choices: the same in
+// steps 2 and 4. Null when the tile has too few points for a plane.
+std::optional<Reconstruction> tile_phase_1(const TilePlan& plan, const TilePoints& points) {
+  if (points.positions.size() <= static_cast<std::size_t>(plan.k)) return std::nullopt;
+  const ReconstructionOptions options = tile_files::tile_options(plan);
+  return reconstruct_phase_1(PointCloudView(points.positions, {}, {}), options);
+}
+
+// ---------------------------------------------------------------------------
+// Step 2.
+
+struct Orientation {
+  std::vector<std::int8_t> sign;     // per tile point (file order): its normal against phase I's
+  std::vector<std::uint32_t> piece;  // per tile point: its piece
+  std::vector<PieceTop> tops;        // per piece
+  std::vector<BorderRecord> border;
+  std::uint64_t inexact = 0;
+};
+
+void write_orientation(const std::filesystem::path& path, const Orientation& o) {
+  detail::BinaryWriter out(path, tile_files::orient_magic);
+  out.put_vector<std::int8_t>(o.sign);
+  out.put_vector<std::uint32_t>(o.piece);
+  out.put_vector<PieceTop>(o.tops);
+  out.put_vector<BorderRecord>(o.border);
+  out.put(o.inexact);
+  out.commit();
+}
+
+Orientation read_orientation(const std::filesystem::path& path) {
+  detail::BinaryReader in(path, tile_files::orient_magic);
+  Orientation o;
+  o.sign = in.get_vector<std::int8_t>();
+  o.piece = in.get_vector<std::uint32_t>();
+  o.tops = in.get_vector<PieceTop>();
+  o.border = in.get_vector<BorderRecord>();
+  o.inexact = in.get<std::uint64_t>();
+  return o;
+}
+
+// What the reconciliation needs of one oriented sample j (spatial order).
+void note_sample(const TilePlan& plan, const CoreBox& core, const Reconstruction& r, const TilePoints& points,
+                 std::size_t j, Orientation& o) {
+  const Vec3 w = r.points()[j];
+  const std::uint32_t t = r.order[j];
+  const double out = outside_core(plan, core, w);
+  const std::uint32_t piece = o.piece[t];
+  if (out <= 0.0) {  // a core sample: each is one tile's
+    PieceTop& top = o.tops[piece];
+    if (std::tie(w.z(), top.index) > std::tie(top.z, points.index[t]) || top.index == UINT64_MAX)
+      top = {w.z(), points.index[t]};
+  }
+  if (out > plan.exact_margin) return;
+  if (r.planes.local_rho[j] > 0.0f && out + 2.0 * static_cast<double>(r.planes.radius[j]) > plan.halo) ++o.inexact;
+  if (out < -plan.exact_margin) return;
+  const Vec3 n = r.oriented->normals[j];
+  o.border.push_back({points.index[t], piece, {static_cast<float>(n.x()), static_cast<float>(n.y()),
+                                               static_cast<float>(n.z())}});
+}
+
+Orientation orient_points(const TilePlan& plan, const CoreBox& core, Reconstruction& r, const TilePoints& points) {
+  const ReconstructionOptions options = tile_files::tile_options(plan);
+  const OrientationOptions orientation = orientation_options(r, options);
+  RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
+  r.planes.neighbors = {};
+  r.oriented = orient_normals<3>(r.planes, std::move(graph), orientation);
+  Orientation o;
+  const std::size_t n = points.positions.size();
+  o.sign.resize(n);
+  o.piece.resize(n);
+  o.tops.resize(r.oriented->component_count());
+  for (std::size_t j = 0; j < n; ++j) {
+    o.sign[r.order[j]] = r.oriented->normals[j].dot(r.planes.normals[j]) >= 0.0 ? 1 : -1;
+    o.piece[r.order[j]] = r.oriented->graph.components.label[j];
+  }
+  for (std::size_t j = 0; j < n; ++j) note_sample(plan, core, r, points, j, o);
+  std::sort(o.border.begin(), o.border.end(),
+            [](const BorderRecord& a, const BorderRecord& b) { return a.index < b.index; });
+  return o;
+}
+
+}  // namespace
+
+TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t tile) {
+  Timer timer;
+  const TilePlan plan = read_tile_plan(work_dir);
+  const TileInfo& info = tile_info(plan, tile);
+  const TilePoints points = read_points(work_dir, info);
+  std::optional<Reconstruction> r = tile_phase_1(plan, points);
+  Orientation o;
+  if (r) o = orient_points(plan, tile_files::core_of(plan, tile), *r, points);
+  write_orientation(tile_files::of_tile(work_dir, info.id, "orient"), o);
+  TileOrientation result;
+  result.points = points.positions.size();
+  result.pieces = o.tops.size();
+  result.border_samples = o.border.size();
+  result.inexact_samples = o.inexact;
+  result.seconds = timer.elapsed();
+  return result;
+}
+
+// ---------------------------------------------------------------------------
+// Step 3.
+
+namespace {
+
+struct Agreement {
+  std::uint64_t agree = 0, disagree = 0;
+};
+using NodePair = std::pair<std::uint32_t, std::uint32_t>;
+
+struct SignGraph {
+  std::vector<std::uint64_t> first_node;  // per tile, its first node
+  std::vector<PieceTop> tops;             // per node
+  std::map<NodePair, Agreement> edges;
+  std::size_t shared = 0;
+};
+
+// Nodes, and the edges between the pieces that orient the same samples.
+SignGraph sign_graph(const std::filesystem::path& dir, const TilePlan& plan) {
+  SignGraph g;
+  std::vector<BorderRecord> border;
+  for (const TileInfo& info : plan.tiles) {
+    Orientation o = read_orientation(tile_files::of_tile(dir, info.id, "orient"));
+    g.first_node.push_back(g.tops.size());
+    for (BorderRecord& b : o.border) b.node += static_cast<std::uint32_t>(g.tops.size());
+    g.tops.insert(g.tops.end(), o.tops.begin(), o.tops.end());
+    border.insert(border.end(), o.border.begin(), o.border.end());
+  }
+  std::sort(border.begin(), border.end(), [](const BorderRecord& a, const BorderRecord& b) {
+    return std::tie(a.index, a.node) < std::tie(b.index, b.node);
+  });
+  for (std::size_t s = 0; s < border.size();) {
+    std::size_t e = s + 1;
+    while (e < border.size() && border[e].index == border[s].index) ++e;
+    for (std::size_t a = s; a < e; ++a)
+      for (std::size_t b = a + 1; b < e; ++b) {
+        const BorderRecord &x = border[a], &y = border[b];
+        const float dot = x.normal[0] * y.normal[0] + x.normal[1] * y.normal[1] + x.normal[2] * y.normal[2];
+        Agreement& edge = g.edges[{x.node, y.node}];
+        (dot >= 0.0f ? edge.agree : edge.disagree) += 1;
+        ++g.shared;
+      }
+    s = e;
+  }
+  return g;
+}
+
+// The maximum spanning forest by margin of agreement (Kruskal), walked
+// breadth-first from each object's highest piece, which keeps its sign.
+std::vector<std::int8_t> reconcile(const SignGraph& g, TileReconciliation& result) {
+  const std::size_t n = g.tops.size();
+  std::vector<std::pair<NodePair, Agreement>> edges(g.edges.begin(), g.edges.end());
+  const auto margin = [](const Agreement& a) { return a.agree > a.disagree ? a.agree - a.disagree : a.disagree - a.agree; };
+  std::stable_sort(edges.begin(), edges.end(),
+                   [&](const auto& a, const auto& b) { return margin(a.second) > margin(b.second); });
+  UnionFind sets(n);
+  std::vector<std::vector<std::pair<std::uint32_t, std::int8_t>>> tree(n);
+  for (const auto& [nodes, agreement] : edges) {
+    if (!sets.unite(nodes.first, nodes.second)) continue;
+    const std::int8_t relation = agreement.agree >= agreement.disagree ? 1 : -1;
+    tree[nodes.first].emplace_back(nodes.second, relation);
+    tree[nodes.second].emplace_back(nodes.first, relation);
+  }
+  std::vector<std::uint32_t> root(n, UINT32_MAX);  // per set: its highest node
+  for (std::uint32_t v = 0; v < n; ++v) {
+    std::uint32_t& best = root[sets.find(v)];
+    const auto higher = [&](std::uint32_t a, std::uint32_t b) {
+      return std::tie(g.tops[a].z, g.tops[b].index) > std::tie(g.tops[b].z, g.tops[a].index);
+    };
+    if (best == UINT32_MAX || higher(v, best)) best = v;
+  }
+  std::vector<std::int8_t> flip(n, 0);
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (root[v] == UINT32_MAX) continue;
+    if (g.tops[root[v]].index != UINT64_MAX) ++result.objects;  // (pieces of halos alone are no object)
+    std::vector<std::uint32_t> queue{root[v]};
+    flip[root[v]] = 1;
+    for (std::size_t q = 0; q < queue.size(); ++q)
+      for (const auto& [next, relation] : tree[queue[q]])
+        if (flip[next] == 0) {
+          flip[next] = static_cast<std::int8_t>(flip[queue[q]] * relation);
+          queue.push_back(next);
+        }
+  }
+  return flip;
+}
+
+}  // namespace
+
+TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
+  Timer timer;
+  const TilePlan plan = read_tile_plan(work_dir);
+  const SignGraph g = sign_graph(work_dir, plan);
+  TileReconciliation result;
+  const std::vector<std::int8_t> flip = reconcile(g, result);
+  result.nodes = g.tops.size();
+  result.edges = g.edges.size();
+  result.shared_samples = g.shared;
+  result.turned = static_cast<std::size_t>(std::count(flip.begin(), flip.end(), std::int8_t{-1}));
+  for (const auto& [nodes, agreement] : g.edges)
+    result.disagreeing += flip[nodes.first] == flip[nodes.second] ? agreement.disagree : agreement.agree;
+  detail::BinaryWriter out(tile_files::flips(work_dir), tile_files::flips_magic);
+  out.put_vector<std::uint64_t>(g.first_node);
+  out.put_vector<std::int8_t>(flip);
+  out.commit();
+  result.seconds = timer.elapsed();
+  return result;
+}
+
+// ---------------------------------------------------------------------------
+// Step 4.
+
+namespace {
+
+// The tile's normals, oriented as reconciled (spatial order).
+std::vector<Vec3> reconciled_normals(const std::filesystem::path& dir, const TileInfo& info, std::size_t tile,
+                                     const Reconstruction& r) {
+  const Orientation o = read_orientation(tile_files::of_tile(dir, info.id, "orient"));
+  detail::BinaryReader in(tile_files::flips(dir), tile_files::flips_magic);
+  const std::vector<std::uint64_t> first_node = in.get_vector<std::uint64_t>();
+  const std::vector<std::int8_t> flip = in.get_vector<std::int8_t>();
+  if (o.sign.size() != r.order.size() || tile >= first_node.size())
+    throw ParseError(dir.string() + ": the orientation of tile " + std::to_string(tile) + " does not match its points");
+  std::vector<Vec3> normals(r.order.size());
+  for (std::size_t j = 0; j < normals.size(); ++j) {
+    const std::uint32_t t = r.order[j];
+    const std::uint64_t node = first_node[tile] + o.piece[t];
+    if (node >= flip.size()) throw ParseError(tile_files::flips(dir).string() + ": too few pieces");
+    normals[j] = r.planes.normals[j] * static_cast<double>(o.sign[t] * flip[node]);
+  }
+  return normals;
+}
+
+LatticeRegion region_of(const TilePlan& plan, const CoreBox& core) {
+  LatticeRegion region;
+  region.lattice = plan.lattice;
+  region.own_lo = core.lo;
+  region.own_hi = core.hi;
+  for (std::size_t a = 0; a < 3; ++a) {
+    region.walk_lo[a] = std::max(0, core.lo[a] - plan.walk_margin);
+    region.walk_hi[a] = std::min(plan.lattice.size[a], core.hi[a] + plan.walk_margin);
+  }
+  return region;
+}
+
+void write_mesh(const std::filesystem::path& path, const MarchingCubesResult& contour, const Vec3& offset) {
+  std::vector<MeshVertex> vertices(contour.mesh.vertices.size());
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    const Vec3 p = contour.mesh.vertices[v] + offset;
+    vertices[v] = {p.x(), p.y(), p.z(), contour.vertex_edges[v].corner, contour.vertex_edges[v].axis, 0};
+  }
+  detail::BinaryWriter out(path, tile_files::mesh_magic);
+  out.put_vector<MeshVertex>(vertices);
+  out.put_vector<std::array<std::uint32_t, 3>>(contour.mesh.triangles);
+  out.commit();
+}
+
+}  // namespace
+
+TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile) {
+  Timer timer;
+  const TilePlan plan = read_tile_plan(work_dir);
+  const TileInfo& info = tile_info(plan, tile);
+  const TilePoints points = read_points(work_dir, info);
+  std::optional<Reconstruction> r = tile_phase_1(plan, points);
+  MarchingCubesResult contour;
+  if (r) {
+    r->planes.neighbors = {};
+    const std::vector<Vec3> normals = reconciled_normals(work_dir, info, tile, *r);
+    r->origin_tree = r->planes.point_tree.refit(r->planes.origins);
+    const ReconstructionOptions options = tile_files::tile_options(plan);
+    const SignedDistance<3> f = make_signed_distance<3>(
+        r->planes, normals, r->origin_tree, signed_distance_options(plan.method, options.distance, r->quadrics));
+    MarchingCubesOptions mc;
+    mc.cell = plan.lattice.cell;
+    mc.max_cubes = max_cubes_within(memory_limit_or_default(options.max_memory), points.positions.size());
+    mc.region = region_of(plan, tile_files::core_of(plan, tile));
+    mc.keep_vertex_edges = true;
+    contour = marching_cubes(std::cref(f), r->points(), mc);
+  }
+  write_mesh(tile_files::of_tile(work_dir, info.id, "mesh"), contour, plan.offset);
+  TileContour result;
+  result.vertices = contour.mesh.vertices.size();
+  result.triangles = contour.mesh.triangles.size();
+  result.visited_cubes = contour.visited_cubes;
+  result.seconds = timer.elapsed();
+  return result;
+}
+
+// ---------------------------------------------------------------------------
+// Step 5.
+
+namespace {
+
+// Whether a lattice edge lies on a face of the core's box: another tile's
+// cubes share it.
+bool on_border(const MeshVertex& v, const CoreBox& core) {
+  if (v.axis > 2) return false;
+  const Lattice<3>::Index c = Lattice<3>::index(v.corner);
+  for (std::size_t b = 0; b < 3; ++b)
+    if (b != v.axis && (c[b] == core.lo[b] || c[b] == core.hi[b])) return true;
+  return false;
+}
+
+}  // namespace
+
+StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::filesystem::path& output) {
+  Timer timer;
+  const TilePlan plan = read_tile_plan(work_dir);
+  io::PlyMeshStream out(output, false);
+  std::unordered_map<std::uint64_t, std::array<std::uint32_t, 3>> border;  // per corner: its 3 edges' vertices
+  StitchedMesh result;
+  for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) {
+    detail::BinaryReader in(tile_files::of_tile(work_dir, plan.tiles[tile].id, "mesh"), tile_files::mesh_magic);
+    const std::vector<MeshVertex> vertices = in.get_vector<MeshVertex>();
+    const auto triangles = in.get_vector<std::array<std::uint32_t, 3>>();
+    const CoreBox core = tile_files::core_of(plan, tile);
+    std::vector<std::uint32_t> id(vertices.size());
+    for (std::size_t v = 0; v < vertices.size(); ++v) {
+      const MeshVertex& m = vertices[v];
+      std::uint32_t* slot = nullptr;
+      if (on_border(m, core)) {
+        auto [at, added] = border.try_emplace(m.corner, std::array<std::uint32_t, 3>{UINT32_MAX, UINT32_MAX, UINT32_MAX});
+        slot = &at->second[m.axis];
+        if (*slot != UINT32_MAX) {
+          id[v] = *slot;
+          ++result.welded;
+          continue;
+        }
+      }
+      id[v] = out.add_vertex(Vec3(m.x, m.y, m.z));
+      if (slot) *slot = id[v];
+    }
+    for (const auto& t : triangles) {
+      if (t[0] >= id.size() || t[1] >= id.size() || t[2] >= id.size())
+        throw ParseError(tile_files::of_tile(work_dir, plan.tiles[tile].id, "mesh").string() +
+                         ": a triangle names a vertex it does not have");
+      out.add_triangle({id[t[0]], id[t[1]], id[t[2]]});
+    }
+  }
+  result.vertices = out.vertex_count();
+  result.triangles = out.triangle_count();
+  out.finish();
+  result.seconds = timer.elapsed();
+  return result;
+}
+
+TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, const std::filesystem::path& work_dir,
+                           const std::filesystem::path& output,
+                           const std::function<void(const char*, std::size_t, std::size_t)>& on_tile) {
+  Timer timer;
+  const auto report = [&](const char* step, std::size_t done, std::size_t total) {
+    if (on_tile) on_tile(step, done, total);
+  };
+  TiledRun run;
+  report("binning", 0, 1);
+  run.plan = plan_tiles(pass, options, work_dir);
+  const std::size_t tiles = run.plan.tiles.size();
+  for (std::size_t t = 0; t < tiles; ++t) {
+    report("orienting", t, tiles);
+    run.orientations.push_back(orient_tile(work_dir, t));
+  }
+  report("reconciling", 0, 1);
+  run.reconciliation = reconcile_tiles(work_dir);
+  for (std::size_t t = 0; t < tiles; ++t) {
+    report("contouring", t, tiles);
+    run.contours.push_back(contour_tile(work_dir, t));
+  }
+  report("stitching", 0, 1);
+  run.mesh = stitch_tiles(work_dir, output);
+  run.seconds = timer.elapsed();
+  return run;
+}
+
+}  // namespace recon

@@ -1,0 +1,201 @@
+// Tiled runs (tiles.h) against the in-memory one: on clean data the same
+// triangles for several tile sizes, down to tiles smaller than an object;
+// on noisy data the same topology within a cell; the steps' files rerun to
+// the same bytes, and damaged ones are errors that name them.
+
+#include "recon/tiles.h"
+
+#include "recon/errors.h"
+#include "recon/io/mesh_io.h"
+#include "recon/shapes.h"
+#include "mesh_compare.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <string>
+
+namespace recon {
+namespace {
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto dir = std::filesystem::path(testing::TempDir()) / ("recon-tiles-test-" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+struct Case {
+  const char* shape;
+  std::size_t points;
+  Method method;
+  double tile_size;
+  double noise = 0.0;  // of the sample spacing
+};
+
+std::string name_of(const Case& c) {
+  return std::string(c.shape) + "_" + method_name(c.method) + "_" + std::to_string(static_cast<int>(c.tile_size * 100)) +
+         (c.noise > 0.0 ? "_noisy" : "");
+}
+
+PointCloud cloud_of(const Case& c) {
+  const auto shape = make_shape(c.shape);
+  PointCloud cloud = shape->sample(c.points, 11);
+  const double spacing = std::sqrt(shape->area() / static_cast<double>(c.points));
+  if (c.noise > 0.0) add_noise(cloud, c.noise * spacing / bounding_box<3>(cloud.positions).diagonal(), 5);
+  return cloud;
+}
+
+// The in-memory mesh the tiled one must equal: phase IV's (tiles.h).
+const Mesh& contoured(const Reconstruction& r) { return r.contour.mesh; }
+
+struct Tiled {
+  TiledRun run;
+  Mesh mesh;
+};
+
+Tiled run_tiled(const PointCloud& cloud, const Case& c) {
+  TilingOptions options;
+  options.reconstruction.method = c.method;
+  options.tile_size = c.tile_size;
+  const auto dir = scratch(name_of(c));
+  Tiled t;
+  t.run = reconstruct_tiled(pass_over(cloud, 4096), options, dir / "work", dir / "mesh.ply");
+  t.mesh = io::read_mesh(dir / "mesh.ply");
+  std::filesystem::remove_all(dir);
+  return t;
+}
+
+class TiledRunOnCleanData : public ::testing::TestWithParam<Case> {};
+
+TEST_P(TiledRunOnCleanData, SameTrianglesAsInMemory) {
+  const Case& c = GetParam();
+  const PointCloud cloud = cloud_of(c);
+  ReconstructionOptions options;
+  options.method = c.method;
+  const Reconstruction whole = reconstruct(cloud, options);
+  const Tiled tiled = run_tiled(cloud, c);
+  ASSERT_GT(tiled.run.plan.tiles.size(), 1u) << "the case must cut the cloud";
+  EXPECT_EQ(tiled.run.plan.statistics_points, cloud.size());
+  EXPECT_EQ(tiled.run.plan.k, whole.planes.k);
+  EXPECT_EQ(tiled.run.plan.lattice.cell, whole.contour.cell);
+  for (const TileOrientation& o : tiled.run.orientations) EXPECT_EQ(o.inexact_samples, 0u);
+  EXPECT_EQ(tiled.run.reconciliation.disagreeing, 0u);
+  EXPECT_TRUE(same_mesh(tiled.mesh, contoured(whole), 1e-9 * whole.contour.cell));
+  EXPECT_GT(tiled.mesh.triangles.size(), 1000u);
+}
+
+// Tile cores from a quarter of an object to about the whole; the sphere and
+// torus are two objects a tile border may cut both of.
+INSTANTIATE_TEST_SUITE_P(
+    Shapes, TiledRunOnCleanData,
+    ::testing::Values(Case{"sphere", 12000, Method::hoppe92, 0.8}, Case{"torus", 12000, Method::refined, 0.9},
+                      Case{"two", 15000, Method::hoppe92, 1.0}, Case{"two", 15000, Method::refined, 1.4},
+                      Case{"terrain", 15000, Method::refined, 0.5}, Case{"box", 12000, Method::refined, 0.5}),
+    [](const auto& p) { return name_of(p.param); });
+
+TEST(TiledRun, SeparateObjectsStaySeparate) {
+  const Case c{"two", 15000, Method::refined, 1.0};
+  const Tiled tiled = run_tiled(cloud_of(c), c);
+  EXPECT_EQ(tiled.run.reconciliation.objects, 2u);
+  const MeshTopology topology = analyze_topology(tiled.mesh);
+  EXPECT_EQ(topology.components, 2u);
+  EXPECT_TRUE(topology.watertight());
+  EXPECT_GT(topology.signed_volume, 0.0) << "facing outward";
+}
+
+// Noisy data: a sample's neighbourhood is the same in a tile, but the
+// orientation's walk may differ; the meshes have the same topology and lie
+// within a cell of each other.
+TEST(TiledRun, NoisyDataSameTopologyWithinACell) {
+  const Case c{"torus", 15000, Method::refined, 1.0, 0.5};
+  const PointCloud cloud = cloud_of(c);
+  const Reconstruction whole = reconstruct(cloud, {});
+  const Tiled tiled = run_tiled(cloud, c);
+  const MeshTopology a = analyze_topology(tiled.mesh), b = analyze_topology(contoured(whole));
+  EXPECT_EQ(a.components, b.components);
+  EXPECT_EQ(a.euler_characteristic, b.euler_characteristic);
+  EXPECT_EQ(a.boundary_loops, b.boundary_loops);
+  const KdTree<3> to_whole(contoured(whole).vertices), to_tiled(tiled.mesh.vertices);
+  double farthest = 0.0;
+  for (const Vec3& v : tiled.mesh.vertices) farthest = std::max(farthest, to_whole.nearest(v).distance2);
+  for (const Vec3& v : contoured(whole).vertices) farthest = std::max(farthest, to_tiled.nearest(v).distance2);
+  EXPECT_LE(std::sqrt(farthest), whole.contour.cell);
+}
+
+std::string bytes_of(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// A step run again (a task rerun after a worker died) writes the same bytes,
+// and the steps can run in any order of tiles.
+TEST(TiledRun, StepsRerunToTheSameFiles) {
+  const Case c{"sphere", 8000, Method::refined, 1.0};
+  const PointCloud cloud = cloud_of(c);
+  const auto dir = scratch("rerun");
+  TilingOptions options;
+  options.tile_size = c.tile_size;
+  const TilePlan plan = plan_tiles(pass_over(cloud), options, dir);
+  ASSERT_GT(plan.tiles.size(), 2u);
+  for (std::size_t t = plan.tiles.size(); t-- > 0;) orient_tile(dir, t);
+  reconcile_tiles(dir);
+  for (std::size_t t = 0; t < plan.tiles.size(); ++t) contour_tile(dir, t);
+  stitch_tiles(dir, dir / "a.ply");
+  const std::string mesh_1 = bytes_of(dir / "tile-000001.mesh");
+  orient_tile(dir, 1);
+  reconcile_tiles(dir);
+  contour_tile(dir, 1);
+  EXPECT_EQ(bytes_of(dir / "tile-000001.mesh"), mesh_1);
+  stitch_tiles(dir, dir / "b.ply");
+  EXPECT_EQ(bytes_of(dir / "a.ply"), bytes_of(dir / "b.ply"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(TiledRun, DamagedFilesAreErrorsNamingThem) {
+  const Case c{"sphere", 4000, Method::hoppe92, 0.8};
+  const auto dir = scratch("damaged");
+  TilingOptions options;
+  options.reconstruction.method = c.method;
+  options.tile_size = c.tile_size;
+  plan_tiles(pass_over(cloud_of(c)), options, dir);
+  EXPECT_THROW(plan_tiles(pass_over(cloud_of(c)), options, dir), InvalidInputError) << "a plan is there already";
+  const auto points = dir / "tile-000000.points";
+  std::filesystem::resize_file(points, std::filesystem::file_size(points) - 5);
+  try {
+    orient_tile(dir, 0);
+    ADD_FAILURE() << "a truncated tile was read";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("tile-000000.points"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(orient_tile(dir, 1000), InvalidInputError);
+  EXPECT_THROW(reconcile_tiles(dir), IoError) << "no tile was oriented";
+  std::filesystem::remove(dir / "plan.bin");
+  EXPECT_THROW(read_tile_plan(dir), IoError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(TiledRun, WorkspaceIsRemovedAlsoOnErrors) {
+  std::filesystem::path path;
+  try {
+    TileWorkspace workspace(testing::TempDir());
+    path = workspace.path();
+    std::ofstream(path / "a") << "x";
+    throw InvalidInputError("stop");
+  } catch (const InvalidInputError&) {
+  }
+  EXPECT_FALSE(path.empty());
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(TiledRun, EmptyCloudIsRefused) {
+  const auto dir = scratch("empty");
+  EXPECT_THROW(plan_tiles(pass_over(PointCloud{}), {}, dir), InvalidInputError);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace recon
