@@ -62,6 +62,8 @@ struct ReconstructCommandOptions {
   std::optional<int> resolution;
   bool ascii = false, use_normals = false, keep_fragments = false;
   std::string method = "refined";
+  double tile_size = 0.0;           ///< --tile-size: work in tiles (tiled.h)
+  std::filesystem::path tmpdir;     ///< --tmpdir: where the tiles go (default: the output's folder)
 };
 
 

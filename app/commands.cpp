@@ -3,6 +3,7 @@
 
 #include "curves.h"
 #include "progress.h"
+#include "tiled.h"
 #include "run_reports.h"
 #include "summary.h"
 
@@ -185,12 +186,16 @@ std::function<void(const char*)> on_phase(Progress& progress, StepPeaks& memory)
 }
 
 void run_reconstruct(const ReconstructCommandOptions& o, const GlobalOptions& global) {
+  check_outputs(o.in.path, {o.output, o.stats, o.report});
+  if (const std::optional<std::string> why = tiling_reason(o, reconstruction_options(o))) {
+    run_tiled(o, reconstruction_options(o), *why, global);
+    return;
+  }
   Timer total;
   Summary summary(global.quiet);
   io::WriteMeshOptions write_options;
   write_options.format = io::mesh_format_from_path(o.output);  // fail early on a bad extension
   write_options.ascii = o.ascii;
-  check_outputs(o.in.path, {o.output, o.stats, o.report});
   StepPeaks memory;
   memory.start("read");
   io::ReadNotes notes;
@@ -240,6 +245,12 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
   app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
   add_report_option(app, o->report);
+  app.add_option("--tile-size", o->tile_size,
+                 "Work in tiles with cores of this edge (a length), streaming the input and the mesh; without it, "
+                 "tiles are used when the cloud needs more memory than --max-memory")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--tmpdir", o->tmpdir, "Folder for the tiles of a tiled run (default: the output's folder)")
+      ->check(CLI::ExistingDirectory);
   return [o, &global] {
     if (wants_curves(o->in.path, o->in.format, o->output)) {  // 2D points: curves (curves.cpp)
       reconstruct_curves(*o, global.quiet);
@@ -321,7 +332,6 @@ void run_normals(const NormalsCommandOptions& o, const GlobalOptions& global) {
   io::WritePointsOptions write_options;
   write_options.format = writable_point_format(o.output);  // fail early on a bad extension
   write_options.ascii = o.ascii;
-  check_outputs(o.in.path, {o.output, o.stats, o.report});
   StepPeaks memory;
   memory.start("read");
   PointCloud cloud = read_input(o.in, summary);

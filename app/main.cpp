@@ -9,6 +9,7 @@
 #include "recon/io/atomic_file.h"
 #include "recon/io/point_io.h"  // file_being_read
 #include "recon/parallel.h"
+#include "recon/tiles.h"
 
 #include <csignal>
 #include <cstdio>
@@ -25,11 +26,13 @@
 namespace {
 // Ctrl-C (SIGINT), SIGTERM, SIGHUP: stop at once, wherever the run is.
 // Nothing is left half-written: outputs are renamed into place only when
-// complete, so removing the pending temporaries is the whole clean-up.
+// complete, so removing the pending temporaries (and a tiled run's tiles)
+// is the whole clean-up.
 // Then the signal is raised again with its default action, so that the
 // caller (a shell, a script) sees the run end by that signal.
 extern "C" void on_interrupt(int signal_number) {
   recon::io::remove_pending_temporaries();
+  recon::remove_tile_workspaces();
   constexpr char message[] = "\nrecon: interrupted; unfinished output removed\n";
   [[maybe_unused]] const ssize_t ignored = ::write(STDERR_FILENO, message, sizeof message - 1);
   std::signal(signal_number, SIG_DFL);

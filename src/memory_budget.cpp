@@ -47,6 +47,11 @@ double estimated_bytes_lattice(std::size_t points, double cubes) {
   return static_cast<double>(points) * bytes_per_point_held + cubes * bytes_per_cube;
 }
 
+double estimated_bytes_reconstruction(std::size_t points, int k, bool second_order_fits) {
+  return std::max(estimated_bytes_planes_and_graph(points, k, second_order_fits),
+                  estimated_bytes_lattice(points, 3.0 * static_cast<double>(points)));
+}
+
 std::size_t max_cubes_within(std::size_t limit, std::size_t points) {
   return static_cast<std::size_t>(
       std::max(0.0, (static_cast<double>(limit) - static_cast<double>(points) * bytes_per_point_held) / bytes_per_cube));

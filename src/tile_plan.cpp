@@ -14,6 +14,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <fstream>
 #include <unordered_map>
 
 namespace recon {
@@ -38,15 +39,80 @@ PointPass pass_over_file(const std::filesystem::path& path, const io::ReadPoints
   };
 }
 
+namespace {
+
+// The workspaces alive, for remove_tile_workspaces (a signal handler): fixed
+// buffers and lock-free flags only.
+struct Registered {
+  std::atomic<bool> used{false};
+  char path[4096] = {};
+};
+Registered workspaces[4];
+std::atomic<std::uint32_t> tile_ids_made{0};  // the most tile files any plan of this process named
+
+int register_workspace(const std::filesystem::path& path) {
+  const std::string text = path.string();
+  if (text.size() + 32 >= sizeof workspaces[0].path) return -1;
+  for (int slot = 0; slot < 4; ++slot) {
+    bool expected = false;
+    if (!workspaces[slot].used.load()) {
+      std::copy(text.begin(), text.end(), workspaces[slot].path);
+      workspaces[slot].path[text.size()] = '\0';
+      if (workspaces[slot].used.compare_exchange_strong(expected, true)) return slot;
+    }
+  }
+  return -1;
+}
+
+// dir + "/" + name into `out` (async-signal-safe).
+void join(const char* dir, const char* name, char* out, std::size_t size) {
+  std::size_t n = 0;
+  for (const char* c = dir; *c && n + 1 < size; ++c) out[n++] = *c;
+  if (n + 1 < size) out[n++] = '/';
+  for (const char* c = name; *c && n + 1 < size; ++c) out[n++] = *c;
+  out[n] = '\0';
+}
+
+void remove_workspace_files(const char* dir) {
+  char path[4200], name[40];
+  for (std::uint32_t id = 0; id < tile_ids_made.load(); ++id)
+    for (const char* kind : {"points", "orient", "mesh"}) {
+      const char prefix[] = "tile-";
+      std::size_t n = 0;
+      for (const char c : prefix)
+        if (c) name[n++] = c;
+      for (std::uint32_t d = 100000; d > 0; d /= 10) name[n++] = static_cast<char>('0' + (id / d) % 10);
+      name[n++] = '.';
+      for (const char* c = kind; *c; ++c) name[n++] = *c;
+      name[n] = '\0';
+      join(dir, name, path, sizeof path);
+      ::unlink(path);
+    }
+  for (const char* file : {"plan.bin", "flips.bin"}) {
+    join(dir, file, path, sizeof path);
+    ::unlink(path);
+  }
+  ::rmdir(dir);
+}
+
+}  // namespace
+
+void remove_tile_workspaces() noexcept {
+  for (Registered& w : workspaces)
+    if (w.used.load()) remove_workspace_files(w.path);
+}
+
 TileWorkspace::TileWorkspace(const std::filesystem::path& parent) {
   static std::atomic<int> count{0};
   path_ = parent / ("recon-tiles-" + std::to_string(::getpid()) + "-" + std::to_string(count++));
   std::error_code error;
   std::filesystem::create_directories(path_, error);
   if (error) throw IoError(path_.string() + ": cannot create the directory for the tiles (" + error.message() + ")");
+  slot_ = register_workspace(path_);
 }
 
 TileWorkspace::~TileWorkspace() {
+  if (slot_ >= 0) workspaces[slot_].used.store(false);
   std::error_code ignored;
   std::filesystem::remove_all(path_, ignored);
 }
@@ -104,11 +170,10 @@ void bounds_pass(const PointPass& pass, TilePlan& plan, Box<3>& box) {
 // Pass 2: the points phase I measures the cloud on, and a histogram of the
 // density for the tile size.
 
-// Bytes a point of a tile needs through phases I-IV (memory_budget.h's
-// estimates, with the lattice of a surface sampled about as finely as the cell).
+// Bytes a point of a tile needs through phases I-IV (memory_budget.h).
 double bytes_per_point(int k, bool refined) {
   constexpr std::size_t n = 1'000'000;
-  return (estimated_bytes_planes_and_graph(n, k, refined) + estimated_bytes_lattice(n, 3.0 * n)) / n;
+  return estimated_bytes_reconstruction(n, k, refined) / n;
 }
 
 struct Sample {
@@ -212,8 +277,11 @@ std::size_t densest_tile(const Sample& s, const TilePlan& plan, std::int32_t cub
   return static_cast<std::size_t>(static_cast<double>(most) * grow * grow);
 }
 
+// A core narrower than twice the halo would hold more halo than core: four
+// times the points it owns, or more.
 std::int32_t choose_tile_cubes(const Sample& s, const TilingOptions& options, const TilePlan& plan) {
-  const std::int32_t least = 2 * plan.walk_margin + 2;
+  const auto least = std::max(2 * plan.walk_margin + 2,
+                              static_cast<std::int32_t>(std::ceil(2.0 * plan.halo / plan.lattice.cell)));
   if (options.tile_size > 0.0) {
     if (!std::isfinite(options.tile_size)) throw InvalidInputError("the tile size must be a positive length");
     return std::max(least, static_cast<std::int32_t>(std::ceil(options.tile_size / plan.lattice.cell)));
@@ -223,6 +291,12 @@ std::int32_t choose_tile_cubes(const Sample& s, const TilingOptions& options, co
   std::int32_t cubes = *std::max_element(plan.lattice.size.begin(), plan.lattice.size.end());
   while (cubes > least && static_cast<double>(densest_tile(s, plan, cubes)) > fits)
     cubes = std::max(least, static_cast<std::int32_t>(0.8 * cubes));
+  const double densest = static_cast<double>(densest_tile(s, plan, cubes));
+  if (densest > fits)
+    check_memory(densest * bytes_per_point(plan.k, plan.method == Method::refined) * 2.0, limit,
+                 "the smallest useful tile (a core edge of " + std::to_string(cubes * plan.lattice.cell) +
+                     ", twice its halo) with about " + std::to_string(static_cast<std::size_t>(densest)) + " points",
+                 "smaller tiles would hold more halo than core");
   return cubes;
 }
 
@@ -249,23 +323,32 @@ class Binner {
     std::vector<Tile*> order(tiles_.size());
     for (auto& [key, tile] : tiles_) order[tile.id] = &tile;
     for (Tile* t : order) {
-      if (t->near == 0) continue;  // (its temporary file goes with it)
-      t->flush();
-      t->file->commit();
+      const auto path = tile_files::of_tile(dir_, t->id, "points");
+      if (t->near == 0) {
+        std::filesystem::remove(path);
+        continue;
+      }
+      t->flush(path);
       plan_.tiles.push_back({t->index, t->id, t->points, t->core});
     }
     tiles_.clear();
   }
 
  private:
+  // A tile's file is appended to a buffer at a time (a cloud may make more
+  // tiles than a process may hold files open); it counts only once the plan,
+  // written last, names it.
   struct Tile {
     Index3 index{};
     std::uint32_t id = 0;
-    std::unique_ptr<detail::BinaryWriter> file;
     std::vector<PointRecord> buffer;
     std::uint64_t points = 0, core = 0, near = 0;
-    void flush() {
-      file->put_records<PointRecord>(buffer);
+    void flush(const std::filesystem::path& path) {
+      std::ofstream out(path, std::ios::binary | std::ios::app);
+      if (points == buffer.size()) out.write(tile_files::points_magic, 8);
+      out.write(reinterpret_cast<const char*>(buffer.data()),
+                static_cast<std::streamsize>(buffer.size() * sizeof(PointRecord)));
+      if (!out.flush()) throw IoError(path.string() + ": cannot write the tile (disk full?)");
       buffer.clear();
     }
   };
@@ -276,8 +359,9 @@ class Binner {
     if (added) {
       tile.index = t;
       tile.id = static_cast<std::uint32_t>(tiles_.size() - 1);
-      tile.file = std::make_unique<detail::BinaryWriter>(tile_files::of_tile(dir_, tile.id, "points"),
-                                                         tile_files::points_magic);
+      std::uint32_t made = tile_ids_made.load();
+      while (made <= tile.id && !tile_ids_made.compare_exchange_weak(made, tile.id + 1)) {
+      }
     }
     return tile;
   }
@@ -298,8 +382,8 @@ class Binner {
   void put(const Index3& t, const Vec3& w, const PointRecord& record, const Index3& own) {
     Tile& tile = this->tile(t);
     tile.buffer.push_back(record);
-    if (tile.buffer.size() == 4096) tile.flush();
     ++tile.points;
+    if (tile.buffer.size() == 4096) tile.flush(tile_files::of_tile(dir_, tile.id, "points"));
     if (t == own) ++tile.core;
     if (distance_to_core(t, w) <= plan_.exact_margin) ++tile.near;
   }

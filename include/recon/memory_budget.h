@@ -27,6 +27,13 @@ namespace recon {
 /// Bytes held during the 3D lattice walk: what phases I-II leave plus the cubes.
 [[nodiscard]] double estimated_bytes_lattice(std::size_t points, double cubes);
 
+/// The peak of a whole 3D reconstruction of `points` points at k, told
+/// before phase I has measured the sampling: the larger of phases I-II and
+/// the walk, with 3 cubes visited a point (a surface sampled about as
+/// finely as the cell; measured 2 to 3). Tiled runs (tiles.h) size their
+/// tiles with it, and `recon reconstruct` decides with it to work in tiles.
+[[nodiscard]] double estimated_bytes_reconstruction(std::size_t points, int k, bool second_order_fits);
+
 /// The most cubes a 3D walk over `points` points may visit within `limit`
 /// bytes (marching_cubes' max_cubes): a walk estimated wrongly cannot run
 /// on until memory is exhausted.

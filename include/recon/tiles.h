@@ -206,6 +206,13 @@ class TileWorkspace {
 
  private:
   std::filesystem::path path_;
+  int slot_ = -1;
 };
+
+/// Removes the files and folders of every TileWorkspace alive, as far as
+/// they were made by this process's plans (the temporaries of files being
+/// written go with io::remove_pending_temporaries). Async-signal-safe: for
+/// the SIGINT handler of a program about to end.
+void remove_tile_workspaces() noexcept;
 
 }  // namespace recon

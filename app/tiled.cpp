@@ -1,0 +1,176 @@
+#include "tiled.h"
+
+#include "progress.h"
+#include "run_reports.h"
+
+#include "recon/errors.h"
+#include "recon/io/mesh_io.h"
+#include "recon/memory_budget.h"
+#include "recon/resource_usage.h"
+#include "recon/tiles.h"
+#include "recon/timer.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace recon::cli {
+namespace {
+
+io::ReadPointsOptions read_options(const InputOptions& in) {
+  io::ReadPointsOptions options;
+  if (!in.format.empty()) options.format = io::point_format_from_name(in.format);
+  options.columns = io::column_names(in.columns);
+  options.skip_invalid = in.skip_invalid;
+  return options;
+}
+
+// Fewer bytes than this a point cannot take in any point format ("0 0 0\n").
+constexpr std::uintmax_t least_bytes_per_point = 6;
+
+std::size_t count_points(const InputOptions& in) {
+  std::size_t count = 0;
+  pass_over_file(in.path, read_options(in))([&](PointCloudView chunk, std::size_t) { count += chunk.size(); });
+  return count;
+}
+
+std::string memory_text(double bytes) {
+  std::ostringstream out;
+  out.precision(3);
+  out << bytes / 1e9 << " GB";
+  return out.str();
+}
+
+}  // namespace
+
+std::optional<std::string> tiling_reason(const ReconstructCommandOptions& o, const ReconstructionOptions& options) {
+  if (o.tile_size > 0.0) return std::string("--tile-size");
+  std::error_code error;
+  const std::uintmax_t bytes = std::filesystem::file_size(o.in.path, error);
+  if (error) return std::nullopt;  // (a pipe, a device: read as usual, which says what is wrong)
+  const std::size_t limit = memory_limit_or_default(options.max_memory);
+  const bool refined = options.method == Method::refined;
+  const auto needs = [&](std::size_t n) { return estimated_bytes_reconstruction(n, options.planes.k, refined); };
+  if (needs(static_cast<std::size_t>(bytes / least_bytes_per_point)) <= static_cast<double>(limit)) return std::nullopt;
+  const std::size_t points = count_points(o.in);
+  if (needs(points) <= static_cast<double>(limit)) return std::nullopt;
+  return plural(points, "point") + " need about " + memory_text(needs(points)) + ", more than --max-memory " +
+         memory_text(static_cast<double>(limit));
+}
+
+namespace {
+
+void refuse_what_tiles_do_not_do(const ReconstructCommandOptions& o) {
+  const auto refuse = [](const std::string& what) {
+    throw InvalidInputError("tiled runs (--tile-size, or clouds larger than --max-memory) " + what);
+  };
+  if (io::mesh_format_from_path(o.output) != io::MeshFormat::ply) refuse("write binary PLY: name the output .ply");
+  if (o.ascii) refuse("write binary PLY: drop --ascii");
+  if (o.use_normals) refuse("estimate and orient the normals: drop --use-normals");
+  if (!o.report.empty()) refuse("write no report: drop --report");
+}
+
+StepReport plan_report(const TilePlan& plan, const std::string& why) {
+  std::uint64_t binned = 0;
+  for (const TileInfo& t : plan.tiles) binned += t.points;
+  const double edge = plan.tile_cubes * plan.lattice.cell;
+  StepReport r;
+  r.lines.push_back("tiles     " + why + ": " + plural(plan.tiles.size(), "tile") + " with a core edge of " +
+                    format_length(edge) + " and a halo of " + format_length(plan.halo) + "; " +
+                    plural(plan.input_points, "point") + " binned as " + std::to_string(binned) + " (" +
+                    format_seconds(plan.seconds_bounds + plan.seconds_binning) + ")");
+  r.lines.push_back("          cloud-wide: k = " + std::to_string(plan.k) + ", rho = " + format_length(plan.spacing.rho) +
+                    ", cell " + format_length(plan.lattice.cell) + ", from phase I on " +
+                    plural(plan.statistics_points, "point") + " (" + format_seconds(plan.seconds_statistics) + ")");
+  r.stats["reason"] = why;
+  r.stats["tiles"] = plan.tiles.size();
+  r.stats["core_edge"] = edge;
+  r.stats["halo"] = plan.halo;
+  r.stats["points_binned"] = static_cast<double>(binned);
+  r.stats["statistics_points"] = static_cast<double>(plan.statistics_points);
+  r.stats["k"] = plan.k;
+  r.stats["rho"] = plan.spacing.rho;
+  r.stats["cell"] = plan.lattice.cell;
+  r.stats["seconds_plan"] = plan.seconds_bounds + plan.seconds_statistics + plan.seconds_binning;
+  return r;
+}
+
+StepReport run_report(const TiledRun& run) {
+  const TileReconciliation& c = run.reconciliation;
+  double orient = 0.0, contour = 0.0;
+  std::size_t inexact = 0;
+  Json::Array per_tile;
+  for (std::size_t t = 0; t < run.plan.tiles.size(); ++t) {
+    const TileOrientation& o = run.orientations[t];
+    orient += o.seconds;
+    contour += run.contours[t].seconds;
+    inexact += o.inexact_samples;
+    Json tile;
+    tile["points"] = o.points;
+    tile["pieces"] = o.pieces;
+    tile["inexact_samples"] = o.inexact_samples;
+    tile["triangles"] = run.contours[t].triangles;
+    tile["seconds_orient"] = o.seconds;
+    tile["seconds_contour"] = run.contours[t].seconds;
+    per_tile.push_back(tile);
+  }
+  StepReport r;
+  r.lines.push_back("orient    " + plural(c.nodes, "piece") + " in the tiles, " + plural(c.objects, "object") + "; " +
+                    std::to_string(c.turned) + " turned round to agree (" + std::to_string(c.disagreeing) + " of " +
+                    std::to_string(c.shared_samples) + " shared samples still disagree) (" + format_seconds(orient) + ")");
+  if (inexact > 0)
+    r.lines.push_back("          " + plural(inexact, "sample") + " near a core may see less than the whole cloud (halo too narrow)");
+  r.lines.push_back("contour   " + plural(run.mesh.triangles, "triangle") + " (" + format_seconds(contour) +
+                    "); stitched with " + std::to_string(run.mesh.welded) + " vertices welded at tile borders (" +
+                    format_seconds(run.mesh.seconds) + ")");
+  r.stats["objects"] = c.objects;
+  r.stats["pieces"] = c.nodes;
+  r.stats["pieces_turned"] = c.turned;
+  r.stats["shared_samples"] = c.shared_samples;
+  r.stats["disagreeing_samples"] = c.disagreeing;
+  r.stats["inexact_samples"] = inexact;
+  r.stats["welded_vertices"] = run.mesh.welded;
+  r.stats["seconds_orient"] = orient;
+  r.stats["seconds_reconcile"] = c.seconds;
+  r.stats["seconds_contour"] = contour;
+  r.stats["seconds_stitch"] = run.mesh.seconds;
+  r.stats["per_tile"] = Json(per_tile);
+  return r;
+}
+
+}  // namespace
+
+void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& options, const std::string& why,
+               const GlobalOptions& global) {
+  Timer total;
+  refuse_what_tiles_do_not_do(o);
+  Summary summary(global.quiet);
+  TilingOptions tiling;
+  tiling.reconstruction = options;
+  tiling.tile_size = o.tile_size;
+  const std::filesystem::path parent =
+      !o.tmpdir.empty() ? o.tmpdir : std::filesystem::absolute(o.output).parent_path();
+  TileWorkspace workspace(parent);
+  Progress progress(!global.quiet);
+  const TiledRun run = reconstruct_tiled(
+      pass_over_file(o.in.path, read_options(o.in)), tiling, workspace.path(), o.output,
+      [&](const char* step, std::size_t done, std::size_t total_tiles) {
+        progress.phase(std::string(step) + (total_tiles > 1 ? " tile " + std::to_string(done + 1) + " of " +
+                                                                  std::to_string(total_tiles)
+                                                            : ""));
+      });
+  progress.stop();
+  summary.stats()["input"]["file"] = o.in.path.string();
+  summary.stats()["input"]["points"] = static_cast<double>(run.plan.input_points);
+  summary.add(plan_report(run.plan, why), "tiled");
+  summary.add(run_report(run), "tiled", "run");
+  summary.say("mesh      " + plural(run.mesh.vertices, "vertex") + ", " + plural(run.mesh.triangles, "triangle") +
+              " (the contoured mesh: phase V does not run in tiles yet)");
+  summary.stats()["mesh"]["vertices"] = run.mesh.vertices;
+  summary.stats()["mesh"]["triangles"] = run.mesh.triangles;
+  if (const std::optional<std::size_t> peak = peak_resident_bytes())
+    summary.stats()["memory"]["peak_mib_total"] = static_cast<double>(*peak) / (1024.0 * 1024.0);
+  finish_run(summary, o.output, run.mesh.seconds, total.elapsed());
+  if (!o.stats.empty()) summary.write_stats(o.stats);
+}
+
+}  // namespace recon::cli
