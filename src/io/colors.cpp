@@ -53,16 +53,17 @@ void ColorReader::add(double red, double green, double blue) {
 }
 
 std::vector<Color> ColorReader::take() {
+  std::vector<Color> colors;
+  colors.swap(colors_);
   if (floating_) {
     const double scale = beyond_one_ ? 1.0 : 255.0;
-    colors_.reserve(floats_.size());
+    colors.reserve(floats_.size());
     for (const auto& f : floats_)
-      colors_.push_back({to_byte(scale * static_cast<double>(f[0])), to_byte(scale * static_cast<double>(f[1])),
-                         to_byte(scale * static_cast<double>(f[2]))});
-    floats_ = {};
-    beyond_one_ = false;
+      colors.push_back({to_byte(scale * static_cast<double>(f[0])), to_byte(scale * static_cast<double>(f[1])),
+                        to_byte(scale * static_cast<double>(f[2]))});
+    floats_.clear();
   }
-  return std::move(colors_);
+  return colors;
 }
 
 void append_color_bytes(std::string& out, const Color& color) {

@@ -38,8 +38,18 @@ class ColorReader {
 
   void reserve(std::size_t points);
   void add(double red, double green, double blue);
-  /// The colours, one per add(), in order; the reader is empty after.
+  /// The colours, one per add() since the last take(), in order; the reader
+  /// is empty after (a file read in parts takes each part's colours).
   [[nodiscard]] std::vector<Color> take();
+
+  /// True when the conversion waits on the whole file (a channel is
+  /// floating point: see beyond_one()).
+  [[nodiscard]] bool floating() const { return floating_; }
+  /// True when some floating-point value read so far exceeds 1.
+  [[nodiscard]] bool beyond_one() const { return beyond_one_; }
+  /// For a file read in parts: beyond_one() of the whole file, found by a
+  /// survey of it, so that take() converts every part as it would the whole.
+  void assume_beyond_one(bool beyond_one) { beyond_one_ = beyond_one; }
 
  private:
   std::array<ScalarType, 3> types_;

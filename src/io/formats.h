@@ -8,11 +8,16 @@
 // look no further than it needs, so garbage is refused early). A writer gets data already checked by
 // check_cloud_for_writing / check_mesh_for_writing and an open stream.
 
+#include "point_parts.h"
+
 #include "recon/io/point_io.h"
 #include "recon/mesh.h"
 #include "recon/point_cloud.h"
 #include "recon/polyline.h"
 
+#include <array>
+#include <cstdint>
+#include <filesystem>
 #include <ostream>
 #include <span>
 #include <string>
@@ -21,14 +26,36 @@
 
 namespace recon::io::detail {
 
+/// The format read_points reads `path` as (ReadPointsOptions::format, or
+/// from the extension).
+[[nodiscard]] PointFormat point_format_of(const std::filesystem::path& path, const ReadPointsOptions& options);
+/// The content of a point file as read_points opens it (read_file), after
+/// refusing LAZ (InvalidInputError); ParseError "FILE: the file is empty".
+[[nodiscard]] FileContent open_points(const std::filesystem::path& path, PointFormat format,
+                                      const ReadPointsOptions& options);
+
 [[nodiscard]] PointCloud read_ply_points(std::string_view file, std::string_view content);
+/// The points into `parts`: whole, or in parts (a survey first when the
+/// colours are floating point; see point_parts.h).
+void read_ply_points(std::string_view file, std::string_view content, PointParts& parts);
 [[nodiscard]] Mesh read_ply_mesh(std::string_view file, std::string_view content);
 void write_ply_points(std::ostream& out, const PointCloud& cloud, bool ascii);
 void write_ply_mesh(std::ostream& out, const Mesh& mesh, bool ascii);
+/// The parts of a PLY mesh as write_ply_mesh writes them, for writers that
+/// do not hold the mesh (mesh_stream.cpp): the header, up to its
+/// "end_header" line; a vertex record (`color` nullptr: none); a triangle's
+/// face record in binary.
+[[nodiscard]] std::string ply_mesh_header(bool ascii, std::size_t vertices, std::size_t triangles, bool colors);
+void append_ply_vertex(std::string& out, const Vec3& position, const Color* color, bool ascii);
+void append_ply_triangle_binary(std::string& out, const std::array<std::uint32_t, 3>& triangle);
 
 [[nodiscard]] PointCloud read_xyz_points(std::string_view file, std::string_view content);
 [[nodiscard]] PointCloud read_xyz_points(std::string_view file, std::string_view content,
                                          const ReadPointsOptions& options, ReadNotes& notes);
+/// The points into `parts`: whole, or in parts (a survey first when values
+/// decide what columns hold; see point_parts.h).
+void read_xyz_points(std::string_view file, std::string_view content, const ReadPointsOptions& options,
+                     ReadNotes& notes, PointParts& parts);
 [[nodiscard]] PointCloud read_pts_points(std::string_view file, std::string_view content);
 /// Numbers on the first line of plain text columns that has any (0: none).
 [[nodiscard]] std::size_t xyz_column_count(std::string_view file, std::string_view content);
@@ -53,6 +80,9 @@ void write_off_mesh(std::ostream& out, const Mesh& mesh);
 /// LAS 1.0-1.4 (las.cpp); `notes` hears how 16-bit colours became 8-bit.
 [[nodiscard]] PointCloud read_las_points(std::string_view file, std::string_view content,
                                          const ReadPointsOptions& options, ReadNotes& notes);
+/// The points into `parts`, whole or in parts (the colours' range is found
+/// by a first walk over the records in both cases).
+void read_las_points(std::string_view file, std::string_view content, ReadNotes& notes, PointParts& parts);
 /// "LAZ (compressed LAS) is not read ...: decompress FILE first, e.g. ...":
 /// what is said of a .laz file and of LAS content with laszip's compression bit.
 [[nodiscard]] std::string laz_refusal(std::string_view file);

@@ -44,6 +44,16 @@ FileContent::~FileContent() {
   }
 }
 
+void FileContent::let_go(std::size_t begin, std::size_t end) const {
+  if (map_ == nullptr) return;
+  static const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGE_SIZE));
+  const std::size_t first = (begin + page - 1) / page * page;  // whole pages only: the map starts on one
+  const std::size_t last = std::min(end, size_) / page * page;
+  if (last <= first) return;
+  // Dropping pages of a private, read-only file map loses nothing: reading them again reads the file.
+  static_cast<void>(::madvise(static_cast<char*>(const_cast<void*>(map_)) + first, last - first, MADV_DONTNEED));
+}
+
 namespace {
 
 /// A file descriptor closed when it goes out of scope.
@@ -343,6 +353,10 @@ SkipInvalidPoints::~SkipInvalidPoints() { innermost_skip = outer_; }
 
 SkipInvalidPoints* SkipInvalidPoints::current() { return innermost_skip; }
 
+SkipInvalidPoints::Hide::Hide() : hidden_(std::exchange(innermost_skip, nullptr)) {}
+
+SkipInvalidPoints::Hide::~Hide() { innermost_skip = hidden_; }
+
 void SkipInvalidPoints::found(std::uint64_t count, std::string description) {
   if (count_ == 0) description_ = std::move(description);
   count_ += count;
@@ -368,8 +382,7 @@ bool readable(const Vec3& v) {
 }
 }  // namespace
 
-void SkipInvalidPoints::remove_from(std::string_view file, PointCloud& cloud, ReadNotes& notes) const {
-  if (count_ == 0) return;
+std::size_t SkipInvalidPoints::drop_unreadable(PointCloud& cloud) {
   const std::size_t before = cloud.size();
   std::size_t kept = 0;
   for (std::size_t i = 0; i < before; ++i) {
@@ -382,9 +395,20 @@ void SkipInvalidPoints::remove_from(std::string_view file, PointCloud& cloud, Re
   cloud.positions.resize(kept);
   if (cloud.has_normals()) cloud.normals.resize(kept);
   if (cloud.has_colors()) cloud.colors.resize(kept);
+  return before - kept;
+}
+
+void SkipInvalidPoints::conclude(std::string_view file, std::size_t dropped, std::size_t kept, ReadNotes& notes) const {
+  if (count_ == 0) return;
   if (kept == 0) fail_in_file(file, "no points: every point is invalid (" + description_ + ")");
-  notes.skipped_points += before - kept;
+  notes.skipped_points += dropped;
   notes.lines.push_back("skipped as invalid: " + description_);
+}
+
+void SkipInvalidPoints::remove_from(std::string_view file, PointCloud& cloud, ReadNotes& notes) const {
+  if (count_ == 0) return;
+  const std::size_t dropped = drop_unreadable(cloud);
+  conclude(file, dropped, cloud.size(), notes);
 }
 
 namespace {

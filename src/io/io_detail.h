@@ -54,6 +54,14 @@ class FileContent {
   [[nodiscard]] std::string_view view() const {
     return map_ != nullptr ? std::string_view(static_cast<const char*>(map_), size_) : std::string_view(buffer_);
   }
+  /// True when the content is a map of the file, false when it was read into memory.
+  [[nodiscard]] bool mapped() const { return map_ != nullptr; }
+  /// Gives the whole pages of bytes [begin, end) back to the kernel
+  /// (madvise MADV_DONTNEED): they no longer count in the resident memory of
+  /// the process, and a later read of them reads the file again. A reader
+  /// streaming through a file that is larger than the memory lets go of what
+  /// lies behind it. Nothing happens for content read into memory.
+  void let_go(std::size_t begin, std::size_t end) const;
 
  private:
   void swap(FileContent& other) noexcept {
@@ -394,6 +402,19 @@ class SkipInvalidPoints {
   /// The innermost scope open on this thread, or nullptr.
   [[nodiscard]] static SkipInvalidPoints* current();
 
+  /// While a Hide lives, current() is nullptr on its thread: code of the
+  /// caller's run in the middle of a read (read_points_in_chunks' `take`)
+  /// reads other files as if no scope were open.
+  class Hide {
+   public:
+    Hide();
+    Hide(Hide&&) = delete;  // and so neither copied nor assigned
+    ~Hide();
+
+   private:
+    SkipInvalidPoints* hidden_;
+  };
+
   /// Called by PointChecker::report(): `count` points were found invalid,
   /// `description` says so in its words ("3 points have ...; the first ...").
   void found(std::uint64_t count, std::string description);
@@ -403,6 +424,15 @@ class SkipInvalidPoints {
   /// `notes` how many and where the first was. Throws ParseError "FILE: no
   /// points: ..." when none is left.
   void remove_from(std::string_view file, PointCloud& cloud, ReadNotes& notes) const;
+
+  /// Removes from `cloud` the points with a position that is not finite or
+  /// beyond +-max_coordinate, with their normals and colours; returns how
+  /// many. A cloud read in parts goes through this part by part.
+  static std::size_t drop_unreadable(PointCloud& cloud);
+  /// After all parts, `dropped` points dropped and `kept` kept: tells `notes`
+  /// (as remove_from does), or throws ParseError "FILE: no points: ..." when
+  /// none is kept.
+  void conclude(std::string_view file, std::size_t dropped, std::size_t kept, ReadNotes& notes) const;
 
  private:
   SkipInvalidPoints* outer_;

@@ -23,7 +23,9 @@
 // values are taken as they are; otherwise each is scaled down by taking its
 // high byte (value >> 8), which is exact for both ways writers widen 8 bits
 // (v * 256 and v * 257), where PLY's v / 257 would make 0xFF00 254. A
-// ReadNotes line says which was done.
+// ReadNotes line says which was done. The largest value is found by a first
+// walk over the colours of the records, so that the points can be read
+// (and, read in chunks, handed on) with their final colours.
 
 #include "formats.h"
 #include "io_detail.h"
@@ -175,26 +177,68 @@ LasHeader read_header(std::string_view file, std::string_view content) {
   return header;
 }
 
-using Color16 = std::array<std::uint16_t, 3>;
-
-/// 16-bit LAS colours as 8-bit ones (see the top of the file), and the note that says how.
-std::vector<Color> to_8_bits(const std::vector<Color16>& colors, std::string& note) {
+/// The largest red, green or blue value of the file's records, whose
+/// colours start `color_offset` bytes into each.
+std::uint16_t largest_color(std::string_view content, const LasHeader& header, std::size_t color_offset,
+                            PageRelease pages) {
   std::uint16_t largest = 0;
-  for (const Color16& c : colors) largest = std::max({largest, c[0], c[1], c[2]});
-  const int shift = largest <= 255 ? 0 : 8;
-  if (shift == 0) {
+  for (std::uint64_t i = 0; i < header.points; ++i) {
+    const std::size_t at = header.point_offset + static_cast<std::size_t>(i) * header.record_length + color_offset;
+    for (std::size_t k = 0; k < 3; ++k) largest = std::max(largest, field<std::uint16_t>(content, at + 2 * k));
+    pages.behind(at);
+  }
+  return largest;
+}
+
+/// How far 16-bit LAS colours are shifted to 8 bits when the largest value
+/// of the file is `largest` (see the top of the file), and the note that
+/// says so.
+unsigned color_shift(std::uint16_t largest, std::string& note) {
+  if (largest <= 255) {
     note = "colours: the 16-bit LAS values are all 0 to 255, taken as 8-bit values as they are";
-  } else {
-    note = "colours: the 16-bit LAS values (up to " + std::to_string(largest) +
-           ") are reduced to 8 bits by taking their high byte";
+    return 0;
   }
-  std::vector<Color> result;
-  result.reserve(colors.size());
-  for (const Color16& c : colors) {
-    result.push_back({static_cast<std::uint8_t>(c[0] >> shift), static_cast<std::uint8_t>(c[1] >> shift),
-                      static_cast<std::uint8_t>(c[2] >> shift)});
+  note = "colours: the 16-bit LAS values (up to " + std::to_string(largest) +
+         ") are reduced to 8 bits by taking their high byte";
+  return 8;
+}
+
+/// The position of the record that starts at byte `start`.
+Vec3 record_position(std::string_view content, const LasHeader& header, std::size_t start) {
+  Vec3 p;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto integer = field<std::int32_t>(content, start + 4 * k);
+    p[static_cast<Eigen::Index>(k)] = static_cast<double>(integer) * header.scale[k] + header.offset[k];
   }
-  return result;
+  return p;
+}
+
+/// The 8-bit colour of 16-bit values at byte `at`, shifted by `shift`.
+Color record_color(std::string_view content, std::size_t at, unsigned shift) {
+  Color c;
+  for (std::size_t k = 0; k < 3; ++k)
+    c[k] = static_cast<std::uint8_t>(field<std::uint16_t>(content, at + 2 * k) >> shift);
+  return c;
+}
+
+/// Every record into `parts`; the colours (when `color_offset` is not 0)
+/// shifted by `shift`.
+void read_records(std::string_view file, std::string_view content, const LasHeader& header, std::size_t color_offset,
+                  unsigned shift, PointParts& parts) {
+  PointCloud& part = parts.part();
+  part.positions.reserve(parts.room(header.points));
+  if (color_offset != 0) part.colors.reserve(parts.room(header.points));
+  constexpr std::size_t coordinate_offsets[3] = {0, 4, 8};
+  PointChecker checker(true);
+  std::size_t start = header.point_offset;
+  for (std::uint64_t i = 0; i < header.points; ++i, start += header.record_length) {
+    checker.position(part.positions.emplace_back(record_position(content, header, start)), start, position_names,
+                     coordinate_offsets);
+    if (color_offset != 0) part.colors.push_back(record_color(content, start + color_offset, shift));
+    if (parts.full()) parts.hand(start + header.record_length);
+  }
+  checker.report(file);
+  parts.finish(start);
 }
 
 }  // namespace
@@ -208,39 +252,21 @@ std::string laz_refusal(std::string_view file) {
          " -o out.las', and read the .las file";
 }
 
+void read_las_points(std::string_view file, std::string_view content, ReadNotes& notes, PointParts& parts) {
+  const LasHeader header = read_header(file, content);  // all its points are in the file: check_point_data
+  const std::size_t color_offset = format_color_offset[header.format];
+  std::string note;
+  const unsigned shift =
+      color_offset != 0 ? color_shift(largest_color(content, header, color_offset, parts.pages()), note) : 0;
+  read_records(file, content, header, color_offset, shift, parts);
+  if (color_offset != 0) notes.lines.push_back(std::move(note));
+}
+
 PointCloud read_las_points(std::string_view file, std::string_view content, const ReadPointsOptions& /*options*/,
                            ReadNotes& notes) {
-  const LasHeader header = read_header(file, content);
-  const auto count = static_cast<std::size_t>(header.points);  // all in the file: check_point_data
-  const std::size_t color_offset = format_color_offset[header.format];
-  PointCloud cloud;
-  cloud.positions.reserve(count);
-  std::vector<Color16> colors;
-  if (color_offset != 0) colors.reserve(count);
-
-  constexpr std::size_t coordinate_offsets[3] = {0, 4, 8};
-  PointChecker checker(true);
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::size_t start = header.point_offset + i * header.record_length;
-    Vec3 p;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const auto integer = field<std::int32_t>(content, start + coordinate_offsets[k]);
-      p[static_cast<Eigen::Index>(k)] = static_cast<double>(integer) * header.scale[k] + header.offset[k];
-    }
-    checker.position(cloud.positions.emplace_back(p), start, position_names, coordinate_offsets);
-    if (color_offset != 0) {
-      const std::size_t at = start + color_offset;
-      colors.push_back({field<std::uint16_t>(content, at), field<std::uint16_t>(content, at + 2),
-                        field<std::uint16_t>(content, at + 4)});
-    }
-  }
-  checker.report(file);
-  if (color_offset != 0) {
-    std::string note;
-    cloud.colors = to_8_bits(colors, note);
-    notes.lines.push_back(std::move(note));
-  }
-  return cloud;
+  PointParts whole;
+  read_las_points(file, content, notes, whole);
+  return whole.take_whole();
 }
 
 }  // namespace recon::io::detail

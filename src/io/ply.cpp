@@ -14,6 +14,7 @@
 #include "colors.h"
 #include "formats.h"
 #include "io_detail.h"
+#include "point_parts.h"
 #include "text_scanner.h"
 
 #include "recon/errors.h"
@@ -295,11 +296,57 @@ Wanted find_wanted(std::string_view file, const PlyHeader& header, bool faces) {
   return wanted;
 }
 
-struct PlyContent {
-  std::vector<Vec3> positions;
-  std::vector<Vec3> normals;
-  std::vector<Color> colors;
-  std::vector<std::array<std::uint32_t, 3>> triangles;
+using Triangles = std::vector<std::array<std::uint32_t, 3>>;
+
+/// The vertices the reader keeps, as they come: their positions (checked),
+/// normals and colours go into `parts` (see point_parts.h), the colours
+/// through a ColorReader, which converts them when a part is complete.
+class PlyVertices {
+ public:
+  PlyVertices(const Wanted& wanted, PointParts& parts, bool binary)
+      : wanted_(wanted), parts_(parts), checker_(binary), colors_(wanted.color_types) {}
+
+  void reserve(std::uint64_t count) {
+    const std::size_t room = parts_.room(count);
+    parts_.part().positions.reserve(room);
+    if (wanted_.normals) parts_.part().normals.reserve(room);
+    if (wanted_.colors) colors_.reserve(room);
+  }
+  /// A vertex of the slot values `values`, read at `location` (a line, or
+  /// the byte where its record starts, with the slots' `offsets` in it).
+  void add(const std::array<double, slot_count>& values, std::size_t location, const std::size_t* offsets = nullptr) {
+    PointCloud& part = parts_.part();
+    checker_.position(part.positions.emplace_back(values[0], values[1], values[2]), location, position_names, offsets);
+    if (wanted_.normals)
+      checker_.normal(part.normals.emplace_back(values[3], values[4], values[5]), location, normal_names,
+                      offsets != nullptr ? offsets + first_normal_slot : nullptr);
+    if (wanted_.colors) colors_.add(values[6], values[7], values[8]);
+  }
+  /// After a vertex: hands the part on when it is full; the reader has read
+  /// everything before byte `position`.
+  void hand_if_full(std::size_t position) {
+    if (!parts_.full()) return;
+    complete_part();
+    parts_.hand(position);
+  }
+  /// After the body: refuses the bad values found (PointChecker::report;
+  /// `mesh`: as vertices) and completes the last part.
+  void finish(std::string_view file, bool mesh, std::size_t position) {
+    checker_.report(file, mesh);
+    complete_part();
+    parts_.finish(position);
+  }
+  [[nodiscard]] PointParts& parts() { return parts_; }
+  [[nodiscard]] ColorReader& colors() { return colors_; }
+
+ private:
+  void complete_part() {
+    if (wanted_.colors) parts_.part().colors = colors_.take();
+  }
+  const Wanted& wanted_;
+  PointParts& parts_;
+  PointChecker checker_;
+  ColorReader colors_;
 };
 
 std::string ends_early(const PlyElement& element, std::uint64_t index) {
@@ -331,13 +378,13 @@ double parse_value(std::string_view file, std::size_t line, std::string_view tok
 class AsciiBody {
  public:
   AsciiBody(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
-            PlyContent& out)
+            PlyVertices& vertices, Triangles* triangles)
       : file_(file),
         header_(header),
         wanted_(wanted),
-        out_(out),
+        vertices_(vertices),
+        triangles_(triangles),
         tokens_(file, content, header.body_offset, header.end_header_line + 1),
-        colors_(wanted.color_types),
         vertex_count_(header.elements[wanted.vertex_element].count) {}
 
   void read() {
@@ -356,17 +403,14 @@ class AsciiBody {
       fail_at_line(file_, tokens_.line_number(),
                    "unexpected " + excerpt(token) +
                        " after the last element: the file holds more values than its header declares");
-    checker_.report(file_, wanted_.face_element != Wanted::none);
-    out_.colors = colors_.take();
+    vertices_.finish(file_, triangles_ != nullptr, tokens_.position());
   }
 
  private:
   void reserve_vertices(const PlyElement& element) {
     // Each value takes at least two characters: cap the reservation by the text left.
     const std::uint64_t room = tokens_.bytes_left() / (2 * std::max<std::size_t>(element.properties.size(), 1));
-    out_.positions.reserve(static_cast<std::size_t>(std::min(element.count, room)));
-    if (wanted_.normals) out_.normals.reserve(out_.positions.capacity());
-    if (wanted_.colors) colors_.reserve(out_.positions.capacity());
+    vertices_.reserve(std::min(element.count, room));
   }
 
   /// The next value of record `i` of `element`, which must not end here.
@@ -389,7 +433,13 @@ class AsciiBody {
       const double value = parse_value(file_, tokens_.line_number(), token, property, property.type);
       if (is_vertex && wanted_.slot[p] >= 0) values[static_cast<std::size_t>(wanted_.slot[p])] = value;
     }
-    if (is_vertex) add_vertex(values);
+    if (is_vertex) {
+      // The line of the vertex's last value: a vertex normally stands on one line.
+      vertices_.add(values, tokens_.line_number());
+      vertices_.hand_if_full(tokens_.position());
+    } else {
+      vertices_.parts().behind(tokens_.position());
+    }
   }
 
   /// A list whose length is `length_token`; `keep`: the face's corners.
@@ -415,7 +465,7 @@ class AsciiBody {
         static_cast<void>(parse_value(file_, tokens_.line_number(), token, property, property.type));
       }
     }
-    if (keep) add_fan(corners_, out_.triangles);
+    if (keep) add_fan(corners_, *triangles_);
   }
 
   /// A corner of face `i`: the index of a vertex of the file.
@@ -431,22 +481,12 @@ class AsciiBody {
     return static_cast<std::uint32_t>(index);
   }
 
-  void add_vertex(const std::array<double, slot_count>& values) {
-    // The line of the vertex's last value: a vertex normally stands on one line.
-    const std::size_t line = tokens_.line_number();
-    checker_.position(out_.positions.emplace_back(values[0], values[1], values[2]), line, position_names);
-    if (wanted_.normals)
-      checker_.normal(out_.normals.emplace_back(values[3], values[4], values[5]), line, normal_names);
-    if (wanted_.colors) colors_.add(values[6], values[7], values[8]);
-  }
-
   std::string_view file_;
   const PlyHeader& header_;
   const Wanted& wanted_;
-  PlyContent& out_;
+  PlyVertices& vertices_;
+  Triangles* triangles_;  ///< the faces' triangles, or nullptr (a point cloud)
   TokenScanner tokens_;
-  PointChecker checker_{false};
-  ColorReader colors_;
   std::uint64_t vertex_count_;
   std::vector<std::uint32_t> corners_;
 };
@@ -456,15 +496,15 @@ class AsciiBody {
 class BinaryBody {
  public:
   BinaryBody(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
-             PlyContent& out)
+             PlyVertices& vertices, Triangles* triangles)
       : file_(file),
         content_(content),
         wanted_(wanted),
-        out_(out),
+        vertices_(vertices),
+        triangles_(triangles),
         swap_(needs_swap(header.encoding == PlyEncoding::binary_big_endian)),
         vertex_count_(header.elements[wanted.vertex_element].count),
-        position_(header.body_offset),
-        colors_(wanted.color_types) {}
+        position_(header.body_offset) {}
 
   void read(const PlyHeader& header) {
     for (std::size_t e = 0; e < header.elements.size(); ++e) {
@@ -476,8 +516,7 @@ class BinaryBody {
       }
     }
     // Bytes after the last element are ignored (some writers end with a newline).
-    checker_.report(file_, wanted_.face_element != Wanted::none);
-    out_.colors = colors_.take();
+    vertices_.finish(file_, triangles_ != nullptr, position_);
   }
 
  private:
@@ -508,9 +547,7 @@ class BinaryBody {
       }
       offset += scalar_size(element.properties[p].type);
     }
-    out_.positions.reserve(count);
-    if (wanted_.normals) out_.normals.reserve(count);
-    if (wanted_.colors) colors_.reserve(count);
+    vertices_.reserve(count);
     std::array<double, slot_count> values{};
     for (std::size_t i = 0; i < count; ++i) {
       const std::size_t start = position_ + i * record;
@@ -518,12 +555,8 @@ class BinaryBody {
         if (wanted_.used(s))
           static_cast<void>(decode_scalar(content_.data() + start + offsets[s], types[s], swap_, values[s]));
       }
-      checker_.position(out_.positions.emplace_back(values[0], values[1], values[2]), start, position_names,
-                        offsets.data());
-      if (wanted_.normals)
-        checker_.normal(out_.normals.emplace_back(values[3], values[4], values[5]), start, normal_names,
-                        offsets.data() + 3);
-      if (wanted_.colors) colors_.add(values[6], values[7], values[8]);
+      vertices_.add(values, start, offsets.data());
+      vertices_.hand_if_full(start + record);
     }
   }
 
@@ -547,6 +580,7 @@ class BinaryBody {
           position_ += static_cast<std::size_t>(length) * item_size;
         }
       }
+      vertices_.parts().behind(position_);
     }
   }
 
@@ -584,31 +618,47 @@ class BinaryBody {
                          std::to_string(vertex_count_) + " - 1");
       corners_.push_back(static_cast<std::uint32_t>(index));
     }
-    add_fan(corners_, out_.triangles);
+    add_fan(corners_, *triangles_);
   }
 
   std::string_view file_;
   std::string_view content_;
   const Wanted& wanted_;
-  PlyContent& out_;
+  PlyVertices& vertices_;
+  Triangles* triangles_;  ///< the faces' triangles, or nullptr (a point cloud)
   bool swap_;
   std::uint64_t vertex_count_;
   std::size_t position_;
-  PointChecker checker_{true};
-  ColorReader colors_;
   std::vector<std::uint32_t> corners_;
 };
 
-PlyContent read_ply(std::string_view file, std::string_view content, bool faces) {
-  const PlyHeader header = parse_header(file, content);
-  const Wanted wanted = find_wanted(file, header, faces);
-  PlyContent result;
+/// The body after `header`: the vertices into `vertices`, the faces'
+/// triangles into `triangles` (when not nullptr).
+void read_body(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
+               PlyVertices& vertices, Triangles* triangles) {
   if (header.encoding == PlyEncoding::ascii) {
-    AsciiBody(file, content, header, wanted, result).read();
+    AsciiBody(file, content, header, wanted, vertices, triangles).read();
   } else {
-    BinaryBody(file, content, header, wanted, result).read(header);
+    BinaryBody(file, content, header, wanted, vertices, triangles).read(header);
   }
-  return result;
+}
+
+/// Reads the vertices into `parts` and, when `triangles` is not nullptr,
+/// the faces. Colours of a floating-point type wait on the whole file
+/// (colors.h): read in parts, the file is first surveyed for them.
+void read_ply(std::string_view file, std::string_view content, PointParts& parts, Triangles* triangles) {
+  const PlyHeader header = parse_header(file, content);
+  const Wanted wanted = find_wanted(file, header, triangles != nullptr);
+  const bool binary = header.encoding != PlyEncoding::ascii;
+  PlyVertices vertices(wanted, parts, binary);
+  if (!parts.whole() && wanted.colors && vertices.colors().floating()) {
+    survey(parts, [&](PointParts& dropped) {
+      PlyVertices all(wanted, dropped, binary);
+      read_body(file, content, header, wanted, all, nullptr);
+      vertices.colors().assume_beyond_one(all.colors().beyond_one());
+    });
+  }
+  read_body(file, content, header, wanted, vertices, triangles);
 }
 
 // ---------------------------------------------------------------------------
@@ -643,23 +693,25 @@ void append_color(std::string& out, const Color& color, bool ascii) {
 
 }  // namespace
 
+void read_ply_points(std::string_view file, std::string_view content, PointParts& parts) {
+  read_ply(file, content, parts, nullptr);
+  if (parts.count() == 0) fail_in_file(file, "no points: the vertex element is empty");
+}
+
 PointCloud read_ply_points(std::string_view file, std::string_view content) {
-  PlyContent ply = read_ply(file, content, false);
-  if (ply.positions.empty()) fail_in_file(file, "no points: the vertex element is empty");
-  PointCloud cloud;
-  cloud.positions = std::move(ply.positions);
-  cloud.normals = std::move(ply.normals);
-  cloud.colors = std::move(ply.colors);
-  return cloud;
+  PointParts whole;
+  read_ply_points(file, content, whole);
+  return whole.take_whole();
 }
 
 Mesh read_ply_mesh(std::string_view file, std::string_view content) {
-  PlyContent ply = read_ply(file, content, true);
-  if (ply.triangles.empty()) fail_in_file(file, "no triangles: the face element is empty");
+  PointParts whole;
   Mesh mesh;
-  mesh.vertices = std::move(ply.positions);
-  mesh.triangles = std::move(ply.triangles);
-  mesh.colors = std::move(ply.colors);
+  read_ply(file, content, whole, &mesh.triangles);
+  if (mesh.triangles.empty()) fail_in_file(file, "no triangles: the face element is empty");
+  PointCloud vertices = whole.take_whole();
+  mesh.vertices = std::move(vertices.positions);
+  mesh.colors = std::move(vertices.colors);
   return mesh;
 }
 
@@ -686,34 +738,47 @@ void write_ply_points(std::ostream& stream, const PointCloud& cloud, bool ascii)
   writer.finish();
 }
 
-void write_ply_mesh(std::ostream& stream, const Mesh& mesh, bool ascii) {
+std::string ply_mesh_header(bool ascii, std::size_t vertices, std::size_t triangles, bool colors) {
   // Indices are written as "int", which every PLY reader knows, unless the
   // mesh is too large for it.
-  const bool signed_indices =
-      mesh.vertices.size() <= static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
+  const bool signed_indices = vertices <= static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
+  std::string header = header_start(ascii, vertices, false, colors);
+  header += "element face ";
+  header += std::to_string(triangles);
+  header +=
+      signed_indices ? "\nproperty list uchar int vertex_indices\n" : "\nproperty list uchar uint vertex_indices\n";
+  header += "end_header\n";
+  return header;
+}
+
+void append_ply_vertex(std::string& out, const Vec3& position, const Color* color, bool ascii) {
+  if (ascii) {
+    append_vec3_text(out, position);
+  } else {
+    append_vec3_binary(out, position);
+  }
+  if (color != nullptr) append_color(out, *color, ascii);
+  if (ascii) out += '\n';
+}
+
+void append_ply_triangle_binary(std::string& out, const std::array<std::uint32_t, 3>& triangle) {
+  append_little_endian(out, std::uint8_t{3});
+  for (const std::uint32_t v : triangle) append_little_endian(out, v);  // same bytes as int for v < 2^31
+}
+
+void write_ply_mesh(std::ostream& stream, const Mesh& mesh, bool ascii) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += header_start(ascii, mesh.vertices.size(), false, mesh.has_colors());
-  out += "element face ";
-  out += std::to_string(mesh.triangles.size());
-  out += signed_indices ? "\nproperty list uchar int vertex_indices\n" : "\nproperty list uchar uint vertex_indices\n";
-  out += "end_header\n";
+  out += ply_mesh_header(ascii, mesh.vertices.size(), mesh.triangles.size(), mesh.has_colors());
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    if (ascii) {
-      append_vec3_text(out, mesh.vertices[i]);
-    } else {
-      append_vec3_binary(out, mesh.vertices[i]);
-    }
-    if (mesh.has_colors()) append_color(out, mesh.colors[i], ascii);
-    if (ascii) out += '\n';
+    append_ply_vertex(out, mesh.vertices[i], mesh.has_colors() ? &mesh.colors[i] : nullptr, ascii);
     writer.flush_if_full();
   }
   if (ascii) {
     append_triangles_text(writer, mesh.triangles, '3', 0);
   } else {
     for (const auto& triangle : mesh.triangles) {
-      append_little_endian(out, std::uint8_t{3});
-      for (const std::uint32_t v : triangle) append_little_endian(out, v);  // same bytes as int for v < 2^31
+      append_ply_triangle_binary(out, triangle);
       writer.flush_if_full();
     }
   }

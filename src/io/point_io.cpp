@@ -95,15 +95,29 @@ PointCloud read_as(PointFormat format, const std::string& file, std::string_view
 
 }  // namespace
 
+namespace detail {
+
+PointFormat point_format_of(const std::filesystem::path& path, const ReadPointsOptions& options) {
+  return resolve(path, options.format);
+}
+
+FileContent open_points(const std::filesystem::path& path, PointFormat format, const ReadPointsOptions& options) {
+  const std::string file = path.string();
+  if (format == PointFormat::laz) throw InvalidInputError(laz_refusal(file));
+  FileContent content = read_file(path, options.max_stream_bytes);
+  if (content.view().empty()) fail_in_file(file, "the file is empty");
+  return content;
+}
+
+}  // namespace detail
+
 PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options, ReadNotes* notes) {
   ReadNotes ignored;
   ReadNotes& said = notes != nullptr ? *notes : ignored;
   const PointFormat format = resolve(path, options.format);
   const std::string file = path.string();
-  if (format == PointFormat::laz) throw InvalidInputError(detail::laz_refusal(file));
-  const detail::FileContent file_content = detail::read_file(path, options.max_stream_bytes);
+  const detail::FileContent file_content = detail::open_points(path, format, options);
   const std::string_view content = file_content.view();
-  if (content.empty()) detail::fail_in_file(file, "the file is empty");
   if (!options.skip_invalid) return read_as(format, file, content, options, said);
   // The readers' PointCheckers hand the invalid points to this scope instead of refusing them.
   const detail::SkipInvalidPoints skipping;

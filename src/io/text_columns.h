@@ -30,7 +30,10 @@
 // Reading keeps the file mapped and parses it once: columns whose meaning
 // waits on the whole file (colours, and the triples of a file without a
 // header) are held as doubles while the evidence about them is gathered,
-// and turned into normals or colours at the end.
+// and turned into normals or colours at the end. Read in chunks
+// (point_stream.h), such a file is parsed twice: a survey gathers the
+// evidence and decides, and the second pass turns each part's held values
+// into normals or colours as it hands the part on.
 
 #include "io_detail.h"
 #include "text_scanner.h"

@@ -235,6 +235,8 @@ class TokenScanner {
   /// of the last token (or of the text before `start` when there was none).
   [[nodiscard]] std::size_t line_number() const { return line_number_; }
   [[nodiscard]] std::size_t bytes_left() const { return text_.size() - position_; }
+  /// Byte offset just after the token last returned.
+  [[nodiscard]] std::size_t position() const { return position_; }
 
  private:
   void check_line_length() const {

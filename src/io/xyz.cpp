@@ -6,7 +6,8 @@
 //   semicolons) from the first line of numbers. '#' starts a comment, on its
 //   own line or after the numbers; blank lines are skipped; a UTF-8
 //   byte-order mark is skipped; lines end with "\n", "\r\n" or "\r".
-//   The file is parsed once, straight from its memory map.
+//   The file is parsed once, straight from its memory map (twice when read
+//   in chunks and the values decide what columns hold: text_columns.h).
 // xy (2D, read by read_points_2d): the same text with two numbers a line,
 //   x y (a header naming them is allowed).
 // pts: either Hoppe's format, records of one letter and numbers where
@@ -23,6 +24,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,13 +33,21 @@ namespace recon::io::detail {
 namespace {
 
 /// Reads the data lines of a delimited text file as `plan` says, in one
-/// pass: positions (and named normals) go straight into the cloud; held
-/// values (colours, the undecided columns of a file without a header) are
-/// kept as doubles, with the evidence about them, until the end decides.
+/// pass: positions (and named normals) go straight into the part (see
+/// point_parts.h); held values (colours, the undecided columns of a file
+/// without a header) are kept as doubles, with the evidence about them,
+/// until the end decides what they are, or, when a survey of the file has
+/// decided that before (`decided`), until the part is complete.
 class ColumnReader {
  public:
-  ColumnReader(std::string_view file, const TextLayout& layout, ColumnPlan& plan)
-      : file_(file), layout_(layout), plan_(plan), triples_per_point_((plan.held() + 2) / 3),
+  ColumnReader(std::string_view file, const TextLayout& layout, ColumnPlan& plan, PointParts& parts,
+               std::optional<HeldUse> decided = std::nullopt)
+      : file_(file),
+        layout_(layout),
+        plan_(plan),
+        parts_(parts),
+        decided_(decided),
+        triples_per_point_((plan.held() + 2) / 3),
         columns_(plan.held()) {
     has_normals_ = std::any_of(plan.fields.begin(), plan.fields.end(),
                                [](const FieldTarget& t) { return t.kind == FieldTarget::Kind::normal; });
@@ -53,26 +63,44 @@ class ColumnReader {
       const std::string_view data = without_comment(line);
       if (lines.line_number() == layout_.header_line || is_blank_line(data)) continue;
       read_line(data, lines.line_number());
+      if (parts_.full()) hand_part(lines.position());
     }
+    end_ = lines.position();
   }
 
-  PointCloud finish(ReadNotes& notes) {
-    if (cloud_.positions.empty())
+  /// After read(): refuses what is wrong in the whole file, completes the
+  /// last part and returns what the held values are.
+  HeldUse finish(ReadNotes& notes) {
+    if (parts_.count() == 0)
       fail_in_file(file_, layout_.header_line == 0
                               ? "no points: the file holds only comments and blank lines"
                               : "no points: the file holds only a header line, comments and blank lines");
-    const HeldUse use = decide_columns(file_, plan_, columns_, triples_, notes);
+    const HeldUse use = decided_ ? *decided_ : decide_columns(file_, plan_, columns_, triples_, notes);
     if (use.normals >= 0 && plan_.guessed())
       checker_.take_normals(triple_checks_[static_cast<std::size_t>(use.normals)]);
     checker_.report(file_);
-    if (use.normals >= 0) cloud_.normals = held_triple(static_cast<std::size_t>(use.normals));
-    if (use.colours >= 0) cloud_.colors = held_colours(static_cast<std::size_t>(use.colours), use.colour_scale);
-    held_ = {};
-    return std::move(cloud_);
+    complete_part(use);
+    parts_.finish(end_);
+    return use;
   }
 
  private:
   static constexpr std::size_t max_held = 6;
+
+  /// Hands a full part on, its held values made normals and colours as
+  /// decided (a survey, which has not decided yet, drops them).
+  void hand_part(std::size_t position) {
+    if (decided_) complete_part(*decided_);
+    held_.clear();
+    parts_.hand(position);
+  }
+
+  void complete_part(const HeldUse& use) {
+    PointCloud& part = parts_.part();
+    if (use.normals >= 0) part.normals = held_triple(static_cast<std::size_t>(use.normals));
+    if (use.colours >= 0) part.colors = held_colours(static_cast<std::size_t>(use.colours), use.colour_scale);
+    held_.clear();
+  }
 
   /// One data line (its comment removed): every field in its place, the
   /// count checked against the plan's.
@@ -96,8 +124,9 @@ class ColumnReader {
       }
     }
     if (i != columns) fail_count(line, i);
-    checker_.position(cloud_.positions.emplace_back(position), line, position_names);
-    if (has_normals_) checker_.normal(cloud_.normals.emplace_back(normal), line, normal_names);
+    PointCloud& part = parts_.part();
+    checker_.position(part.positions.emplace_back(position), line, position_names);
+    if (has_normals_) checker_.normal(part.normals.emplace_back(normal), line, normal_names);
     if (!columns_.empty()) hold(held, line);
   }
 
@@ -121,17 +150,17 @@ class ColumnReader {
     return held_[point * triples_per_point_ + slot / 3][static_cast<Eigen::Index>(slot % 3)];
   }
 
-  /// The held triple at `slot` of every point (moved out when it is all that is held).
+  /// The held triple at `slot` of every point of the part (moved out when it is all that is held).
   std::vector<Vec3> held_triple(std::size_t slot) {
-    if (slot == 0 && triples_per_point_ == 1) return std::move(held_);
-    std::vector<Vec3> triple(cloud_.size());
+    if (slot == 0 && triples_per_point_ == 1) return std::exchange(held_, {});
+    std::vector<Vec3> triple(parts_.part().size());
     for (std::size_t i = 0; i < triple.size(); ++i)
       triple[i] = Vec3(held_value(i, slot), held_value(i, slot + 1), held_value(i, slot + 2));
     return triple;
   }
 
   std::vector<Color> held_colours(std::size_t slot, double scale) const {
-    std::vector<Color> colours(cloud_.size());
+    std::vector<Color> colours(parts_.part().size());
     for (std::size_t i = 0; i < colours.size(); ++i)
       for (std::size_t k = 0; k < 3; ++k)
         colours[i][k] = static_cast<std::uint8_t>(std::lround(held_value(i, slot + k) * scale));
@@ -155,9 +184,11 @@ class ColumnReader {
   std::string_view file_;
   const TextLayout& layout_;
   ColumnPlan& plan_;
+  PointParts& parts_;
+  std::optional<HeldUse> decided_;
   std::size_t triples_per_point_;  ///< Vec3s of held_ per point
   bool has_normals_ = false;
-  PointCloud cloud_;
+  std::size_t end_ = 0;  ///< the end of the text, once read
   PointChecker checker_{false};
   std::vector<Vec3> held_;
   std::vector<ColumnEvidence> columns_;   ///< per held slot
@@ -167,17 +198,32 @@ class ColumnReader {
 
 }  // namespace
 
-PointCloud read_xyz_points(std::string_view file, std::string_view content, const ReadPointsOptions& options,
-                           ReadNotes& notes) {
+void read_xyz_points(std::string_view file, std::string_view content, const ReadPointsOptions& options,
+                     ReadNotes& notes, PointParts& parts) {
   const TextLayout layout = find_text_layout(file, content);
   if (layout.first_line == 0)
     fail_in_file(file, layout.header_line == 0
                            ? "no points: the file holds only comments and blank lines"
                            : "no points: the file holds only a header line, comments and blank lines");
   ColumnPlan plan = plan_columns(file, layout, options.columns);
-  ColumnReader reader(file, layout, plan);
+  std::optional<HeldUse> decided;
+  if (!parts.whole() && plan.held() != 0) {
+    survey(parts, [&](PointParts& dropped) {
+      ColumnReader all(file, layout, plan, dropped);
+      all.read(content);
+      decided = all.finish(notes);
+    });
+  }
+  ColumnReader reader(file, layout, plan, parts, decided);
   reader.read(content);
-  return reader.finish(notes);
+  static_cast<void>(reader.finish(notes));
+}
+
+PointCloud read_xyz_points(std::string_view file, std::string_view content, const ReadPointsOptions& options,
+                           ReadNotes& notes) {
+  PointParts whole;
+  read_xyz_points(file, content, options, notes, whole);
+  return whole.take_whole();
 }
 
 PointCloud read_xyz_points(std::string_view file, std::string_view content) {

@@ -18,6 +18,8 @@ class AtomicFile {
   ~AtomicFile();
 
   std::ofstream& stream() { return out_; }
+  /// The temporary file being written (removed unless committed).
+  [[nodiscard]] const std::filesystem::path& temporary() const { return temporary_; }
   /// Flushes, closes and renames onto the target. Throws IoError on failure.
   void commit();
 

@@ -51,7 +51,9 @@
 //          or the values decided it, e.g. "columns: x y z r g b (no header;
 //          the last three are integers 0-255: colours)".
 //          The file is parsed once from its map: values whose meaning waits
-//          on the whole file are held as doubles until the end.
+//          on the whole file are held as doubles until the end (to read a
+//          file larger than the memory, see read_points_in_chunks in
+//          point_stream.h).
 //   pts  - text, either Hoppe's format ("p x y z" records; other one-letter
 //          records such as d, s, g, n and '#' comments are ignored) or plain
 //          columns read as xyz (above); the first record decides (a letter
