@@ -3,6 +3,7 @@
 #include "recon/tiles.h"
 
 #include "recon/errors.h"
+#include "recon/io/point_stream.h"
 #include "recon/memory_budget.h"
 #include "recon/timer.h"
 #include "tile_files.h"
@@ -33,9 +34,10 @@ PointPass pass_over(PointCloudView cloud, std::size_t chunk) {
 }
 
 PointPass pass_over_file(const std::filesystem::path& path, const io::ReadPointsOptions& options) {
-  return [path, options](const ChunkTaker& take) {  // TEMPORARY: whole, until io/point_stream.h lands
-    const PointCloud cloud = io::read_points(path, options);
-    pass_over(cloud)(take);
+  return [path, options](const ChunkTaker& take) {
+    io::PointChunkOptions chunks;
+    chunks.read = options;
+    io::read_points_in_chunks(path, chunks, take);
   };
 }
 
@@ -180,6 +182,7 @@ struct Sample {
   PointCloud cloud;
   std::unordered_map<std::uint64_t, std::uint32_t> histogram;  // points per bin
   double bin = 0.0;
+  double patch = 0.0;  // side of the patches drawn; 0: the whole cloud
 };
 
 std::uint64_t mix(std::uint64_t x) {  // splitmix64's finaliser
@@ -205,6 +208,7 @@ Sample sample_pass(const PointPass& pass, const TilePlan& plan, std::size_t budg
   s.bin = longest / 128.0 * (1.0 + 1e-9);
   const double patch = longest / 16.0 * (1.0 + 1e-9);
   const bool whole = plan.input_points <= budget;
+  s.patch = whole ? 0.0 : patch;
   const double fraction = whole ? 1.0 : 0.8 * static_cast<double>(budget) / static_cast<double>(plan.input_points);
   const auto threshold = static_cast<std::uint64_t>(fraction * 18446744073709551615.0);
   pass([&](PointCloudView chunk, std::size_t) {
@@ -216,6 +220,20 @@ Sample sample_pass(const PointPass& pass, const TilePlan& plan, std::size_t budg
     }
   });
   return s;
+}
+
+// The samples whose neighbourhoods the patches did not cut: farther than
+// `margin` from their patch's sides (all of them for the whole cloud).
+std::vector<std::uint8_t> inside_patches(const Sample& s, const Reconstruction& r, const TilePlan& plan, double margin) {
+  std::vector<std::uint8_t> inside(r.order.size(), 1);
+  if (s.patch == 0.0) return inside;
+  for (std::size_t j = 0; j < inside.size(); ++j)
+    for (int a = 0; a < 3; ++a) {
+      const double at = (r.points()[j][a] - plan.box.min[a]) / s.patch;
+      const double edge = std::min(at - std::floor(at), std::ceil(at) - at) * s.patch;
+      if (edge < margin) inside[j] = 0;
+    }
+  return inside;
 }
 
 float quantile(std::vector<float> values, double q) {
@@ -240,8 +258,17 @@ void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan&
   plan.vote_rounds = o.orientation.vote_rounds;
   plan.gap_factor = o.orientation.graph.gap_factor;
   plan.min_component_points = o.orientation.graph.min_component_points;
-  plan.radius_q = 1.5 * static_cast<double>(quantile(r.planes.radius, 0.999));
-  plan.rho_q = quantile(r.planes.local_rho, 0.999);
+  // (Quantiles over the samples whose neighbourhoods the patches left whole.)
+  const std::vector<std::uint8_t> inside =
+      inside_patches(sample, r, plan, 3.0 * static_cast<double>(quantile(r.planes.radius, 0.5)));
+  std::vector<float> radius, rho;
+  for (std::size_t j = 0; j < inside.size(); ++j)
+    if (inside[j]) {
+      radius.push_back(r.planes.radius[j]);
+      rho.push_back(r.planes.local_rho[j]);
+    }
+  plan.radius_q = 1.5 * static_cast<double>(quantile(radius.empty() ? r.planes.radius : radius, 0.999));
+  plan.rho_q = quantile(rho.empty() ? r.planes.local_rho : rho, 0.999);
   const double fallback = o.method == Method::hoppe92 ? r.planes.rho : r.planes.rho / std::numbers::sqrt2;
   const double cell = chosen_cell(
       o.cell, o.resolution, [&] { return plan.box.extent().maxCoeff(); }, fallback);
@@ -294,9 +321,10 @@ std::int32_t choose_tile_cubes(const Sample& s, const TilingOptions& options, co
   const double densest = static_cast<double>(densest_tile(s, plan, cubes));
   if (densest > fits)
     check_memory(densest * bytes_per_point(plan.k, plan.method == Method::refined) * 2.0, limit,
-                 "the smallest useful tile (a core edge of " + std::to_string(cubes * plan.lattice.cell) +
-                     ", twice its halo) with about " + std::to_string(static_cast<std::size_t>(densest)) + " points",
-                 "smaller tiles would hold more halo than core");
+                 "working in tiles, the densest (a core edge of " + std::to_string(cubes * plan.lattice.cell) +
+                     " and a halo of " + std::to_string(plan.halo) + ") with about " +
+                     std::to_string(static_cast<std::size_t>(densest)) + " points",
+                 "tiles no smaller than twice their halo fit no better");
   return cubes;
 }
 

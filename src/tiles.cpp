@@ -3,7 +3,7 @@
 #include "recon/tiles.h"
 
 #include "recon/errors.h"
-#include "recon/io/mesh_io.h"  // TEMPORARY
+#include "recon/io/mesh_stream.h"
 #include "recon/memory_budget.h"
 #include "recon/timer.h"
 #include "recon/union_find.h"
@@ -16,18 +16,6 @@
 #include <unordered_map>
 
 namespace recon {
-namespace io {
-struct PlyMeshStream {  // TEMPORARY stand-in until the streaming writer lands
-  PlyMeshStream(const std::filesystem::path& p, bool) : path(p) {}
-  std::filesystem::path path;
-  Mesh mesh;
-  std::uint32_t add_vertex(const Vec3& v) { mesh.vertices.push_back(v); return static_cast<std::uint32_t>(mesh.vertices.size() - 1); }
-  void add_triangle(const std::array<std::uint32_t, 3>& t) { mesh.triangles.push_back(t); }
-  std::size_t vertex_count() const { return mesh.vertices.size(); }
-  std::size_t triangle_count() const { return mesh.triangles.size(); }
-  void finish() { write_mesh(path, mesh); }
-};
-}  // namespace io
 
 using tile_files::BorderRecord;
 using tile_files::CoreBox;

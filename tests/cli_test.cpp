@@ -9,6 +9,7 @@
 // exactly what the program left there.
 
 #include "io/io_test_helpers.h"
+#include "mesh_compare.h"
 #include "test_data.h"
 
 #include "recon/io/mesh_io.h"
@@ -255,6 +256,7 @@ using CliTextColumns = CliTest;
 using CliDeterminism = CliTest;
 using CliRealData = CliTest;
 using CliReport = CliTest;
+using CliTiles = CliTest;
 
 // ---------------------------------------------------------------- help
 
@@ -436,11 +438,13 @@ TEST_F(CliErrors, CollinearPointsAreRefused) {
 
 TEST_F(CliErrors, MaxMemoryRefusesWithTheEstimateAndTheOption) {
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 20000, "s.ply"));
-  // 370 bytes a point at k = 20, and 40 more for the refined method's fits.
+  // Past the limit, reconstruct works in tiles (tiles.h) as long as one
+  // fits; with 2 MB none does.
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "2M"}),
-                      {"20000 points at k = 20 would need about 8.2 MB", "2 MB allowed", "raise --max-memory"}));
+                      {"working in tiles, the densest", "2 MB allowed", "raise --max-memory"}));
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--method", "hoppe92", "--max-memory", "2M"}),
-                      {"20000 points at k = 20 would need about 7.4 MB"}));
+                      {"working in tiles, the densest", "2 MB allowed"}));
+  // 370 bytes a point at k = 20 (normals do not work in tiles).
   EXPECT_TRUE(refused(recon({"normals", "s.ply", "-o", "n.ply", "--max-memory", "2MB"}), {"7.4 MB", "lower --k"}));
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "1G", "--cell", "0.0001"}),
                       {"a lattice cell of 0.0001", "use a larger --cell"}));
@@ -1310,6 +1314,66 @@ TEST_F(CliRealData, PclLamppost) {
   RECON_REQUIRE_DATA(input);
   ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", input.string(), "-o", "lamppost.ply"})));
   EXPECT_GE(io::read_mesh(at("lamppost.ply")).triangles.size(), 100U);
+}
+
+
+// ---------------------------------------------------------------- tiles
+
+// --tile-size: the same triangles as the run in memory (phase IV's mesh,
+// which is hoppe92's whole mesh), the tiles gone afterwards.
+TEST_F(CliTiles, TileSizeGivesTheSameMeshAsInMemory) {
+  ASSERT_NO_FATAL_FAILURE(generate("two", 30000, "two.ply"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "two.ply", "-o", "whole.ply", "--method", "hoppe92"})));
+  const RunResult tiled = recon({"reconstruct", "two.ply", "-o", "tiled.ply", "--method", "hoppe92", "--tile-size",
+                                 "0.9", "--stats", "tiled.json"});
+  ASSERT_TRUE(succeeded(tiled)) << describe(tiled);
+  EXPECT_NE(tiled.out.find("tiles     --tile-size: "), std::string::npos) << tiled.out;
+  const std::string json = read_bytes(at("tiled.json"));
+  EXPECT_GT(stat(json, "tiled", "tiles").value_or(0.0), 4.0);
+  EXPECT_EQ(stat(json, "tiled", "objects"), 2.0);
+  const Mesh whole = io::read_mesh(at("whole.ply")), mesh = io::read_mesh(at("tiled.ply"));
+  EXPECT_TRUE(same_mesh(mesh, whole, 1e-9));
+  EXPECT_EQ(entries(), (std::vector<std::string>{"tiled.json", "tiled.ply", "two.ply", "whole.ply"}));
+}
+
+// A cloud estimated to need several times --max-memory is reconstructed in
+// tiles, and the process's peak stays within the limit.
+TEST_F(CliTiles, PastMaxMemoryTilesAndStaysWithinIt) {
+  ASSERT_NO_FATAL_FAILURE(generate("terrain", 250000, "t.ply"));
+  const RunResult run = recon({"reconstruct", "t.ply", "-o", "m.ply", "--max-memory", "64M", "--stats", "m.json"});
+  ASSERT_TRUE(succeeded(run)) << describe(run);
+  EXPECT_NE(run.out.find("250000 points need about 0.235 GB, more than --max-memory 0.064 GB"), std::string::npos)
+      << run.out;
+  const std::string json = read_bytes(at("m.json"));
+  EXPECT_GT(stat(json, "tiled", "tiles").value_or(0.0), 4.0);
+  EXPECT_EQ(stat(json, "tiled", "inexact_samples"), 0.0);
+  const MeshTopology topology = analyze_topology(io::read_mesh(at("m.ply")));
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_EQ(topology.boundary_loops, 1u);
+  EXPECT_EQ(topology.euler_characteristic, 1);
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)  // (their shadow memory counts too)
+  const std::optional<double> peak = stat(json, "memory", "peak_mib_total");
+  ASSERT_TRUE(peak.has_value());
+  EXPECT_LT(*peak * 1024 * 1024, 64e6) << "MiB at the peak";
+#endif
+}
+
+TEST_F(CliTiles, WhatTilesDoNotDoIsRefusedBeforeAnyWork) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 5000, "s.ply"));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.obj", "--tile-size", "1"}), {"name the output .ply"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--tile-size", "1", "--use-normals"}),
+                      {"drop --use-normals"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--tile-size", "1", "--ascii"}),
+                      {"drop --ascii"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+TEST_F(CliTiles, InterruptRemovesTheTiles) {
+  ASSERT_NO_FATAL_FAILURE(generate("terrain", 250000, "t.ply"));
+  const RunResult run = interrupted({"reconstruct", "t.ply", "-o", "m.ply", "--tile-size", "0.5"}, 1.5);
+  EXPECT_EQ(run.exit_code, 128 + SIGINT) << describe(run);
+  EXPECT_LT(std::stoi(run.out), 1000) << "milliseconds from SIGINT to the end";
+  EXPECT_EQ(entries(), std::vector<std::string>{"t.ply"});
 }
 
 }  // namespace
