@@ -332,6 +332,7 @@ void run_normals(const NormalsCommandOptions& o, const GlobalOptions& global) {
   io::WritePointsOptions write_options;
   write_options.format = writable_point_format(o.output);  // fail early on a bad extension
   write_options.ascii = o.ascii;
+  check_outputs(o.in.path, {o.output, o.stats, o.report});
   StepPeaks memory;
   memory.start("read");
   PointCloud cloud = read_input(o.in, summary);
