@@ -23,36 +23,39 @@ ProgressState state(std::string phase, std::uint64_t done, std::uint64_t total, 
   return s;
 }
 
-TEST(ProgressLine, BarPercentageCountsAndTimeLeft) {
-  // 42.6% done in 52 s: 70 s to go at that rate.
-  EXPECT_EQ(progress_line(state("orientation", 1234567, 2900000, 52.0), 120),
-            "recon: orientation [########............]  42%  (1234567 / 2900000)  ~1 min 10 s left");
-  EXPECT_EQ(progress_line(state("tiles", 8, 20, 120.0, "tiles"), 120),
-            "recon: tiles [########............]  40%  (8 / 20 tiles)  ~3 min left");
-}
-
-TEST(ProgressLine, RoundsDownSoThatOnlyTheEndShows100) {
-  EXPECT_EQ(progress_line(state("contouring", 999999, 1000000, 10.0), 120),
-            "recon: contouring [###################.]  99%  (999999 / 1000000)  ~1 s left");
-  EXPECT_EQ(progress_line(state("contouring", 1000000, 1000000, 10.0), 120),
-            "recon: contouring [####################] 100%  (1000000 / 1000000)");
-}
-
-TEST(ProgressLine, ACountPastTheTotalShowsAsTheTotal) {
-  EXPECT_EQ(progress_line(state("refinement", 150, 100, 5.0), 120),
-            "recon: refinement [####################] 100%  (100 / 100)");
-}
-
-TEST(ProgressLine, NoTimeLeftInTheFirstSecondOrBeforeAnythingIsDone) {
-  EXPECT_EQ(progress_line(state("orientation", 0, 3000, 20.0), 120),
-            "recon: orientation [....................]   0%  (0 / 3000)");
-  EXPECT_EQ(progress_line(state("orientation", 1500, 3000, 0.5), 120),
-            "recon: orientation [##########..........]  50%  (1500 / 3000)");
-}
-
-TEST(ProgressLine, WithoutATotalTheTimeTaken) {
-  EXPECT_EQ(progress_line(state("signed distance", 0, 0, 3.24), 120), "recon: signed distance ... 3.2 s");
-  EXPECT_EQ(progress_line(state("tiles", 5, 0, 61.0, "tiles"), 120), "recon: tiles ... 61.0 s");
+// What the line shows on a wide terminal (120 columns), case by case.
+TEST(ProgressLine, OnAWideTerminal) {
+  struct Case {
+    const char* what;
+    ProgressState state;
+    const char* line;
+  };
+  const Case cases[] = {
+      {"the bar, the percentage, the counts; 42.6% done in 52 s: 70 s to go at that rate",
+       {"orientation", 1234567, 2900000, 52.0, ""},
+       "recon: orientation [########............]  42%  (1234567 / 2900000)  ~1 min 10 s left"},
+      {"a unit after the counts",
+       {"tiles", 8, 20, 120.0, "tiles"},
+       "recon: tiles [########............]  40%  (8 / 20 tiles)  ~3 min left"},
+      {"rounded down: only the end shows 100%",
+       {"contouring", 999999, 1000000, 10.0, ""},
+       "recon: contouring [###################.]  99%  (999999 / 1000000)  ~1 s left"},
+      {"the end, with no time left",
+       {"contouring", 1000000, 1000000, 10.0, ""},
+       "recon: contouring [####################] 100%  (1000000 / 1000000)"},
+      {"a count past the total shows as the total",
+       {"refinement", 150, 100, 5.0, ""},
+       "recon: refinement [####################] 100%  (100 / 100)"},
+      {"no time left before anything is done",
+       {"orientation", 0, 3000, 20.0, ""},
+       "recon: orientation [....................]   0%  (0 / 3000)"},
+      {"no time left in the first second",
+       {"orientation", 1500, 3000, 0.5, ""},
+       "recon: orientation [##########..........]  50%  (1500 / 3000)"},
+      {"without a total, the time taken", {"signed distance", 0, 0, 3.24, ""}, "recon: signed distance ... 3.2 s"},
+      {"without a total, a count is not shown", {"tiles", 5, 0, 61.0, "tiles"}, "recon: tiles ... 61.0 s"},
+  };
+  for (const Case& c : cases) EXPECT_EQ(progress_line(c.state, 120), c.line) << c.what;
 }
 
 TEST(ProgressLine, FitsANarrowTerminal) {
