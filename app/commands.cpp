@@ -177,10 +177,11 @@ ReconstructionOptions reconstruction_options(const ReconstructCommandOptions& o)
   return options;
 }
 
-// Progress on the terminal and the peak memory of each phase.
-std::function<void(const char*)> on_phase(Progress& progress, StepPeaks& memory) {
-  return [&progress, &memory](const char* phase) {
-    progress.phase(phase);
+// Progress on the terminal (with the phases' counts, when `counter` is
+// given) and the peak memory of each phase.
+std::function<void(const char*)> on_phase(Progress& progress, StepPeaks& memory, const ProgressCounter* counter) {
+  return [&progress, &memory, counter](const char* phase) {
+    progress.phase(phase, counter);
     memory.start(phase);
   };
 }
@@ -204,8 +205,10 @@ void run_reconstruct(const ReconstructCommandOptions& o, const GlobalOptions& gl
   if (o.use_normals && !cloud.has_normals()) refuse_dropped_normals(notes);
 
   ReconstructionOptions options = reconstruction_options(o);
+  ProgressCounter counter;
   Progress progress(!global.quiet);
-  options.on_phase = on_phase(progress, memory);
+  options.progress = progress.enabled() ? &counter : nullptr;
+  options.on_phase = on_phase(progress, memory, options.progress);
   Reconstruction r = reconstruct(std::move(cloud), options);
   progress.stop();
   memory.start("summary");  // the mesh's topology, for the report below
@@ -336,11 +339,13 @@ void run_normals(const NormalsCommandOptions& o, const GlobalOptions& global) {
   StepPeaks memory;
   memory.start("read");
   PointCloud cloud = read_input(o.in, summary);
+  ProgressCounter counter;
   Progress progress(!global.quiet);
   NormalEstimationOptions options;
   options.planes = phase_1_options(o.phases);
   options.max_memory = o.phases.max_memory;
-  options.on_phase = on_phase(progress, memory);
+  options.progress = progress.enabled() ? &counter : nullptr;
+  options.on_phase = on_phase(progress, memory, options.progress);
   const NormalEstimation estimated = estimate_normals(cloud, options);
   progress.stop();
   summary.add(phase_1_report(estimated.planes, cloud.size()), "tangent_planes");

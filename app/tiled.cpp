@@ -10,8 +10,10 @@
 #include "recon/tiles.h"
 #include "recon/timer.h"
 
+#include <atomic>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace recon::cli {
 namespace {
@@ -150,13 +152,20 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
   const std::filesystem::path parent =
       !o.tmpdir.empty() ? o.tmpdir : std::filesystem::absolute(o.output).parent_path();
   TileWorkspace workspace(parent);
+  // The line follows the step, counting its tiles when there are several:
+  // "recon: orienting [####....]  40%  (8 / 20 tiles)  ~3 min left".
+  ProgressCounter tiles_done;
+  std::string step_now;
   Progress progress(!global.quiet);
   const TiledRun run = reconstruct_tiled(
       pass_over_file(o.in.path, read_options(o.in)), tiling, workspace.path(), o.output,
       [&](const char* step, std::size_t done, std::size_t total_tiles) {
-        progress.phase(std::string(step) + (total_tiles > 1 ? " tile " + std::to_string(done + 1) + " of " +
-                                                                  std::to_string(total_tiles)
-                                                            : ""));
+        if (step != step_now) {
+          step_now = step;
+          tiles_done.start(total_tiles > 1 ? total_tiles : 0);
+          progress.phase(step_now, &tiles_done, "tiles");
+        }
+        tiles_done.done.store(done, std::memory_order_relaxed);
       });
   progress.stop();
   summary.stats()["input"]["file"] = o.in.path.string();

@@ -12,17 +12,19 @@ std::vector<Vec3> NormalEstimation::normals_in_input_order() const {
 }
 
 NormalEstimation estimate_normals(PointCloudView cloud, const NormalEstimationOptions& options) {
-  auto starting = [&](const char* phase) {
+  const ProgressScope counting(options.progress);
+  auto starting = [&](const char* phase, std::uint64_t work) {
     if (options.on_phase) options.on_phase(phase);
+    if (options.progress) options.progress->start(work);
   };
   check_memory_planes_and_graph(cloud.size(), options.planes.k, memory_limit_or_default(options.max_memory));
   NormalEstimation result;
-  starting("tangent planes");
+  starting("tangent planes", cloud.size());
   WorkingTree working = working_tree(cloud.positions, options.planes.tree);
   result.offset = working.offset;
   result.order = std::move(working.order);
   result.planes = estimate_tangent_planes<3>(std::move(working.tree), options.planes);
-  starting("orientation");
+  starting("orientation", 3 * cloud.size());
   result.oriented = orient_normals<3>(result.planes, options.orientation);
   return result;
 }

@@ -2,6 +2,7 @@
 
 #include "recon/errors.h"
 #include "recon/pca.h"
+#include "recon/progress.h"
 #include "recon/timer.h"
 
 #include <algorithm>
@@ -415,12 +416,14 @@ Fits fit_all(const TangentPlanes<3>& planes, const LocalQuadricOptions& options,
   Fits fits(planes);
   banded.assign(fits.size(), 0);
   const auto count = static_cast<std::int64_t>(fits.size());
+  ProgressCounter* const progress = progress_counter();
 #pragma omp parallel
   {
     std::array<double, 256> heights{};
 #pragma omp for schedule(dynamic, 1024)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
+      if (progress != nullptr && (s & 4095) == 4095) progress->advance(4096);
       if (planes.radius[i] == 0.0f) {  // copies of one point: no surface to fit, nothing to lend
         Quadric none;
         none.flat = true;

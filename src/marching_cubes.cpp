@@ -7,6 +7,7 @@
 #include "recon/interruption.h"
 #include "recon/lattice_table.h"
 #include "recon/marching_cubes_table.h"
+#include "recon/progress.h"
 #include "recon/timer.h"
 
 #include <algorithm>
@@ -208,6 +209,7 @@ class CubeWalk {
       for (std::size_t first = 0; first < wave_.size(); first += batch) {
         interruption_point();
         const std::size_t count = std::min(batch, wave_.size() - first);
+        if (ProgressCounter* progress = progress_counter()) progress->advance_estimated(count);
         find_corners(first, count);
         add_corners(first, count);
         evaluate_corners();

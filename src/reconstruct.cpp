@@ -72,6 +72,7 @@ void fit_second_order(Reconstruction& r, const ReconstructionOptions& options, d
     TangentPlaneOptions asked = options.planes;
     asked.k = r.planes.k_requested;
     asked.adapt_k = false;
+    if (ProgressCounter* progress = progress_counter()) progress->expect(2 * r.order.size());
     const double seconds = r.planes.seconds_tree + r.planes.seconds_knn_pca + r.planes.seconds_spacing;
     r.planes = estimate_tangent_planes<3>(std::move(r.planes.point_tree), asked);
     r.planes.seconds_knn_pca += seconds;
@@ -195,8 +196,9 @@ void check_cloud(PointCloudView cloud, const ReconstructionOptions& options) {
 struct Run {
   const ReconstructionOptions& options;
   std::size_t limit;
-  void starting(const char* phase) const {
+  void starting(const char* phase, std::uint64_t work = 0) const {
     if (options.on_phase) options.on_phase(phase);
+    if (options.progress) options.progress->start(work);
   }
   [[nodiscard]] bool refined() const { return options.method == Method::refined; }
 };
@@ -204,7 +206,7 @@ struct Run {
 // Phase I: the planes (and the refined method's second-order fits).
 Reconstruction phase_1(PointCloudView cloud, const Run& run, const std::function<void()>& release) {
   check_memory_planes_and_graph(cloud.size(), run.options.planes.k, run.limit, run.refined());
-  run.starting("tangent planes");
+  run.starting("tangent planes", cloud.size() * (run.refined() ? 2 : 1));
   Timer tree_timer;
   KdTree<3> tree;
   Reconstruction r = take_the_cloud(cloud, run.options, release, tree);
@@ -257,7 +259,7 @@ namespace {
 // Phase II, with phase III's first wave beside it (detail/first_wave.h).
 void phase_2(Reconstruction& r, const Run& run, double cell, const SignedDistanceOptions& distance,
              detail::FirstWave& wave, double& seconds_wave) {
-  run.starting("orientation");
+  run.starting("orientation", 3 * r.order.size());
   const OrientationOptions orientation = orientation_options(r, run.options);
   RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
   r.planes.neighbors = {};  // the graph's source, no longer needed
@@ -287,7 +289,9 @@ SignedDistance<3> phase_3(Reconstruction& r, const Run& run, const SignedDistanc
 
 // Phase IV, from the first wave when phase II computed one.
 void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell, detail::FirstWave& wave) {
-  run.starting("contouring");
+  const double cubes =
+      run.options.progress ? expected_visited_cubes(r.order.size(), surface_spacing(r.planes), cell) : 0.0;
+  run.starting("contouring", static_cast<std::uint64_t>(cubes));
   MarchingCubesOptions mc;
   mc.cell = cell;
   mc.max_cubes = max_cubes_within(run.limit, r.order.size());
@@ -298,7 +302,7 @@ void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
 
 // Phase V (refined): the mesh moved onto the fits, creases sharpened.
 void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell) {
-  run.starting("refinement");
+  run.starting("refinement", r.contour.mesh.vertices.size());
   const RefinementInput input = refinement_input_of(r, f);
   RefinementOptions refinement = run.options.refinement;
   if (refinement.max_move <= 0.0) refinement.max_move = cell;
@@ -333,6 +337,7 @@ Reconstruction reconstruct_phase_1(PointCloudView cloud, const ReconstructionOpt
 Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
                                 const std::function<void()>& release) {
   check_cloud(cloud, options);
+  const ProgressScope counting(options.progress);  // the phases' counts (progress.h)
   const Run run{options, memory_limit_or_default(options.max_memory)};
   Reconstruction r = phase_1(cloud, run, release);
   const double cell = lattice_cell(r.points(), r.planes, options);

@@ -2,6 +2,7 @@
 
 #include "recon/errors.h"
 #include "recon/interruption.h"
+#include "recon/progress.h"
 #include "recon/timer.h"
 
 #include <Eigen/Dense>
@@ -73,6 +74,7 @@ Projected project_vertices(const Mesh& mesh, const RefinementInput& in, double m
   out.covered.assign(n, 1);
   std::size_t unmoved = 0;
   const auto count = static_cast<std::int64_t>(n);
+  ProgressCounter* const progress = progress_counter();
 #pragma omp parallel reduction(+ : unmoved)
   {
     // The walk emits neighbouring vertices one after another: the previous
@@ -81,6 +83,7 @@ Projected project_vertices(const Mesh& mesh, const RefinementInput& in, double m
 #pragma omp for schedule(dynamic, 1024)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto v = static_cast<std::size_t>(s);
+      if (progress != nullptr && (s & 4095) == 4095) progress->advance(4096);
       const Vec3& p = mesh.vertices[v];
       const std::uint32_t i = in.distance->plane_for(p, hint);
       hint = i;

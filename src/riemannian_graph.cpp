@@ -5,6 +5,7 @@
 #include "recon/errors.h"
 #include "recon/interruption.h"
 #include "recon/parallel.h"  // AtomicRef
+#include "recon/progress.h"
 #include "recon/timer.h"
 
 #include <algorithm>
@@ -203,7 +204,9 @@ void fill_rows(const Neighbourhoods<D>& lists, RowPlan& plan, std::span<const Ed
   g.targets.resize(g.offsets.back());
   std::fill(plan.degree.begin(), plan.degree.end(), 0u);
   const std::size_t k = lists.k;
+  ProgressCounter* const progress = progress_counter();
   parallel_for_dynamic(n, 4096, [&](std::size_t s) {
+    if (progress != nullptr && (s & 4095) == 4095) progress->advance(4096);
     const std::uint64_t* const marks = plan.marks.data() + s * plan.words;  // (a local copy, as above)
     const auto i = static_cast<std::uint32_t>(s);
     const auto r = lists.row(i);

@@ -4,6 +4,7 @@
 #include "recon/errors.h"
 #include "recon/interruption.h"
 #include "recon/pca.h"
+#include "recon/progress.h"
 #include "recon/timer.h"
 
 #include <algorithm>
@@ -111,6 +112,7 @@ std::vector<float> fit_planes(TangentPlanes<D>& result, std::span<const Vec<D>> 
   const auto count = static_cast<std::int64_t>(n);
   const std::span<const std::uint32_t> leaf_order = result.point_tree.order();
   const std::span<const Vec<D>> tree_points = result.point_tree.points();
+  ProgressCounter* const progress = progress_counter();
 #pragma omp parallel reduction(+ : degenerate, distinct)
   {
     std::array<Neighbor, max_k> found;  // k <= max_k: no allocation per point
@@ -140,6 +142,7 @@ std::vector<float> fit_planes(TangentPlanes<D>& result, std::span<const Vec<D>> 
       const FitFlags flags = fit_neighbourhood<D>(result, points, i, row_found, nn_distance[i]);
       if (flags.distinct) ++distinct;
       if (flags.degenerate) ++degenerate;
+      if (progress != nullptr && (t & 4095) == 4095) progress->advance(4096);
     }
   }
   result.distinct_points = distinct;
@@ -357,6 +360,7 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
     TangentPlaneOptions raised = options;
     raised.adapt_k = false;
     raised.k = raised_k;
+    if (ProgressCounter* progress = progress_counter()) progress->expect(points.size());
     TangentPlanes<D> again = planes_over<D>(std::move(result.point_tree), given, raised, 0.0);
     again.k_requested = options.k;
     again.seconds_tree += result.seconds_tree;

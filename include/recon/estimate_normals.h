@@ -14,6 +14,7 @@
 
 #include "recon/orientation.h"
 #include "recon/point_cloud.h"
+#include "recon/progress.h"
 #include "recon/tangent_planes.h"
 
 #include <cstdint>
@@ -31,6 +32,9 @@ struct NormalEstimationOptions {
   std::size_t max_memory = 0;
   /// Called as each phase starts ("tangent planes", "orientation").
   std::function<void(const char* phase)> on_phase;
+  /// Counts each phase's work, as ReconstructionOptions::progress does
+  /// (points, then 3 per point); null: nothing is counted.
+  ProgressCounter* progress = nullptr;
 };
 
 struct NormalEstimation {

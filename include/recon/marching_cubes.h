@@ -103,6 +103,12 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 /// where each sample stands for a spacing x spacing square, at cube side
 /// `cell` (used to refuse before allocating; an upper estimate).
 [[nodiscard]] double estimate_visited_cubes(std::size_t samples, double spacing, double cell);
+/// The same as expected rather than at most: a surface of area A crosses
+/// about 1.5 A / cell^2 cubes on average over its orientations (the estimate
+/// above takes the diagonal's 3 A / cell^2). A progress display's total.
+[[nodiscard]] inline double expected_visited_cubes(std::size_t samples, double spacing, double cell) {
+  return 1.5 * static_cast<double>(samples) * spacing * spacing / (cell * cell);
+}
 
 /// Contours f = 0 starting from the cubes that contain `seeds` (normally the
 /// input points). Throws InvalidInputError for a cell that is not a positive

@@ -40,6 +40,7 @@
 #include "recon/graph.h"
 #include "recon/interruption.h"
 #include "recon/operation_counts.h"
+#include "recon/progress.h"
 
 #include <concepts>
 #include <cstdint>
@@ -130,7 +131,10 @@ template <class Queue = IndexedBinaryHeap<double>, class Weight>
       const std::uint32_t v = heap.pop();
       key_of[v] = in_tree;
       forest.order.push_back(v);
-      if ((forest.order.size() & 0xffff) == 0) interruption_point();  // a caller may stop a long run here
+      if ((forest.order.size() & 0xffff) == 0) {  // a caller may stop a long run here, or follow it
+        interruption_point();
+        if (ProgressCounter* progress = progress_counter()) progress->advance(0x10000);
+      }
       if (parent[v] != SpanningForest::no_parent) forest.total_weight += w;
       for (std::uint64_t e = offsets[v]; e < offsets[v + 1]; ++e) {
         const std::uint32_t u = targets[e];

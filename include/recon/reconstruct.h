@@ -14,6 +14,7 @@
 #include "recon/marching_cubes.h"
 #include "recon/memory_budget.h"  // what reconstruct() refuses with ResourceLimitError
 #include "recon/orientation.h"
+#include "recon/progress.h"
 #include "recon/refinement.h"
 #include "recon/resource_usage.h"  // default_memory_limit
 #include "recon/signed_distance.h"
@@ -66,6 +67,14 @@ struct ReconstructionOptions {
   /// refined method, and "colours" when the mesh is coloured): for progress
   /// displays.
   std::function<void(const char* phase)> on_phase;
+  /// Counts each phase's work as it runs, for a display to read (see
+  /// progress.h); null: nothing is counted. Just after on_phase, it is
+  /// started with the phase's total: points for "tangent planes" (twice
+  /// over in the refined method: planes, then fits), 3 per point for
+  /// "orientation" (the EMST's merges, the graph's rows, Prim's vertices),
+  /// the cubes the walk is estimated to visit for "contouring", the
+  /// vertices for "refinement"; 0 (not counted) for the short ones.
+  ProgressCounter* progress = nullptr;
 };
 
 /// "refined" or "hoppe92"; InvalidInputError for another name.
