@@ -154,7 +154,8 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
   TileWorkspace workspace(parent);
   // The line follows the step, counting its tiles when there are several:
   // "recon: orienting [####....]  40%  (8 / 20 tiles)  ~3 min left".
-  ProgressCounter tiles_done;
+  ProgressCounter tiles_done, points_done;
+  tiling.progress = &points_done;
   std::string step_now;
   Progress progress(!global.quiet);
   const TiledRun run = reconstruct_tiled(
@@ -163,7 +164,10 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
         if (step != step_now) {
           step_now = step;
           tiles_done.start(total_tiles > 1 ? total_tiles : 0);
-          progress.phase(step_now, &tiles_done, "tiles");
+          if (step_now == "planning")  // the passes over the input count their points
+            progress.phase("planning", &points_done, "points");
+          else
+            progress.phase(step_now, &tiles_done, "tiles");
         }
         tiles_done.done.store(done, std::memory_order_relaxed);
       });

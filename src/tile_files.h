@@ -50,6 +50,7 @@ inline constexpr char points_magic[9] = "RCNPTS01";
 inline constexpr char orient_magic[9] = "RCNORI01";
 inline constexpr char flips_magic[9] = "RCNFLIP1";
 inline constexpr char mesh_magic[9] = "RCNMESH1";
+inline constexpr char planes_magic[9] = "RCNPLNS1";
 
 /// The tile's core, in cubes: [lo, hi) per axis.
 struct CoreBox {

@@ -78,7 +78,7 @@ void join(const char* dir, const char* name, char* out, std::size_t size) {
 void remove_workspace_files(const char* dir) {
   char path[4200], name[40];
   for (std::uint32_t id = 0; id < tile_ids_made.load(); ++id)
-    for (const char* kind : {"points", "orient", "mesh"}) {
+    for (const char* kind : {"points", "orient", "planes", "mesh"}) {
       const char prefix[] = "tile-";
       std::size_t n = 0;
       for (const char c : prefix)
@@ -156,8 +156,17 @@ namespace {
 // ---------------------------------------------------------------------------
 // Pass 1: the count and the bounding box (input coordinates).
 
-void bounds_pass(const PointPass& pass, TilePlan& plan, Box<3>& box) {
-  pass([&](PointCloudView chunk, std::size_t) {
+// A pass that counts its points on `counter` (when there is one) against `total`.
+void counted_pass(const PointPass& pass, ProgressCounter* counter, std::uint64_t total, const ChunkTaker& take) {
+  if (counter) counter->start(total);
+  pass([&](PointCloudView chunk, std::size_t first) {
+    take(chunk, first);
+    if (counter) counter->advance(chunk.size());
+  });
+}
+
+void bounds_pass(const PointPass& pass, ProgressCounter* counter, TilePlan& plan, Box<3>& box) {
+  counted_pass(pass, counter, 0, [&](PointCloudView chunk, std::size_t) {
     check_coordinates<3>(chunk.positions);
     for (const Vec3& p : chunk.positions) box.extend(p);
     plan.input_points += chunk.size();
@@ -202,7 +211,8 @@ std::uint64_t bin_key(const Vec3& w, const Vec3& low, double side) {
 // The whole cloud when it has at most `budget` points; else the points of
 // spatial patches (a grid of 16 along the longest side) drawn at random,
 // as many as the budget holds on average.
-Sample sample_pass(const PointPass& pass, const TilePlan& plan, std::size_t budget, std::uint64_t seed) {
+Sample sample_pass(const PointPass& pass, ProgressCounter* counter, const TilePlan& plan, std::size_t budget,
+                   std::uint64_t seed) {
   Sample s;
   const double longest = std::max(plan.box.extent().maxCoeff(), 1e-300);
   s.bin = longest / 128.0 * (1.0 + 1e-9);
@@ -211,7 +221,7 @@ Sample sample_pass(const PointPass& pass, const TilePlan& plan, std::size_t budg
   s.patch = whole ? 0.0 : patch;
   const double fraction = whole ? 1.0 : 0.8 * static_cast<double>(budget) / static_cast<double>(plan.input_points);
   const auto threshold = static_cast<std::uint64_t>(fraction * 18446744073709551615.0);
-  pass([&](PointCloudView chunk, std::size_t) {
+  counted_pass(pass, counter, plan.input_points, [&](PointCloudView chunk, std::size_t) {
     for (const Vec3& p : chunk.positions) {
       const Vec3 w = p - plan.offset;
       ++s.histogram[bin_key(w, plan.box.min, s.bin)];
@@ -442,7 +452,7 @@ TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const s
   TilePlan plan;
   Timer timer;
   Box<3> box;
-  bounds_pass(pass, plan, box);
+  bounds_pass(pass, options.progress, plan, box);
   plan.seconds_bounds = timer.lap();
   const std::size_t limit = memory_limit_or_default(options.reconstruction.max_memory);
   const int k = options.reconstruction.planes.k;
@@ -451,13 +461,13 @@ TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const s
           ? options.statistics_points
           : static_cast<std::size_t>(0.25 * static_cast<double>(limit) /
                                      bytes_per_point(k, options.reconstruction.method == Method::refined));
-  const Sample sample = sample_pass(pass, plan, std::max<std::size_t>(budget, 1), options.seed);
+  const Sample sample = sample_pass(pass, options.progress, plan, std::max<std::size_t>(budget, 1), options.seed);
   measure_cloud(sample, options, plan);
   plan.tile_cubes = choose_tile_cubes(sample, options, plan);
   plan.seconds_statistics = timer.lap();
   // (Each tile holds a buffer of 4096 records, 128 KiB, while binning.)
   Binner binner(plan, work_dir);
-  pass([&](PointCloudView chunk, std::size_t first) {
+  counted_pass(pass, options.progress, plan.input_points, [&](PointCloudView chunk, std::size_t first) {
     for (std::size_t i = 0; i < chunk.size(); ++i) binner.add(chunk.positions[i], first + i);
   });
   binner.finish();

@@ -144,6 +144,25 @@ Orientation orient_points(const TilePlan& plan, const CoreBox& core, Reconstruct
   return o;
 }
 
+// What step 4 needs of phase I, so that it does not run it again: per
+// sample (spatial order) the plane, rho_i and the crease band, and the
+// order that the kd-tree over the tile's points gives (step 4 builds the
+// same tree, and checks it is the same).
+void write_planes(const std::filesystem::path& path, const Reconstruction& r) {
+  detail::BinaryWriter out(path, tile_files::planes_magic);
+  out.put_vector<std::uint32_t>(r.order);
+  std::vector<double> coordinates;
+  coordinates.reserve(6 * r.order.size());
+  for (const auto* vectors : {&r.planes.origins, &r.planes.normals})
+    for (const Vec3& v : *vectors) coordinates.insert(coordinates.end(), {v.x(), v.y(), v.z()});
+  out.put_vector<double>(coordinates);
+  out.put_vector<float>(r.planes.local_rho);
+  out.put_vector<std::uint8_t>(r.quadrics ? std::span<const std::uint8_t>(r.quadrics->near_crease)
+                                          : std::span<const std::uint8_t>());
+  out.put(r.planes.noise);
+  out.commit();
+}
+
 }  // namespace
 
 TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t tile) {
@@ -153,7 +172,10 @@ TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t t
   const TilePoints points = read_points(work_dir, info);
   std::optional<Reconstruction> r = tile_phase_1(plan, points);
   Orientation o;
-  if (r) o = orient_points(plan, tile_files::core_of(plan, tile), *r, points);
+  if (r) {
+    o = orient_points(plan, tile_files::core_of(plan, tile), *r, points);
+    write_planes(tile_files::of_tile(work_dir, info.id, "planes"), *r);
+  }
   write_orientation(tile_files::of_tile(work_dir, info.id, "orient"), o);
   TileOrientation result;
   result.points = points.positions.size();
@@ -278,21 +300,50 @@ TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
 
 namespace {
 
+// Phase I's planes as step 2 wrote them, over the tile's own kd-tree.
+struct TileSurface {
+  TangentPlanes<3> planes;
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint8_t> near_crease;
+};
+
+TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan, const TilePoints& points) {
+  detail::BinaryReader in(path, tile_files::planes_magic);
+  TileSurface s;
+  s.order = in.get_vector<std::uint32_t>();
+  const std::vector<double> coordinates = in.get_vector<double>();
+  s.planes.local_rho = in.get_vector<float>();
+  s.near_crease = in.get_vector<std::uint8_t>();
+  s.planes.noise = in.get<double>();
+  const std::size_t n = s.order.size();
+  WorkingTree w = working_tree(points.positions, TangentPlaneOptions{}.tree, plan.offset);
+  if (w.order != s.order || coordinates.size() != 6 * n || s.planes.local_rho.size() != n ||
+      (!s.near_crease.empty() && s.near_crease.size() != n))
+    throw ParseError(path.string() + ": these planes are not those of the tile's points");
+  s.planes.point_tree = std::move(w.tree);
+  for (std::size_t j = 0; j < n; ++j) {
+    s.planes.origins.emplace_back(coordinates[3 * j], coordinates[3 * j + 1], coordinates[3 * j + 2]);
+    const std::size_t m = 3 * (n + j);
+    s.planes.normals.emplace_back(coordinates[m], coordinates[m + 1], coordinates[m + 2]);
+  }
+  return s;
+}
+
 // The tile's normals, oriented as reconciled (spatial order).
 std::vector<Vec3> reconciled_normals(const std::filesystem::path& dir, const TileInfo& info, std::size_t tile,
-                                     const Reconstruction& r) {
+                                     const TileSurface& s) {
   const Orientation o = read_orientation(tile_files::of_tile(dir, info.id, "orient"));
   detail::BinaryReader in(tile_files::flips(dir), tile_files::flips_magic);
   const std::vector<std::uint64_t> first_node = in.get_vector<std::uint64_t>();
   const std::vector<std::int8_t> flip = in.get_vector<std::int8_t>();
-  if (o.sign.size() != r.order.size() || tile >= first_node.size())
+  if (o.sign.size() != s.order.size() || tile >= first_node.size())
     throw ParseError(dir.string() + ": the orientation of tile " + std::to_string(tile) + " does not match its points");
-  std::vector<Vec3> normals(r.order.size());
+  std::vector<Vec3> normals(s.order.size());
   for (std::size_t j = 0; j < normals.size(); ++j) {
-    const std::uint32_t t = r.order[j];
+    const std::uint32_t t = s.order[j];
     const std::uint64_t node = first_node[tile] + o.piece[t];
     if (node >= flip.size()) throw ParseError(tile_files::flips(dir).string() + ": too few pieces");
-    normals[j] = r.planes.normals[j] * static_cast<double>(o.sign[t] * flip[node]);
+    normals[j] = s.planes.normals[j] * static_cast<double>(o.sign[t] * flip[node]);
   }
   return normals;
 }
@@ -328,21 +379,22 @@ TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile
   const TilePlan plan = read_tile_plan(work_dir);
   const TileInfo& info = tile_info(plan, tile);
   const TilePoints points = read_points(work_dir, info);
-  std::optional<Reconstruction> r = tile_phase_1(plan, points);
   MarchingCubesResult contour;
-  if (r) {
-    r->planes.neighbors = {};
-    const std::vector<Vec3> normals = reconciled_normals(work_dir, info, tile, *r);
-    r->origin_tree = r->planes.point_tree.refit(r->planes.origins);
+  const auto planes_file = tile_files::of_tile(work_dir, info.id, "planes");
+  if (points.positions.size() > static_cast<std::size_t>(plan.k)) {  // (else no planes: see tile_phase_1)
+    const TileSurface surface = read_surface(planes_file, plan, points);
+    const std::vector<Vec3> normals = reconciled_normals(work_dir, info, tile, surface);
+    const KdTree<3> origin_tree = surface.planes.point_tree.refit(surface.planes.origins);
     const ReconstructionOptions options = tile_files::tile_options(plan);
-    const SignedDistance<3> f = make_signed_distance<3>(
-        r->planes, normals, r->origin_tree, signed_distance_options(plan.method, options.distance, r->quadrics));
+    SignedDistanceOptions distance = signed_distance_options(plan.method, options.distance, std::nullopt);
+    distance.near_crease = surface.near_crease;
+    const SignedDistance<3> f = make_signed_distance<3>(surface.planes, normals, origin_tree, distance);
     MarchingCubesOptions mc;
     mc.cell = plan.lattice.cell;
     mc.max_cubes = max_cubes_within(memory_limit_or_default(options.max_memory), points.positions.size());
     mc.region = region_of(plan, tile_files::core_of(plan, tile));
     mc.keep_vertex_edges = true;
-    contour = marching_cubes(std::cref(f), r->points(), mc);
+    contour = marching_cubes(std::cref(f), surface.planes.point_tree.points(), mc);
   }
   write_mesh(tile_files::of_tile(work_dir, info.id, "mesh"), contour, plan.offset);
   TileContour result;
@@ -419,7 +471,7 @@ TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, 
     if (on_tile) on_tile(step, done, total);
   };
   TiledRun run;
-  report("binning", 0, 1);
+  report("planning", 0, 1);
   run.plan = plan_tiles(pass, options, work_dir);
   const std::size_t tiles = run.plan.tiles.size();
   for (std::size_t t = 0; t < tiles; ++t) {

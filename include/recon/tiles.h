@@ -21,14 +21,15 @@
 //      the whole cloud when it fits within statistics_points, else over
 //      spatial patches of it that do; then bin the points into tile files
 //      (core + halo) on disk.
-//   2. orient_tile, for every tile: phases I-II on its points; the signs of
-//      its pieces' normals at the samples near its border are written.
+//   2. orient_tile, for every tile: phases I-II on its points; its planes
+//      are written, and the signs of its pieces' normals at the samples
+//      near its border.
 //   3. reconcile_tiles: a small graph whose nodes are (tile, piece), joined
 //      where two tiles orient the same samples, weighted by how many of them
 //      agree; its maximum spanning forest, walked from the piece holding
 //      each object's highest sample (phase II's own rule), turns the
 //      pieces that disagree. Separate objects stay separate.
-//   4. contour_tile, for every tile: phase I again (the same planes), the
+//   4. contour_tile, for every tile: the planes step 2 wrote, their
 //      normals signed as reconciled, f, and marching cubes over the tile's
 //      own cubes on the one global lattice; its vertices carry their
 //      lattice edge.
@@ -62,6 +63,7 @@
 // reach past its points (TileOrientation::inexact_samples), which should be 0.
 
 #include "recon/io/point_io.h"
+#include "recon/progress.h"
 #include "recon/reconstruct.h"
 
 #include <cstdint>
@@ -89,6 +91,9 @@ struct TilingOptions {
   /// (the whole cloud when it has no more); 0: what fits in a quarter of max_memory.
   std::size_t statistics_points = 0;
   std::uint64_t seed = 1;  ///< picks the spatial patches of the statistics when the cloud is larger
+  /// Counts the points of the plan's passes over the input (progress.h):
+  /// the first without a total, the next two with the cloud's count.
+  ProgressCounter* progress = nullptr;
 };
 
 struct TileInfo {
@@ -173,7 +178,7 @@ StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::file
 
 /// The whole tiled run in this process, steps 1 to 5 with the tiles one
 /// after the other (each using every thread). `on_tile(step, done, total)`
-/// is called before each step ("binning", "orienting", "reconciling",
+/// is called before each step ("planning", "orienting", "reconciling",
 /// "contouring", "stitching") and after each tile, for progress displays.
 struct TiledRun {
   TilePlan plan;
