@@ -51,6 +51,21 @@ const TileInfo& tile_info(const TilePlan& plan, std::size_t tile) {
   return plan.tiles[tile];
 }
 
+// What steps 2 and 4 start from: the plan, the tile and its points.
+struct TileInput {
+  TilePlan plan;
+  TileInfo info;
+  TilePoints points;
+};
+
+TileInput load_tile(const std::filesystem::path& dir, std::size_t tile) {
+  TileInput in;
+  in.plan = read_tile_plan(dir);
+  in.info = tile_info(in.plan, tile);
+  in.points = read_points(dir, in.info);
+  return in;
+}
+
 // How far a point (working coordinates) lies outside the tile's core: the
 // largest overshoot over the axes; negative inside, by the depth.
 double outside_core(const TilePlan& plan, const CoreBox& core, const Vec3& w) {
@@ -167,9 +182,7 @@ void write_planes(const std::filesystem::path& path, const Reconstruction& r) {
 
 TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t tile) {
   Timer timer;
-  const TilePlan plan = read_tile_plan(work_dir);
-  const TileInfo& info = tile_info(plan, tile);
-  const TilePoints points = read_points(work_dir, info);
+  const auto& [plan, info, points] = load_tile(work_dir, tile);
   std::optional<Reconstruction> r = tile_phase_1(plan, points);
   Orientation o;
   if (r) {
@@ -376,9 +389,7 @@ void write_mesh(const std::filesystem::path& path, const MarchingCubesResult& co
 
 TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile) {
   Timer timer;
-  const TilePlan plan = read_tile_plan(work_dir);
-  const TileInfo& info = tile_info(plan, tile);
-  const TilePoints points = read_points(work_dir, info);
+  const auto& [plan, info, points] = load_tile(work_dir, tile);
   MarchingCubesResult contour;
   const auto planes_file = tile_files::of_tile(work_dir, info.id, "planes");
   if (points.positions.size() > static_cast<std::size_t>(plan.k)) {  // (else no planes: see tile_phase_1)

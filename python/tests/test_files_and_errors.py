@@ -90,11 +90,14 @@ def test_file_errors_carry_the_programs_message(tmp_path):
 def test_too_much_work_is_a_resource_limit_error(tmp_path):
     points = sphere(20000)
     with pytest.raises(recon.ResourceLimitError) as caught:
-        recon.reconstruct(points, max_memory="1M")
+        recon.reconstruct(points, method="hoppe92", max_memory="1M")
     assert isinstance(caught.value, MemoryError)
     path = tmp_path / "s.ply"
     recon.write_points(path, points)
-    assert str(caught.value) == program_error("reconstruct", path, "-o", tmp_path / "m.ply", "--max-memory", "1M")
+    # The same words as the program's refusal where it refuses in memory
+    # (recon normals, which needs what hoppe92's phases I-II need); recon
+    # reconstruct would try tiles first.
+    assert str(caught.value) == program_error("normals", path, "-o", tmp_path / "n.ply", "--max-memory", "1M")
     with pytest.raises(ValueError, match="max_memory: unknown size unit"):
         recon.reconstruct(points, max_memory="3 parsecs")
 
