@@ -219,7 +219,9 @@ Sample sample_pass(const PointPass& pass, ProgressCounter* counter, const TilePl
   const double patch = longest / 16.0 * (1.0 + 1e-9);
   const bool whole = plan.input_points <= budget;
   s.patch = whole ? 0.0 : patch;
-  const double fraction = whole ? 1.0 : 0.8 * static_cast<double>(budget) / static_cast<double>(plan.input_points);
+  // (A patch is drawn when its hash falls below `threshold`: 0.8 of the
+  // budget on average, whole patches, and never more than the budget.)
+  const double fraction = whole ? 0.0 : 0.8 * static_cast<double>(budget) / static_cast<double>(plan.input_points);
   const auto threshold = static_cast<std::uint64_t>(fraction * 18446744073709551615.0);
   counted_pass(pass, counter, plan.input_points, [&](PointCloudView chunk, std::size_t) {
     for (const Vec3& p : chunk.positions) {

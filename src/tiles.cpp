@@ -5,13 +5,19 @@
 #include "recon/errors.h"
 #include "recon/io/mesh_stream.h"
 #include "recon/memory_budget.h"
+#include "recon/parallel.h"
 #include "recon/timer.h"
 #include "recon/union_find.h"
 #include "tile_files.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
+#include <atomic>
+#include <exception>
 #include <map>
+#include <mutex>
+#include <thread>
 #include <tuple>
 #include <unordered_map>
 
@@ -474,6 +480,53 @@ StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::file
   return result;
 }
 
+namespace {
+
+// Two tiles at a time, each on half the threads, when two of the largest
+// fit in 0.8 of the memory limit: while one tile's Prim runs (serial), the
+// other core works on the other tile. The files are the same either way.
+int tile_lanes(const TilePlan& plan, const TilingOptions& options) {
+  if (const char* forced = std::getenv("RECON_TILE_LANES")) return std::atoi(forced);  // MEASURING ONLY
+  if (thread_count() < 2) return 1;
+  std::uint64_t largest = 0;
+  for (const TileInfo& t : plan.tiles) largest = std::max(largest, t.points);
+  const double tile = estimated_bytes_reconstruction(largest, plan.k, plan.method == Method::refined);
+  return 2.0 * tile <= 0.8 * static_cast<double>(memory_limit_or_default(options.reconstruction.max_memory)) ? 2 : 1;
+}
+
+// step(t) for every tile, `lanes` at a time; done() after each (one at a time).
+void for_each_tile(std::size_t tiles, int lanes, const std::function<void(std::size_t)>& step,
+                   const std::function<void()>& done) {
+  std::atomic<std::size_t> next{0};
+  std::mutex lock;
+  std::exception_ptr failure;
+  const int threads = std::max(1, thread_count() / lanes);
+  const auto lane = [&] {
+    if (lanes > 1) set_thread_count(threads);  // (this thread's own setting)
+    for (std::size_t t; (t = next++) < tiles;) {
+      try {
+        step(t);
+        const std::lock_guard hold(lock);
+        done();
+      } catch (...) {
+        const std::lock_guard hold(lock);
+        if (!failure) failure = std::current_exception();
+        next = tiles;
+      }
+    }
+  };
+  if (lanes <= 1) {
+    lane();
+  } else {
+    std::vector<std::thread> pool;
+    for (int l = 0; l < lanes; ++l) pool.emplace_back(lane);
+    for (std::thread& thread : pool) thread.join();
+  }
+  if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace
+
 TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, const std::filesystem::path& work_dir,
                            const std::filesystem::path& output,
                            const std::function<void(const char*, std::size_t, std::size_t)>& on_tile) {
@@ -485,16 +538,21 @@ TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, 
   report("planning", 0, 1);
   run.plan = plan_tiles(pass, options, work_dir);
   const std::size_t tiles = run.plan.tiles.size();
-  for (std::size_t t = 0; t < tiles; ++t) {
-    report("orienting", t, tiles);
-    run.orientations.push_back(orient_tile(work_dir, t));
-  }
+  const int lanes = tile_lanes(run.plan, options);
+  std::size_t finished = 0;
+  const auto counted = [&](const char* step) {
+    finished = 0;
+    report(step, 0, tiles);
+    return [&, step] { report(step, ++finished, tiles); };
+  };
+  run.orientations.resize(tiles);
+  for_each_tile(tiles, lanes, [&](std::size_t t) { run.orientations[t] = orient_tile(work_dir, t); },
+                counted("orienting"));
   report("reconciling", 0, 1);
   run.reconciliation = reconcile_tiles(work_dir);
-  for (std::size_t t = 0; t < tiles; ++t) {
-    report("contouring", t, tiles);
-    run.contours.push_back(contour_tile(work_dir, t));
-  }
+  run.contours.resize(tiles);
+  for_each_tile(tiles, lanes, [&](std::size_t t) { run.contours[t] = contour_tile(work_dir, t); },
+                counted("contouring"));
   report("stitching", 0, 1);
   run.mesh = stitch_tiles(work_dir, output);
   run.seconds = timer.elapsed();

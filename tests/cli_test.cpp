@@ -1369,8 +1369,8 @@ TEST_F(CliTiles, WhatTilesDoNotDoIsRefusedBeforeAnyWork) {
 }
 
 TEST_F(CliTiles, InterruptRemovesTheTiles) {
-  ASSERT_NO_FATAL_FAILURE(generate("terrain", 250000, "t.ply"));
-  const RunResult run = interrupted({"reconstruct", "t.ply", "-o", "m.ply", "--tile-size", "0.5"}, 1.5);
+  ASSERT_NO_FATAL_FAILURE(generate("terrain", 600000, "t.ply"));
+  const RunResult run = interrupted({"reconstruct", "t.ply", "-o", "m.ply", "--tile-size", "0.5"}, 0.8);
   EXPECT_EQ(run.exit_code, 128 + SIGINT) << describe(run);
   EXPECT_LT(std::stoi(run.out), 1000) << "milliseconds from SIGINT to the end";
   EXPECT_EQ(entries(), std::vector<std::string>{"t.ply"});

@@ -176,8 +176,9 @@ TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile
 /// PLY, written to a temporary file and renamed).
 StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::filesystem::path& output);
 
-/// The whole tiled run in this process, steps 1 to 5 with the tiles one
-/// after the other (each using every thread). `on_tile(step, done, total)`
+/// The whole tiled run in this process, steps 1 to 5, the tiles one after
+/// the other on every thread, or two at a time on half the threads each
+/// when two fit the memory limit (the same files either way). `on_tile(step, done, total)`
 /// is called before each step ("planning", "orienting", "reconciling",
 /// "contouring", "stitching") and after each tile, for progress displays.
 struct TiledRun {
