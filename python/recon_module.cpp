@@ -300,6 +300,20 @@ struct ReconstructParameters {
   }
 };
 
+// The parameters reconstruct() and the tiled plan share.
+ReconstructParameters reconstruct_parameters(std::optional<int> k, std::optional<double> rho,
+                                             std::optional<double> delta, std::optional<double> cell,
+                                             std::optional<int> resolution, const std::string& method,
+                                             const py::object& max_memory) {
+  ReconstructParameters p;
+  p.phases = PhaseParameters{k, rho, memory_limit(max_memory)};
+  p.delta = delta;
+  p.cell = cell;
+  p.resolution = resolution;
+  p.method = method;
+  return p;
+}
+
 std::unique_ptr<PyMesh> run_reconstruct(const CloudArrays& input, const ReconstructParameters& p) {
   const ReconstructionOptions checked = p.options(input.view.has_normals());
   ThreadsForOneCall threads(p.threads);
@@ -546,12 +560,7 @@ void bind_runs(py::module_& m) {
            const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
            const py::object& progress) {
           const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
-          ReconstructParameters p;
-          p.phases = PhaseParameters{k, rho, memory_limit(max_memory)};
-          p.delta = delta;
-          p.cell = cell;
-          p.resolution = resolution;
-          p.method = method;
+          ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
           p.keep_fragments = keep_fragments;
           p.threads = threads;
           p.report = std::move(report);
@@ -579,12 +588,7 @@ void bind_tiles(py::module_& m) {
            std::optional<int> resolution, double tile_size, const py::object& max_memory,
            std::size_t statistics_points, const std::optional<std::string>& format,
            const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
-          ReconstructParameters p;
-          p.phases = PhaseParameters{k, rho, memory_limit(max_memory)};
-          p.method = method;
-          p.delta = delta;
-          p.cell = cell;
-          p.resolution = resolution;
+          const ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
           check_range(tile_size, "tile_size", true);
           TilingOptions options;
           options.reconstruction = p.options(false);

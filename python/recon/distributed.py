@@ -82,33 +82,19 @@ def _contour_task(work_dir: str, tile: int, threads: Optional[int]) -> Dict[str,
 
 
 def _peak_memory() -> Dict[str, Any]:
-    """This process's id and its peak resident memory so far (MiB)."""
-    return {"pid": os.getpid(), "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}
+    """This process's id and its peak resident memory so far (MiB). On Linux
+    from VmHWM: ru_maxrss would count what the parent held when it forked
+    (Dask starts its workers by fork and exec, after the plan)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            kib = next(int(line.split()[1]) for line in status if line.startswith("VmHWM:"))
+    except (OSError, StopIteration):
+        kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return {"pid": os.getpid(), "peak_rss_mib": kib / 1024.0}
 
 
 # ---------------------------------------------------------------------------
 # The run
-
-@contextlib.contextmanager
-def _connected(scheduler: Optional[str], workers: int, threads: Optional[int], client: Any) -> Iterator[Any]:
-    """A Dask client: `client` as it is, one connected to `scheduler`, or
-    one of a local cluster of `workers` processes on the loopback address
-    (closed at the end)."""
-    if client is not None:
-        yield client
-        return
-    from distributed import Client, LocalCluster  # noqa: PLC0415 - Dask only for a run
-
-    if scheduler is not None:
-        with Client(scheduler, set_as_default=False) as connected:
-            yield connected
-        return
-    # One task slot per process; each task's OpenMP threads share the cores.
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address=None, env={"OMP_NUM_THREADS": str(threads)}) as cluster:
-        with Client(cluster, set_as_default=False) as connected:
-            yield connected
-
 
 class _Deadline:
     """What is left of `timeout` seconds (None: no limit)."""
@@ -118,6 +104,29 @@ class _Deadline:
 
     def left(self) -> Optional[float]:
         return None if self.end is None else max(0.0, self.end - time.monotonic())
+
+
+@contextlib.contextmanager
+def _connected(scheduler: Optional[str], workers: int, threads: Optional[int], client: Any,
+               deadline: _Deadline) -> Iterator[Any]:
+    """A Dask client: `client` as it is, one connected to `scheduler` (by
+    the deadline, if any), or one of a local cluster of `workers` processes
+    on the loopback address (closed at the end)."""
+    if client is not None:
+        yield client
+        return
+    from distributed import Client, LocalCluster  # noqa: PLC0415 - Dask only for a run
+
+    if scheduler is not None:
+        wait = {} if deadline.left() is None else {"timeout": deadline.left()}
+        with Client(scheduler, set_as_default=False, **wait) as connected:
+            yield connected
+        return
+    # One task slot per process; each task's OpenMP threads share the cores.
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None, env={"OMP_NUM_THREADS": str(threads)}) as cluster:
+        with Client(cluster, set_as_default=False) as connected:
+            yield connected
 
 
 def _run_tasks(client: Any, task: Callable[..., Dict[str, Any]], step: str, work_dir: str, tiles: int,
@@ -199,8 +208,8 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     and ``skip_invalid`` are read_points'. ``threads_per_task`` is each
     task's thread count (default: the cores of the worker's machine shared
     among the worker's task slots; on a local cluster, this machine's cores
-    shared among the workers). The tasks must be done within ``timeout``
-    seconds of the start (TimeoutError). ``progress(step, done, total)`` is
+    shared among the workers). The scheduler must answer and the tasks be
+    done within ``timeout`` seconds of the start (TimeoutError, OSError). ``progress(step, done, total)`` is
     called as tiles finish ("orient", "contour").
 
     The figures: "plan" (tiles, points, tile_size, halo, per-tile points,
@@ -230,7 +239,7 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
                                   skip_invalid)
         seconds["plan"] = time.perf_counter() - started
         lap = time.perf_counter()
-        with _connected(scheduler, workers, threads_per_task, client) as dask:
+        with _connected(scheduler, workers, threads_per_task, client, deadline) as dask:
             seconds["connect"] = time.perf_counter() - lap
             figures = _tile_steps(dask, folder, output, plan["tiles"], threads_per_task, deadline, progress, seconds)
     finally:

@@ -48,7 +48,7 @@ def tiled_in_this_process(cloud: Path, output: Path, work_dir: Path) -> dict:
 
 @pytest.fixture(scope="module")
 def torus(tmp_path_factory) -> Path:
-    """A 200,000-point torus: tiles that take 0.1-0.4 s each to orient or contour on one thread."""
+    """A 200,000-point torus: tiles that take about 0.05-0.15 s each to orient or contour on one thread."""
     path = tmp_path_factory.mktemp("cloud") / "torus.ply"
     run_cli("generate", "torus", "-n", "200000", "-o", path, "--quiet")
     return path
