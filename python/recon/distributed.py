@@ -267,7 +267,7 @@ def _arguments() -> argparse.ArgumentParser:
                        help="start a local cluster of N worker processes on 127.0.0.1 (default 2)")
     parser.add_argument("--tile-size", type=float, default=0.0, metavar="L",
                         help="edge of a tile's core, a length (default: the largest that fits --max-memory)")
-    parser.add_argument("--work-dir", metavar="DIR",
+    parser.add_argument("--work-dir", "--tmpdir", metavar="DIR", dest="work_dir",
                         help="where the tiles' files go (a fresh folder inside DIR, removed at the end; default: "
                              "the output's folder). With --scheduler it must be shared storage that the workers "
                              "reach by the same path")
