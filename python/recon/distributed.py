@@ -288,7 +288,8 @@ def _arguments() -> argparse.ArgumentParser:
     parser.add_argument("--format", help="input format, when the extension does not say")
     parser.add_argument("--columns", help="what the columns of a text file hold, as x,y,z,_,r,g,b")
     parser.add_argument("--skip-invalid", action="store_true", help="skip points with a coordinate that is not finite")
-    parser.add_argument("--timeout", type=float, metavar="SECONDS", help="give up after this long")
+    parser.add_argument("--timeout", type=float, metavar="SECONDS",
+                        help="give up when the scheduler or the tiles have not answered this long after the start")
     parser.add_argument("--stats", metavar="FILE", help="also write the run's figures as JSON to this file")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return parser
@@ -317,6 +318,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 json.dump(figures, stats, indent=1)
     except (OSError, ValueError, MemoryError, TimeoutError) as error:
         print(f"recon.distributed: error: {error}", file=sys.stderr)
+        return 1
+    except Exception as error:  # Dask's own: a tile that kept killing its workers (KilledWorker), ...
+        if not type(error).__module__.startswith("distributed"):
+            raise
+        print(f"recon.distributed: error: {type(error).__name__}: {error}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("recon.distributed: interrupted", file=sys.stderr)
