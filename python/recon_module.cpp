@@ -16,6 +16,10 @@
 //               ResourceLimitError -> recon.ResourceLimitError (a MemoryError);
 //               IoError -> FileNotFoundError, IsADirectoryError,
 //               PermissionError or OSError; the message is the program's.
+//   tiles:      the steps of a tiled run (tiles.h), one call each
+//               (_tiles_*), for recon.distributed (recon/distributed.py),
+//               which runs steps 2 and 4 as Dask tasks; each returns its
+//               figures as a dict.
 // Statistics are made by the program's own code (app/run_reports.h), so a
 // mesh's `stats` holds what `recon reconstruct --stats` writes.
 
@@ -29,6 +33,7 @@
 #include "recon/io/point_io.h"
 #include "recon/parallel.h"
 #include "recon/reconstruct.h"
+#include "recon/tiles.h"
 #include "recon/timer.h"
 
 #include <pybind11/numpy.h>
@@ -45,6 +50,7 @@
 #include <vector>
 
 namespace py = pybind11;
+using namespace pybind11::literals;  // "name"_a = value
 
 namespace recon::python {
 namespace {
@@ -294,6 +300,20 @@ struct ReconstructParameters {
   }
 };
 
+// The parameters reconstruct() and the tiled plan share.
+ReconstructParameters reconstruct_parameters(std::optional<int> k, std::optional<double> rho,
+                                             std::optional<double> delta, std::optional<double> cell,
+                                             std::optional<int> resolution, const std::string& method,
+                                             const py::object& max_memory) {
+  ReconstructParameters p;
+  p.phases = PhaseParameters{k, rho, memory_limit(max_memory)};
+  p.delta = delta;
+  p.cell = cell;
+  p.resolution = resolution;
+  p.method = method;
+  return p;
+}
+
 std::unique_ptr<PyMesh> run_reconstruct(const CloudArrays& input, const ReconstructParameters& p) {
   const ReconstructionOptions checked = p.options(input.view.has_normals());
   ThreadsForOneCall threads(p.threads);
@@ -354,6 +374,65 @@ py::tuple run_estimate_normals(const CloudArrays& input, const PhaseParameters& 
   auto* held = normals.release();
   py::capsule owner(held, [](void* v) { delete static_cast<std::vector<Vec3>*>(v); });
   return py::make_tuple(vectors_view(*held, owner), dict_of(summary.stats()));
+}
+
+// The reader's options as read_points() and the tiled plan take them.
+io::ReadPointsOptions read_options(const std::optional<std::string>& format,
+                                   const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
+  io::ReadPointsOptions options;
+  if (format) options.format = io::point_format_from_name(*format);
+  if (columns) options.columns = *columns;
+  options.skip_invalid = skip_invalid;
+  return options;
+}
+
+// ---------------------------------------------------------------------------
+// Tiled runs (tiles.h), one step per call, for recon.distributed: it runs
+// steps 1, 3 and 5 itself and steps 2 and 4 as Dask tasks on the workers.
+// Each step releases the GIL while it works and stops on Ctrl-C (on the
+// main thread); its figures come back as a dict.
+
+// Runs `step()` without the GIL, interruptible, on `threads` threads (all
+// when not given).
+template <class Step>
+auto run_tile_step(std::optional<int> threads, const Step& step) {
+  ThreadsForOneCall use(threads);
+  py::gil_scoped_release no_gil;
+  InterruptionCheck interruptible(check_signals);
+  return step();
+}
+
+py::dict plan_summary(const TilePlan& plan) {
+  py::list points, core_points;
+  for (const TileInfo& tile : plan.tiles) {
+    points.append(tile.points);
+    core_points.append(tile.core_points);
+  }
+  return py::dict("tiles"_a = plan.tiles.size(), "input_points"_a = plan.input_points,
+                  "statistics_points"_a = plan.statistics_points, "method"_a = method_name(plan.method),
+                  "k"_a = plan.k, "cell"_a = plan.lattice.cell, "tile_size"_a = plan.tile_cubes * plan.lattice.cell,
+                  "halo"_a = plan.halo, "tile_points"_a = points, "tile_core_points"_a = core_points,
+                  "seconds"_a = plan.seconds_bounds + plan.seconds_statistics + plan.seconds_binning);
+}
+
+py::dict orientation_summary(const TileOrientation& o) {
+  return py::dict("points"_a = o.points, "pieces"_a = o.pieces, "border_samples"_a = o.border_samples,
+                  "inexact_samples"_a = o.inexact_samples, "seconds"_a = o.seconds);
+}
+
+py::dict reconciliation_summary(const TileReconciliation& r) {
+  return py::dict("nodes"_a = r.nodes, "edges"_a = r.edges, "objects"_a = r.objects, "turned"_a = r.turned,
+                  "shared_samples"_a = r.shared_samples, "disagreeing"_a = r.disagreeing, "seconds"_a = r.seconds);
+}
+
+py::dict contour_summary(const TileContour& c) {
+  return py::dict("vertices"_a = c.vertices, "triangles"_a = c.triangles, "visited_cubes"_a = c.visited_cubes,
+                  "seconds"_a = c.seconds);
+}
+
+py::dict mesh_summary(const StitchedMesh& m) {
+  return py::dict("vertices"_a = m.vertices, "triangles"_a = m.triangles, "welded"_a = m.welded,
+                  "seconds"_a = m.seconds);
 }
 
 // ---------------------------------------------------------------------------
@@ -434,12 +513,9 @@ void bind_mesh(py::module_& m) {
 
 void bind_files(py::module_& m) {
   m.def("read_points",
-        [](const std::filesystem::path& path, std::optional<std::string> format, std::optional<std::vector<std::string>> columns,
-           bool skip_invalid) {
-          io::ReadPointsOptions options;
-          if (format) options.format = io::point_format_from_name(*format);
-          if (columns) options.columns = *columns;
-          options.skip_invalid = skip_invalid;
+        [](const std::filesystem::path& path, const std::optional<std::string>& format,
+           const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
+          const io::ReadPointsOptions options = read_options(format, columns, skip_invalid);
           auto result = std::make_unique<PyPointCloud>();
           io::ReadNotes notes;
           {
@@ -484,12 +560,7 @@ void bind_runs(py::module_& m) {
            const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
            const py::object& progress) {
           const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
-          ReconstructParameters p;
-          p.phases = PhaseParameters{k, rho, memory_limit(max_memory)};
-          p.delta = delta;
-          p.cell = cell;
-          p.resolution = resolution;
-          p.method = method;
+          ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
           p.keep_fragments = keep_fragments;
           p.threads = threads;
           p.report = std::move(report);
@@ -510,6 +581,44 @@ void bind_runs(py::module_& m) {
   });
 }
 
+void bind_tiles(py::module_& m) {
+  m.def("_tiles_plan",
+        [](const std::filesystem::path& input, const std::filesystem::path& work_dir, const std::string& method,
+           std::optional<int> k, std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
+           std::optional<int> resolution, double tile_size, const py::object& max_memory,
+           std::size_t statistics_points, const std::optional<std::string>& format,
+           const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
+          const ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
+          check_range(tile_size, "tile_size", true);
+          TilingOptions options;
+          options.reconstruction = p.options(false);
+          options.tile_size = tile_size;
+          options.statistics_points = statistics_points;
+          const PointPass pass = pass_over_file(input, read_options(format, columns, skip_invalid));
+          return plan_summary(run_tile_step(std::nullopt, [&] { return plan_tiles(pass, options, work_dir); }));
+        },
+        py::arg("input"), py::arg("work_dir"), py::arg("method") = "refined", py::arg("k") = py::none(),
+        py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
+        py::arg("resolution") = py::none(), py::arg("tile_size") = 0.0, py::arg("max_memory") = py::none(),
+        py::arg("statistics_points") = 0, py::arg("format") = py::none(), py::arg("columns") = py::none(),
+        py::arg("skip_invalid") = false);
+  m.def("_tiles_count", [](const std::filesystem::path& work_dir) {
+    return run_tile_step(std::nullopt, [&] { return read_tile_plan(work_dir).tiles.size(); });
+  }, py::arg("work_dir"));
+  m.def("_tiles_orient", [](const std::filesystem::path& work_dir, std::size_t tile, std::optional<int> threads) {
+    return orientation_summary(run_tile_step(threads, [&] { return orient_tile(work_dir, tile); }));
+  }, py::arg("work_dir"), py::arg("tile"), py::arg("threads") = py::none());
+  m.def("_tiles_reconcile", [](const std::filesystem::path& work_dir) {
+    return reconciliation_summary(run_tile_step(std::nullopt, [&] { return reconcile_tiles(work_dir); }));
+  }, py::arg("work_dir"));
+  m.def("_tiles_contour", [](const std::filesystem::path& work_dir, std::size_t tile, std::optional<int> threads) {
+    return contour_summary(run_tile_step(threads, [&] { return contour_tile(work_dir, tile); }));
+  }, py::arg("work_dir"), py::arg("tile"), py::arg("threads") = py::none());
+  m.def("_tiles_stitch", [](const std::filesystem::path& work_dir, const std::filesystem::path& output) {
+    return mesh_summary(run_tile_step(std::nullopt, [&] { return stitch_tiles(work_dir, output); }));
+  }, py::arg("work_dir"), py::arg("output"));
+}
+
 }  // namespace
 }  // namespace recon::python
 
@@ -523,4 +632,5 @@ PYBIND11_MODULE(_recon, m) {
   bind_mesh(m);
   bind_files(m);
   bind_runs(m);
+  bind_tiles(m);
 }

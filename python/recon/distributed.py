@@ -1,0 +1,340 @@
+"""recon.distributed: the tiled reconstruction (include/recon/tiles.h) run as
+Dask tasks, on a cluster of machines or on local worker processes::
+
+    python3 -m recon.distributed scan.ply -o mesh.ply --workers 2
+    python3 -m recon.distributed scan.ply -o mesh.ply --scheduler tcp://A:8786 --work-dir /shared/tiles
+
+The plan (step 1: the cloud-wide measures and the binning of the points
+into tiles), the reconciliation of the signs (step 3) and the stitching
+(step 5) run here, on the client; orienting (step 2) and contouring (step 4)
+run as one Dask task per tile on the workers. The tasks read and write
+files in the work directory only, so the client and every worker must reach
+it by the same path: on a real cluster, a shared filesystem.
+
+A task is safe to run twice (its files appear whole or not at all) and
+every step is deterministic, so the mesh is the same, byte for byte, as the
+single-process tiled run's, whichever worker ran which tile; when a worker
+dies in the middle of a tile, Dask runs the task again elsewhere and the mesh
+does not change. The scheduling, the retries and the moving of results are
+Dask's (Debian's python3-distributed); recon adds no scheduler of its own.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import os
+import resource
+import shutil
+import sys
+import tempfile
+import time
+import uuid
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Union
+
+from . import _recon
+
+__all__ = ["run", "main"]
+
+PathLike = Union[str, "os.PathLike[str]"]
+Progress = Callable[[str, int, int], Any]
+
+
+# ---------------------------------------------------------------------------
+# The tasks: small top-level functions, so that Dask pickles them by
+# reference (the workers import recon.distributed).
+
+def _threads_here(threads: Optional[int]) -> Optional[int]:
+    """Threads for a task on this worker: `threads` when given, else this
+    machine's cores shared among the worker's task slots."""
+    if threads is not None:
+        return threads
+    from distributed import get_worker  # noqa: PLC0415 - only on a worker
+
+    try:
+        slots = get_worker().state.nthreads
+    except ValueError:  # not on a worker
+        return None
+    return max(1, len(os.sched_getaffinity(0)) // max(1, slots))
+
+
+def _ran_here(figures: Dict[str, Any], threads: Optional[int]) -> Dict[str, Any]:
+    """The task's figures, with the worker that made them and its threads."""
+    from distributed import get_worker  # noqa: PLC0415 - only on a worker
+
+    figures["threads"] = threads
+    with contextlib.suppress(ValueError):
+        figures["worker"] = get_worker().address
+    return figures
+
+
+def _orient_task(work_dir: str, tile: int, threads: Optional[int]) -> Dict[str, Any]:
+    """Step 2 for one tile."""
+    threads = _threads_here(threads)
+    return _ran_here(_recon._tiles_orient(work_dir, tile, threads), threads)
+
+
+def _contour_task(work_dir: str, tile: int, threads: Optional[int]) -> Dict[str, Any]:
+    """Step 4 for one tile."""
+    threads = _threads_here(threads)
+    return _ran_here(_recon._tiles_contour(work_dir, tile, threads), threads)
+
+
+def _peak_memory() -> Dict[str, Any]:
+    """This process's id and its peak resident memory so far (MiB). On Linux
+    from VmHWM: ru_maxrss would count what the parent held when it forked
+    (Dask starts its workers by fork and exec, after the plan)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            kib = next(int(line.split()[1]) for line in status if line.startswith("VmHWM:"))
+    except (OSError, StopIteration):
+        kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return {"pid": os.getpid(), "peak_rss_mib": kib / 1024.0}
+
+
+# ---------------------------------------------------------------------------
+# The run
+
+class _Deadline:
+    """What is left of `timeout` seconds (None: no limit)."""
+
+    def __init__(self, timeout: Optional[float]) -> None:
+        self.end = None if timeout is None else time.monotonic() + timeout
+
+    def left(self) -> Optional[float]:
+        return None if self.end is None else max(0.0, self.end - time.monotonic())
+
+
+@contextlib.contextmanager
+def _connected(scheduler: Optional[str], workers: int, threads: Optional[int], client: Any,
+               deadline: _Deadline) -> Iterator[Any]:
+    """A Dask client: `client` as it is, one connected to `scheduler` (by
+    the deadline, if any), or one of a local cluster of `workers` processes
+    on the loopback address (closed at the end)."""
+    if client is not None:
+        yield client
+        return
+    from distributed import Client, LocalCluster  # noqa: PLC0415 - Dask only for a run
+
+    if scheduler is not None:
+        wait = {} if deadline.left() is None else {"timeout": deadline.left()}
+        with Client(scheduler, set_as_default=False, **wait) as connected:
+            yield connected
+        return
+    # One task slot per process; each task's OpenMP threads share the cores.
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None, env={"OMP_NUM_THREADS": str(threads)}) as cluster:
+        with Client(cluster, set_as_default=False) as connected:
+            yield connected
+
+
+def _run_tasks(client: Any, task: Callable[..., Dict[str, Any]], step: str, work_dir: str, tiles: int,
+               threads: Optional[int], deadline: _Deadline, progress: Optional[Progress]) -> List[Dict[str, Any]]:
+    """`task(work_dir, tile, threads)` for every tile as Dask tasks; their
+    figures in tile order. Dask reruns a task whose worker died (and up to
+    twice one that failed); tasks still pending are cancelled on an error."""
+    run_id = uuid.uuid4().hex[:12]
+    futures = [client.submit(task, work_dir, t, threads, key=f"recon-{step}-{run_id}-{t:06d}", pure=False, retries=2)
+               for t in range(tiles)]
+    try:
+        figures = []
+        for future in futures:
+            figures.append(future.result(timeout=deadline.left()))
+            if progress is not None:
+                progress(step, len(figures), tiles)
+        return figures
+    finally:
+        client.cancel(futures)
+
+
+def _worker_figures(client: Any, orientations: List[Dict[str, Any]], contours: List[Dict[str, Any]]) -> Dict[str, Any]:
+    """Per worker: its process, its peak memory so far, and the tasks of this run it ran."""
+    workers = {address: dict(figures, tasks=0) for address, figures in client.run(_peak_memory).items()}
+    for figures in orientations + contours:
+        if figures.get("worker") in workers:
+            workers[figures["worker"]]["tasks"] += 1
+    return workers
+
+
+def _work_folder(work_dir: Optional[PathLike], output: str) -> str:
+    """A fresh folder for the run's files inside `work_dir` (or beside the output)."""
+    parent = os.path.abspath(os.fspath(work_dir) if work_dir is not None else os.path.dirname(output) or ".")
+    if not os.path.isdir(parent):
+        raise FileNotFoundError(f"{parent}: no such directory for the tiles' files")
+    return tempfile.mkdtemp(prefix="recon-tiles-", dir=parent)
+
+
+def _tile_steps(dask: Any, folder: str, output: str, tiles: int, threads: Optional[int], deadline: _Deadline,
+                progress: Optional[Progress], seconds: Dict[str, float]) -> Dict[str, Any]:
+    """Steps 2 to 5 of the run planned in `folder`: the tiles on the workers, the rest here."""
+    lap = time.perf_counter()
+    orientations = _run_tasks(dask, _orient_task, "orient", folder, tiles, threads, deadline, progress)
+    seconds["orient"] = time.perf_counter() - lap
+    reconciliation = _recon._tiles_reconcile(folder)
+    seconds["reconcile"] = reconciliation["seconds"]
+    lap = time.perf_counter()
+    contours = _run_tasks(dask, _contour_task, "contour", folder, tiles, threads, deadline, progress)
+    seconds["contour"] = time.perf_counter() - lap
+    mesh = _recon._tiles_stitch(folder, output)
+    seconds["stitch"] = mesh["seconds"]
+    return {"orient": orientations, "reconcile": reconciliation, "contour": contours, "mesh": mesh,
+            "workers": _worker_figures(dask, orientations, contours)}
+
+
+def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, workers: int = 2,
+        tile_size: float = 0.0, work_dir: Optional[PathLike] = None, method: str = "refined",
+        k: Optional[int] = None, rho: Optional[float] = None, delta: Optional[float] = None,
+        cell: Optional[float] = None, resolution: Optional[int] = None, max_memory: Union[None, int, str] = None,
+        statistics_points: int = 0, threads_per_task: Optional[int] = None, format: Optional[str] = None,
+        columns: Optional[Sequence[str]] = None, skip_invalid: bool = False, client: Any = None,
+        timeout: Optional[float] = None, progress: Optional[Progress] = None) -> Dict[str, Any]:
+    """Reconstructs the cloud in the file `input` tile by tile, the tiles as
+    Dask tasks, into the binary PLY file `output`; returns the run's figures.
+
+    Where the tasks run: on the workers of `client` when given, else of the
+    cluster whose scheduler is at `scheduler` ("tcp://host:8786"), else of
+    a local cluster of `workers` processes on 127.0.0.1, started and closed
+    here. ``work_dir`` is where the tiles' files go (a fresh folder inside
+    it, removed at the end, also on errors): by default the output's
+    folder; on a cluster it must be shared storage that every worker
+    reaches by the same path. ``tile_size`` is the edge of a tile's core (a
+    length; 0: the largest that fits ``max_memory``, which bounds each
+    tile's run: a machine running several tiles at once needs that much for
+    each). ``method``, ``k``, ``rho``, ``delta``, ``cell`` and
+    ``resolution`` mean what recon.reconstruct's options mean;
+    ``statistics_points`` caps the points the cloud-wide measures are taken
+    on (0: what fits a quarter of ``max_memory``); ``format``, ``columns``
+    and ``skip_invalid`` are read_points'. ``threads_per_task`` is each
+    task's thread count (default: the cores of the worker's machine shared
+    among the worker's task slots; on a local cluster, this machine's cores
+    shared among the workers). The scheduler must answer and the tasks be
+    done within ``timeout`` seconds of the start (TimeoutError, OSError). ``progress(step, done, total)`` is
+    called as tiles finish ("orient", "contour").
+
+    The figures: "plan" (tiles, points, tile_size, halo, per-tile points,
+    ...), "orient" and "contour" (one dict per tile: its seconds, the
+    worker that ran it, the threads it used, ...), "reconcile", "mesh"
+    (vertices, triangles, ...), "seconds" per step ("connect": reaching or
+    starting the cluster) and in total, and "workers": per worker address,
+    its pid, its peak memory so far (MiB) and the tasks of this run it ran.
+    """
+    output = os.path.abspath(os.fspath(output))
+    if not output.lower().endswith(".ply"):
+        raise ValueError(f"{output}: a tiled run writes binary PLY; name the output .ply")
+    if client is not None and scheduler is not None:
+        raise ValueError("give a client or a scheduler address, not both")
+    local = client is None and scheduler is None
+    if local and workers < 1:
+        raise ValueError(f"workers must be at least 1, got {workers}")
+    if local and threads_per_task is None:
+        threads_per_task = max(1, len(os.sched_getaffinity(0)) // workers)
+    deadline = _Deadline(timeout)
+    seconds: Dict[str, float] = {}
+    started = time.perf_counter()
+    folder = _work_folder(work_dir, output)
+    try:
+        plan = _recon._tiles_plan(os.fspath(input), folder, method, k, rho, delta, cell, resolution, tile_size,
+                                  max_memory, statistics_points, format, list(columns) if columns else None,
+                                  skip_invalid)
+        seconds["plan"] = time.perf_counter() - started
+        lap = time.perf_counter()
+        with _connected(scheduler, workers, threads_per_task, client, deadline) as dask:
+            seconds["connect"] = time.perf_counter() - lap
+            figures = _tile_steps(dask, folder, output, plan["tiles"], threads_per_task, deadline, progress, seconds)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    seconds["total"] = time.perf_counter() - started
+    return {"plan": plan, **figures, "seconds": seconds, "threads_per_task": threads_per_task,
+            "client_peak_rss_mib": _peak_memory()["peak_rss_mib"]}
+
+
+# ---------------------------------------------------------------------------
+# The command line
+
+def _arguments() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python3 -m recon.distributed",
+        description="Reconstruct a cloud tile by tile, the tiles run as Dask tasks: on an existing cluster "
+                    "(--scheduler) or on a local cluster of worker processes (--workers). The plan, the "
+                    "reconciliation of the signs and the stitching run here; each tile's orientation and "
+                    "contouring run on the workers.")
+    parser.add_argument("input", help="point cloud (.ply .xyz .txt .csv .pts .obj .off .pcd .las)")
+    parser.add_argument("-o", "--output", required=True, help="mesh to write (binary .ply)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS", help="the Dask scheduler of a running cluster (tcp://host:8786)")
+    where.add_argument("--workers", type=int, default=2, metavar="N",
+                       help="start a local cluster of N worker processes on 127.0.0.1 (default 2)")
+    parser.add_argument("--tile-size", type=float, default=0.0, metavar="L",
+                        help="edge of a tile's core, a length (default: the largest that fits --max-memory)")
+    parser.add_argument("--work-dir", "--tmpdir", metavar="DIR", dest="work_dir",
+                        help="where the tiles' files go (a fresh folder inside DIR, removed at the end; default: "
+                             "the output's folder). With --scheduler it must be shared storage that the workers "
+                             "reach by the same path")
+    parser.add_argument("--method", choices=("refined", "hoppe92"), default="refined", help="default refined")
+    parser.add_argument("-k", "--k", type=int, help="neighbourhood size (default 20, raised for noisy data)")
+    parser.add_argument("--rho", type=float, help="sampling density, a length (default: estimated per point)")
+    parser.add_argument("--delta", type=float, help="noise level, a length (default: estimated)")
+    parser.add_argument("--cell", type=float, help="lattice cube side, a length (default: rho)")
+    parser.add_argument("--resolution", type=int, help="lattice cubes along the longest side of the bounding box")
+    parser.add_argument("--max-memory", metavar="SIZE",
+                        help="memory for one tile's run and for the plan, as 8G or 512M (default: half the "
+                             "physical memory); a machine running several tiles at once needs it for each")
+    parser.add_argument("--statistics-points", type=int, default=0, metavar="N",
+                        help="points the cloud-wide measures are taken on (default: what fits a quarter of "
+                             "--max-memory)")
+    parser.add_argument("--threads-per-task", type=int, metavar="N",
+                        help="threads of each tile's task (default: the cores shared among a machine's task slots)")
+    parser.add_argument("--format", help="input format, when the extension does not say")
+    parser.add_argument("--columns", help="what the columns of a text file hold, as x,y,z,_,r,g,b")
+    parser.add_argument("--skip-invalid", action="store_true", help="skip points with a coordinate that is not finite")
+    parser.add_argument("--timeout", type=float, metavar="SECONDS",
+                        help="give up when the scheduler or the tiles have not answered this long after the start")
+    parser.add_argument("--stats", metavar="FILE", help="also write the run's figures as JSON to this file")
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    return parser
+
+
+def _summary(figures: Dict[str, Any], output: str) -> str:
+    s = figures["seconds"]
+    steps = ", ".join(f"{step} {s[step]:.2f}"
+                      for step in ("plan", "connect", "orient", "reconcile", "contour", "stitch"))
+    return (f"{figures['plan']['tiles']} tiles on {len(figures['workers'])} workers in {s['total']:.2f} s ({steps}): "
+            f"{figures['mesh']['vertices']} vertices, {figures['mesh']['triangles']} triangles -> {output}")
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """`python3 -m recon.distributed ...`; returns the exit status."""
+    a = _arguments().parse_args(argv)
+    try:
+        figures = run(a.input, a.output, scheduler=a.scheduler, workers=a.workers, tile_size=a.tile_size,
+                      work_dir=a.work_dir, method=a.method, k=a.k, rho=a.rho, delta=a.delta, cell=a.cell,
+                      resolution=a.resolution, max_memory=a.max_memory, statistics_points=a.statistics_points,
+                      threads_per_task=a.threads_per_task, format=a.format,
+                      columns=a.columns.split(",") if a.columns else None, skip_invalid=a.skip_invalid,
+                      timeout=a.timeout)
+        if a.stats:
+            with open(a.stats, "w", encoding="utf-8") as stats:
+                json.dump(figures, stats, indent=1)
+    except (OSError, ValueError, MemoryError, TimeoutError) as error:
+        print(f"recon.distributed: error: {error}", file=sys.stderr)
+        return 1
+    except Exception as error:  # Dask's own: a tile that kept killing its workers (KilledWorker), ...
+        if not type(error).__module__.startswith("distributed"):
+            raise
+        print(f"recon.distributed: error: {type(error).__name__}: {error}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("recon.distributed: interrupted", file=sys.stderr)
+        return 130
+    if not a.quiet:
+        print(_summary(figures, a.output))
+    return 0
+
+
+if __name__ == "__main__":
+    # Run as the module recon.distributed, not as __main__: the tasks then
+    # pickle as recon.distributed's functions, which the workers import.
+    from recon.distributed import main as _main
+
+    sys.exit(_main())
