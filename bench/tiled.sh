@@ -65,8 +65,14 @@ run "tiles, --max-memory 8G (refined, phases I-IV)" "$n" "$big" --max-memory 8G
 if [[ "${SKIP_DASK:-0}" != 1 ]]; then
   PYTHONPATH="$root/build/release/python" /usr/bin/time -f "%e %M" -o "$scratch/time.txt" /usr/bin/python3 \
     -m recon.distributed "$big" -o "$scratch/mesh.ply" --workers 2 --max-memory 8G --stats "$scratch/stats.json" --quiet
-  row "Dask, 2 local workers (client's peak)" "$n" "$scratch/stats.json" "$scratch/time.txt"
-  /usr/bin/python3 -c "import json,sys; s=json.load(open(sys.argv[1])); print('worker peaks (MiB):', s.get('worker_peak_mib'))" \
-    "$scratch/stats.json"
+  /usr/bin/python3 - "$n" "$scratch/stats.json" "$scratch/time.txt" <<'EOF2'
+import json, sys
+points, s = int(sys.argv[1]), json.load(open(sys.argv[2]))
+seconds = float(open(sys.argv[3]).read().split()[0])
+workers = ", ".join(f"{w['peak_rss_mib']:.0f}" for w in s["workers"].values())
+print(f"| Dask, 2 local workers (peak: client {s['client_peak_rss_mib']:.0f}; workers {workers}) | {points:,} | "
+      f"{seconds:.0f} | {1e6 * seconds / points:.2f} | {max(w['peak_rss_mib'] for w in s['workers'].values()):.0f} | "
+      f"{s['plan']['tiles']} | {s['mesh']['triangles']:,} |")
+EOF2
   rm -f "$scratch/mesh.ply"
 fi

@@ -11,7 +11,6 @@
 #include "tile_files.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <atomic>
 #include <exception>
@@ -486,7 +485,6 @@ namespace {
 // fit in 0.8 of the memory limit: while one tile's Prim runs (serial), the
 // other core works on the other tile. The files are the same either way.
 int tile_lanes(const TilePlan& plan, const TilingOptions& options) {
-  if (const char* forced = std::getenv("RECON_TILE_LANES")) return std::atoi(forced);  // MEASURING ONLY
   if (thread_count() < 2) return 1;
   std::uint64_t largest = 0;
   for (const TileInfo& t : plan.tiles) largest = std::max(largest, t.points);
