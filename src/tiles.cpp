@@ -83,12 +83,18 @@ double outside_core(const TilePlan& plan, const CoreBox& core, const Vec3& w) {
   return d;
 }
 
-// Phase I over a tile, with the plan's cloud-wide choices: the same in
-// steps 2 and 4. Null when the tile has too few points for a plane.
+// Phase I over a tile, with the plan's cloud-wide choices. Null when the
+// tile's points make no plane: fewer than k + 1 of them, or no k + 1
+// distinct ones, or only degenerate neighbourhoods (a tile of strays or of
+// copies of one point, which draw nothing in the whole cloud either).
 std::optional<Reconstruction> tile_phase_1(const TilePlan& plan, const TilePoints& points) {
   if (points.positions.size() <= static_cast<std::size_t>(plan.k)) return std::nullopt;
   const ReconstructionOptions options = tile_files::tile_options(plan);
-  return reconstruct_phase_1(PointCloudView(points.positions, {}, {}), options);
+  try {
+    return reconstruct_phase_1(PointCloudView(points.positions, {}, {}), options);
+  } catch (const InvalidInputError&) {  // (the plan's options passed the statistics' run already)
+    return std::nullopt;
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -348,9 +354,8 @@ TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan
 }
 
 // The tile's normals, oriented as reconciled (spatial order).
-std::vector<Vec3> reconciled_normals(const std::filesystem::path& dir, const TileInfo& info, std::size_t tile,
+std::vector<Vec3> reconciled_normals(const std::filesystem::path& dir, const Orientation& o, std::size_t tile,
                                      const TileSurface& s) {
-  const Orientation o = read_orientation(tile_files::of_tile(dir, info.id, "orient"));
   detail::BinaryReader in(tile_files::flips(dir), tile_files::flips_magic);
   const std::vector<std::uint64_t> first_node = in.get_vector<std::uint64_t>();
   const std::vector<std::int8_t> flip = in.get_vector<std::int8_t>();
@@ -397,9 +402,10 @@ TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile
   const auto& [plan, info, points] = load_tile(work_dir, tile);
   MarchingCubesResult contour;
   const auto planes_file = tile_files::of_tile(work_dir, info.id, "planes");
-  if (points.positions.size() > static_cast<std::size_t>(plan.k)) {  // (else no planes: see tile_phase_1)
+  const Orientation orientation = read_orientation(tile_files::of_tile(work_dir, info.id, "orient"));
+  if (!orientation.sign.empty()) {  // (none when the tile makes no plane: then no planes file either)
     const TileSurface surface = read_surface(planes_file, plan, points);
-    const std::vector<Vec3> normals = reconciled_normals(work_dir, info, tile, surface);
+    const std::vector<Vec3> normals = reconciled_normals(work_dir, orientation, tile, surface);
     const KdTree<3> origin_tree = surface.planes.point_tree.refit(surface.planes.origins);
     const ReconstructionOptions options = tile_files::tile_options(plan);
     SignedDistanceOptions distance = signed_distance_options(plan.method, options.distance, std::nullopt);

@@ -191,6 +191,21 @@ TEST(TiledRun, WorkspaceIsRemovedAlsoOnErrors) {
   EXPECT_FALSE(std::filesystem::exists(path));
 }
 
+// A tile of copies of one point (a scanner's "no return" written as one
+// position many times) makes no plane, as in the whole cloud: the run goes
+// on, and the mesh is the same.
+TEST(TiledRun, ATileOfCopiesMakesNoPlane) {
+  const Case c{"sphere", 8000, Method::hoppe92, 1.0};
+  PointCloud cloud = cloud_of(c);
+  for (int i = 0; i < 50; ++i) cloud.positions.emplace_back(0.0, 0.0, 6.0);
+  ReconstructionOptions options;
+  options.method = c.method;
+  const Reconstruction whole = reconstruct(cloud, options);
+  const Tiled tiled = run_tiled(cloud, c);
+  EXPECT_TRUE(same_mesh(tiled.mesh, contoured(whole), 1e-9 * whole.contour.cell));
+  EXPECT_EQ(analyze_topology(tiled.mesh).components, 1u);
+}
+
 TEST(TiledRun, EmptyCloudIsRefused) {
   const auto dir = scratch("empty");
   EXPECT_THROW(plan_tiles(pass_over(PointCloud{}), {}, dir), InvalidInputError);
