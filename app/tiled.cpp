@@ -177,7 +177,7 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
   summary.add(plan_report(run.plan, why), "tiled");
   summary.add(run_report(run), "tiled", "run");
   summary.say("mesh      " + plural(run.mesh.vertices, "vertex") + ", " + plural(run.mesh.triangles, "triangle") +
-              " (the contoured mesh: phase V does not run in tiles yet)");
+              " (the contoured mesh, without colours: phase V and colours do not run in tiles yet)");
   summary.stats()["mesh"]["vertices"] = run.mesh.vertices;
   summary.stats()["mesh"]["triangles"] = run.mesh.triangles;
   if (const std::optional<std::size_t> peak = peak_resident_bytes())
