@@ -280,7 +280,7 @@ void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan&
       rho.push_back(r.planes.local_rho[j]);
     }
   plan.radius_q = 1.5 * static_cast<double>(quantile(radius.empty() ? r.planes.radius : radius, 0.999));
-  plan.rho_q = quantile(rho.empty() ? r.planes.local_rho : rho, 0.999);
+  plan.rho_q = static_cast<double>(quantile(rho.empty() ? r.planes.local_rho : rho, 0.999));
   const double fallback = o.method == Method::hoppe92 ? r.planes.rho : r.planes.rho / std::numbers::sqrt2;
   const double cell = chosen_cell(
       o.cell, o.resolution, [&] { return plan.box.extent().maxCoeff(); }, fallback);
