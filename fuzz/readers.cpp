@@ -23,6 +23,14 @@ void run(std::string_view content) {
 /// also has a plain one.
 using ReaderWithNotes = recon::PointCloud (*)(std::string_view, std::string_view, const recon::io::ReadPointsOptions&,
                                               recon::io::ReadNotes&);
+/// A point reader of the whole file (picks that overload where a reader
+/// also hands its points out in parts, for streaming).
+using WholeReader = recon::PointCloud (*)(std::string_view, std::string_view);
+template <WholeReader read>
+void run_whole(std::string_view content) {
+  run<read>(content);
+}
+
 template <ReaderWithNotes read>
 void run_with_notes(std::string_view content) {
   try {
@@ -51,7 +59,7 @@ recon::PointCloud read_text_columns(std::string_view file, std::string_view cont
 Reader reader_named(std::string_view name) {
   using namespace recon::io::detail;
   static constexpr std::pair<std::string_view, Reader> readers[] = {
-      {"ply_points", run<read_ply_points>}, {"ply_mesh", run<read_ply_mesh>},
+      {"ply_points", run_whole<read_ply_points>}, {"ply_mesh", run<read_ply_mesh>},
       {"xyz_points", run<read_text_columns>}, {"pts_points", run<read_pts_points>},
       {"obj_points", run<read_obj_points>}, {"obj_mesh", run<read_obj_mesh>},
       {"off_points", run<read_off_points>}, {"off_mesh", run<read_off_mesh>},
