@@ -29,6 +29,8 @@ struct InputOptions {
   bool no_colors = false;     ///< --no-colors: drop the input's colours
 };
 void add_input(CLI::App& app, InputOptions& in);
+/// The reader's options the command line asks for (--format, --columns, --skip-invalid).
+io::ReadPointsOptions read_options(const InputOptions& in);
 /// Reads the cloud, says so, and records it in the statistics; `notes`,
 /// when given, receives what the reader said.
 PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* notes = nullptr);

@@ -43,14 +43,18 @@ void add_input(CLI::App& app, InputOptions& in) {
   app.add_flag("--no-colors", in.no_colors, "Drop the input's colours (the mesh or cloud is written without)");
 }
 
-PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* said) {
-  Timer timer;
+io::ReadPointsOptions read_options(const InputOptions& in) {
   io::ReadPointsOptions options;
   if (!in.format.empty()) options.format = io::point_format_from_name(in.format);
   options.columns = io::column_names(in.columns);
   options.skip_invalid = in.skip_invalid;
+  return options;
+}
+
+PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* said) {
+  Timer timer;
   io::ReadNotes notes;
-  PointCloud cloud = io::read_points(in.path, options, &notes);
+  PointCloud cloud = io::read_points(in.path, read_options(in), &notes);
   if (in.no_colors) cloud.colors = {};
   const char* extras = cloud.has_normals() ? (cloud.has_colors() ? " with normals and colours" : " with normals")
                                            : (cloud.has_colors() ? " with colours" : "");

@@ -18,14 +18,6 @@
 namespace recon::cli {
 namespace {
 
-io::ReadPointsOptions read_options(const InputOptions& in) {
-  io::ReadPointsOptions options;
-  if (!in.format.empty()) options.format = io::point_format_from_name(in.format);
-  options.columns = io::column_names(in.columns);
-  options.skip_invalid = in.skip_invalid;
-  return options;
-}
-
 // Fewer bytes than this a point cannot take in any point format ("0 0 0\n").
 constexpr std::uintmax_t least_bytes_per_point = 6;
 

@@ -57,6 +57,11 @@ struct CoreBox {
   Lattice<3>::Index lo{}, hi{};
 };
 [[nodiscard]] CoreBox core_of(const TilePlan& plan, std::size_t tile);
+/// The core of the tile at `grid` in the grid of tiles.
+[[nodiscard]] CoreBox core_at(const TilePlan& plan, const Lattice<3>::Index& grid);
+/// How far a point (working coordinates) lies outside a core: the largest
+/// overshoot over the axes; negative inside, by the depth.
+[[nodiscard]] double outside_core(const TilePlan& plan, const CoreBox& core, const Vec3& w);
 /// The options every tile's phase I runs with (the cloud-wide choices of the plan).
 [[nodiscard]] ReconstructionOptions tile_options(const TilePlan& plan);
 

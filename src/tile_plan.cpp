@@ -121,10 +121,22 @@ TileWorkspace::~TileWorkspace() {
 
 namespace tile_files {
 
-CoreBox core_of(const TilePlan& plan, std::size_t tile) {
+CoreBox core_of(const TilePlan& plan, std::size_t tile) { return core_at(plan, plan.tiles[tile].index); }
+
+double outside_core(const TilePlan& plan, const CoreBox& core, const Vec3& w) {
+  double d = -1e300;
+  for (std::size_t a = 0; a < 3; ++a) {
+    const double lo = plan.lattice.origin[static_cast<int>(a)] + core.lo[a] * plan.lattice.cell;
+    const double hi = plan.lattice.origin[static_cast<int>(a)] + core.hi[a] * plan.lattice.cell;
+    d = std::max({d, lo - w[static_cast<int>(a)], w[static_cast<int>(a)] - hi});
+  }
+  return d;
+}
+
+CoreBox core_at(const TilePlan& plan, const Lattice<3>::Index& grid) {
   CoreBox box;
   for (std::size_t a = 0; a < 3; ++a) {
-    box.lo[a] = plan.tiles[tile].index[a] * plan.tile_cubes;
+    box.lo[a] = grid[a] * plan.tile_cubes;
     box.hi[a] = std::min(box.lo[a] + plan.tile_cubes, plan.lattice.size[a]);
   }
   return box;
@@ -328,9 +340,11 @@ std::int32_t choose_tile_cubes(const Sample& s, const TilingOptions& options, co
   const std::size_t limit = memory_limit_or_default(options.reconstruction.max_memory);
   const double fits = 0.5 * static_cast<double>(limit) / bytes_per_point(plan.k, plan.method == Method::refined);
   std::int32_t cubes = *std::max_element(plan.lattice.size.begin(), plan.lattice.size.end());
-  while (cubes > least && static_cast<double>(densest_tile(s, plan, cubes)) > fits)
+  double densest = static_cast<double>(densest_tile(s, plan, cubes));
+  while (cubes > least && densest > fits) {
     cubes = std::max(least, static_cast<std::int32_t>(0.8 * cubes));
-  const double densest = static_cast<double>(densest_tile(s, plan, cubes));
+    densest = static_cast<double>(densest_tile(s, plan, cubes));
+  }
   if (densest > fits)
     check_memory(densest * bytes_per_point(plan.k, plan.method == Method::refined) * 2.0, limit,
                  "working in tiles, the densest (a core edge of " + std::to_string(cubes * plan.lattice.cell) +
@@ -425,17 +439,7 @@ class Binner {
     ++tile.points;
     if (tile.buffer.size() == 4096) tile.flush(tile_files::of_tile(dir_, tile.id, "points"));
     if (t == own) ++tile.core;
-    if (distance_to_core(t, w) <= plan_.exact_margin) ++tile.near;
-  }
-
-  [[nodiscard]] double distance_to_core(const Index3& t, const Vec3& w) const {
-    double d = 0.0;
-    for (int a = 0; a < 3; ++a) {
-      const double side = plan_.tile_cubes * plan_.lattice.cell;
-      const double lo = plan_.lattice.origin[a] + t[static_cast<std::size_t>(a)] * side;
-      d = std::max({d, lo - w[a], w[a] - (lo + side)});
-    }
-    return d;
+    if (tile_files::outside_core(plan_, tile_files::core_at(plan_, t), w) <= plan_.exact_margin) ++tile.near;
   }
 
   TilePlan& plan_;

@@ -23,6 +23,7 @@
 namespace recon {
 
 using tile_files::BorderRecord;
+using tile_files::outside_core;
 using tile_files::CoreBox;
 using tile_files::MeshVertex;
 using tile_files::PieceTop;
@@ -69,18 +70,6 @@ TileInput load_tile(const std::filesystem::path& dir, std::size_t tile) {
   in.info = tile_info(in.plan, tile);
   in.points = read_points(dir, in.info);
   return in;
-}
-
-// How far a point (working coordinates) lies outside the tile's core: the
-// largest overshoot over the axes; negative inside, by the depth.
-double outside_core(const TilePlan& plan, const CoreBox& core, const Vec3& w) {
-  double d = -1e300;
-  for (std::size_t a = 0; a < 3; ++a) {
-    const double lo = plan.lattice.origin[static_cast<int>(a)] + core.lo[a] * plan.lattice.cell;
-    const double hi = plan.lattice.origin[static_cast<int>(a)] + core.hi[a] * plan.lattice.cell;
-    d = std::max({d, lo - w[static_cast<int>(a)], w[static_cast<int>(a)] - hi});
-  }
-  return d;
 }
 
 // Phase I over a tile, with the plan's cloud-wide choices. Null when the
