@@ -123,6 +123,18 @@ StepReport run_report(const TiledRun& run) {
   r.stats["disagreeing_samples"] = c.disagreeing;
   r.stats["inexact_samples"] = inexact;
   r.stats["welded_vertices"] = run.mesh.welded;
+  if (run.plan.method == Method::refined) {
+    const StitchedMesh& m = run.mesh;
+    r.lines.push_back("refine    " + plural(m.crease_vertices, "vertex") + " added on creases; " +
+                      plural(m.trimmed, "triangle") + " trimmed past open boundaries, " +
+                      plural(m.stray_triangles, "stray triangle") + ", " + plural(m.fragments, "fragment") + " (" +
+                      plural(m.fragment_triangles, "triangle") + ") dropped, over the whole mesh");
+    r.stats["crease_vertices"] = m.crease_vertices;
+    r.stats["trimmed_triangles"] = m.trimmed;
+    r.stats["stray_triangles"] = m.stray_triangles;
+    r.stats["fragments"] = m.fragments;
+    r.stats["fragment_triangles"] = m.fragment_triangles;
+  }
   r.stats["seconds_orient"] = orient;
   r.stats["seconds_reconcile"] = c.seconds;
   r.stats["seconds_contour"] = contour;
@@ -169,7 +181,8 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
   summary.add(plan_report(run.plan, why), "tiled");
   summary.add(run_report(run), "tiled", "run");
   summary.say("mesh      " + plural(run.mesh.vertices, "vertex") + ", " + plural(run.mesh.triangles, "triangle") +
-              " (the contoured mesh, without colours: phase V and colours do not run in tiles yet)");
+              (run.plan.method == Method::refined ? " (refined, phase V included" : " (hoppe92") +
+              "; without colours: colours do not come through tiles yet)");
   summary.stats()["mesh"]["vertices"] = run.mesh.vertices;
   summary.stats()["mesh"]["triangles"] = run.mesh.triangles;
   if (const std::optional<std::size_t> peak = peak_resident_bytes())

@@ -432,7 +432,9 @@ py::dict contour_summary(const TileContour& c) {
 
 py::dict mesh_summary(const StitchedMesh& m) {
   return py::dict("vertices"_a = m.vertices, "triangles"_a = m.triangles, "welded"_a = m.welded,
-                  "seconds"_a = m.seconds);
+                  "crease_vertices"_a = m.crease_vertices, "trimmed_triangles"_a = m.trimmed,
+                  "stray_triangles"_a = m.stray_triangles, "fragments"_a = m.fragments,
+                  "fragment_triangles"_a = m.fragment_triangles, "seconds"_a = m.seconds);
 }
 
 // ---------------------------------------------------------------------------

@@ -405,6 +405,7 @@ void CubeWalk::emit_triangles(const Index3& cube, const std::array<std::uint32_t
   for (int t = 0; t < cube_case.triangle_count; ++t) {
     const auto& tri = cube_case.triangles[static_cast<std::size_t>(t)];
     mesh.triangles.push_back({vertex[tri[0]], vertex[tri[1]], vertex[tri[2]]});
+    if (options_.keep_triangle_cubes) result_.triangle_cubes.push_back(pack(cube));
   }
 }
 
@@ -444,6 +445,43 @@ void CubeWalk::summarise() {
 }
 
 }  // namespace
+
+void sort_by_cube(MarchingCubesResult& result) {
+  Mesh& mesh = result.mesh;
+  const bool edges_kept = !result.vertex_edges.empty();
+  if (result.triangle_cubes.size() != mesh.triangles.size() ||
+      (edges_kept && result.vertex_edges.size() != mesh.vertices.size()))
+    throw InvalidInputError("sort_by_cube: the walk did not name the triangles' cubes (keep_triangle_cubes)");
+  std::vector<std::uint32_t> order(mesh.triangles.size());
+  for (std::uint32_t t = 0; t < order.size(); ++t) order[t] = t;
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return result.triangle_cubes[a] < result.triangle_cubes[b];
+  });
+  constexpr std::uint32_t unused = UINT32_MAX;
+  std::vector<std::uint32_t> renumber(mesh.vertices.size(), unused);
+  std::vector<std::array<std::uint32_t, 3>> triangles(order.size());
+  std::vector<std::uint64_t> cubes(order.size());
+  std::uint32_t next = 0;
+  for (std::size_t t = 0; t < order.size(); ++t) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      std::uint32_t& id = renumber[mesh.triangles[order[t]][c]];
+      if (id == unused) id = next++;
+      triangles[t][c] = id;
+    }
+    cubes[t] = result.triangle_cubes[order[t]];
+  }
+  std::vector<Vec3> vertices(mesh.vertices.size());
+  std::vector<VertexEdge> edges(edges_kept ? vertices.size() : 0);
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    if (renumber[v] == unused) renumber[v] = next++;  // (a walk uses every vertex it makes)
+    vertices[renumber[v]] = mesh.vertices[v];
+    if (edges_kept) edges[renumber[v]] = result.vertex_edges[v];
+  }
+  mesh.vertices = std::move(vertices);
+  mesh.triangles = std::move(triangles);
+  result.vertex_edges = std::move(edges);
+  result.triangle_cubes = std::move(cubes);
+}
 
 MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
                                    const MarchingCubesOptions& options) {

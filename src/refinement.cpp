@@ -208,6 +208,8 @@ struct Builder {
   /// The tangent planes each vertex lies on, by the projected vertex they
   /// belong to: its own for a projected vertex, both ends' for a crease vertex.
   std::vector<std::array<std::uint32_t, 2>> planes;
+  std::vector<std::array<std::uint32_t, 2>> stem;  // per vertex (RefinedPatch::stem)
+  std::vector<std::uint32_t> source;               // per triangle (RefinedPatch::source)
   std::unordered_map<std::uint64_t, std::uint32_t> crease_of_edge;  // none: tested, no crease
   std::size_t creases = 0, corners = 0;
 
@@ -215,6 +217,7 @@ struct Builder {
     mesh.vertices.push_back(p);
     displacement.push_back(moved);
     planes.push_back(on);
+    stem.push_back(on);
     return static_cast<std::uint32_t>(mesh.vertices.size() - 1);
   }
 
@@ -267,7 +270,8 @@ std::uint32_t split_vertex(Builder& b, const Projected& pr, const Mesh& contoure
 // ca (none where the edge has none), as triangles of the same winding. (A
 // triangle crossed by three creases holds a corner: snap_corners puts a
 // vertex on it afterwards.)
-void emit(Builder& b, const std::array<std::uint32_t, 3>& t, const std::array<std::uint32_t, 3>& m) {
+void emit(Builder& b, const std::array<std::uint32_t, 3>& t, const std::array<std::uint32_t, 3>& m,
+          std::uint32_t source) {
   auto& out = b.mesh.triangles;
   const int splits = (m[0] != none) + (m[1] != none) + (m[2] != none);
   if (splits == 0) {
@@ -298,6 +302,7 @@ void emit(Builder& b, const std::array<std::uint32_t, 3>& t, const std::array<st
     out.push_back({m[2], m[1], t[2]});
     out.push_back({m[0], m[1], m[2]});
   }
+  b.source.resize(out.size(), source);
 }
 
 // Step 2 over the whole mesh, in triangle order; then the corners.
@@ -307,16 +312,16 @@ void remove_slivers(Builder& b);
 void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle);
 
 void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in, double cos_crease) {
-  // The crease grid's side: about a thousandth of an edge (the first
-  // triangles' longest), far above any tolerance asked of it.
+  // The crease grid's side: a ten-thousandth of the longest edge, no less
+  // than any tolerance asked of it (so the answers do not depend on it).
   double edge = 0.0;
-  for (std::size_t t = 0; t < std::min<std::size_t>(contoured.triangles.size(), 64); ++t)
-    edge = std::max(edge, longest_edge(pr.point, contoured.triangles[t]));
-  b.grid = edge > 0.0 ? 1e-3 * edge : 1.0;
-  for (const auto& t : contoured.triangles) {
+  for (const auto& t : contoured.triangles) edge = std::max(edge, longest_edge(pr.point, t));
+  b.grid = edge > 0.0 ? 1e-4 * edge : 1.0;
+  for (std::uint32_t s = 0; s < contoured.triangles.size(); ++s) {
+    const auto& t = contoured.triangles[s];
     std::array<std::uint32_t, 3> m{};
     for (std::size_t e = 0; e < 3; ++e) m[e] = split_vertex(b, pr, contoured, in, t[e], t[(e + 1) % 3], cos_crease);
-    emit(b, t, m);
+    emit(b, t, m, s);
   }
   snap_corners(b, pr, cos_crease);
   weld_coincident(b, pr.point.size());
@@ -757,11 +762,10 @@ class Peeling {
   std::vector<std::uint8_t> removed_;
 };
 
-std::size_t trim_boundaries(Builder& b, const Projected& pr) {
-  const std::vector<std::uint8_t> covered = covered_vertices(b, pr);
-  Peeling peeling(b.mesh, covered);
+std::size_t trim_boundaries(RefinedPatch& patch) {
+  Peeling peeling(patch.mesh, patch.covered);
   const std::size_t peeled = peeling.peel();
-  if (peeled > 0) compact(b, peeling.kept());
+  if (peeled > 0) patch.keep(peeling.kept());
   return peeled;
 }
 
@@ -772,9 +776,10 @@ std::size_t trim_boundaries(Builder& b, const Projected& pr) {
 // off into empty space (a fin). A triangle whose three vertices are all
 // farther than in.reach * rho_i + delta from every sample is dropped.
 // (Vertices that near their plane's own origin are not searched.)
-std::size_t drop_strays(Builder& b, const Projected& pr, const RefinementInput& in) {
+std::vector<std::uint8_t> far_vertices(const Builder& b, const Projected& pr, const RefinementInput& in) {
   const std::size_t n = b.mesh.vertices.size();
   std::vector<std::uint8_t> far(n, 0);
+  if (in.sample_tree == nullptr) return far;
   const auto count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(dynamic, 4096)
   for (std::int64_t s = 0; s < count; ++s) {
@@ -787,16 +792,20 @@ std::size_t drop_strays(Builder& b, const Projected& pr, const RefinementInput& 
     if ((p - in.origins[plane]).squaredNorm() <= reach * reach) continue;
     far[v] = in.sample_tree->any_within(p, reach * reach) ? 0 : 1;
   }
-  std::vector<std::uint8_t> keep(b.mesh.triangles.size(), 1);
+  return far;
+}
+
+std::size_t drop_strays(RefinedPatch& patch) {
+  std::vector<std::uint8_t> keep(patch.mesh.triangles.size(), 1);
   std::size_t dropped = 0;
   for (std::size_t t = 0; t < keep.size(); ++t) {
-    const auto& tri = b.mesh.triangles[t];
-    if (far[tri[0]] && far[tri[1]] && far[tri[2]]) {
+    const auto& tri = patch.mesh.triangles[t];
+    if (patch.far[tri[0]] && patch.far[tri[1]] && patch.far[tri[2]]) {
       keep[t] = 0;
       ++dropped;
     }
   }
-  if (dropped > 0) compact(b, keep);
+  if (dropped > 0) patch.keep(keep);
   return dropped;
 }
 
@@ -813,8 +822,7 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t v) {
   return v;
 }
 
-Fragments find_fragments(const Mesh& mesh, const std::vector<std::array<std::uint32_t, 2>>& planes, const Projected& pr,
-                         const RefinementInput& in, double fraction) {
+Fragments find_fragments(const Mesh& mesh, const std::vector<std::uint32_t>& piece_of_vertex, double fraction) {
   const std::size_t n = mesh.vertices.size();
   std::vector<std::uint32_t> parent(n);
   for (std::uint32_t v = 0; v < n; ++v) parent[v] = v;
@@ -832,12 +840,8 @@ Fragments find_fragments(const Mesh& mesh, const std::vector<std::array<std::uin
   std::unordered_map<std::uint32_t, std::size_t> triangles;
   std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::size_t>> votes;
   for (const auto& t : mesh.triangles) ++triangles[find_root(parent, t[0])];
-  for (std::uint32_t v = 0; v < n; ++v) {
-    const std::uint32_t projected = planes[v][0];  // none for a corner; a crease vertex votes with its first end
-    if (projected == none) continue;
-    const std::uint32_t piece = in.piece.empty() ? 0 : in.piece[pr.plane[projected]];
-    ++votes[find_root(parent, v)][piece];
-  }
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (piece_of_vertex[v] != none) ++votes[find_root(parent, v)][piece_of_vertex[v]];
   std::unordered_map<std::uint32_t, std::uint32_t> piece_of;
   std::unordered_map<std::uint32_t, std::size_t> largest;  // per piece
   for (const auto& [root, count] : triangles) {
@@ -864,31 +868,47 @@ Fragments find_fragments(const Mesh& mesh, const std::vector<std::array<std::uin
   return f;
 }
 
-// Removes the dropped triangles and the vertices no triangle uses any more,
-// keeping the order of the rest.
-void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle) {
-  std::vector<std::uint32_t> renumber(b.mesh.vertices.size(), none);
-  std::vector<std::array<std::uint32_t, 3>> kept;
-  for (std::size_t t = 0; t < b.mesh.triangles.size(); ++t) {
+// Removes the dropped triangles (and their `source`) and the vertices no
+// triangle uses any more, keeping the order of the rest; move(to, from) moves
+// a kept vertex's other attributes down (to <= from). Returns, per old
+// vertex, its new number (none: removed).
+template <class MoveVertex>
+std::vector<std::uint32_t> compact_mesh(Mesh& mesh, std::vector<std::uint32_t>& source,
+                                        const std::vector<std::uint8_t>& keep_triangle, const MoveVertex& move) {
+  std::vector<std::uint32_t> renumber(mesh.vertices.size(), none);
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (!keep_triangle[t]) continue;
-    kept.push_back(b.mesh.triangles[t]);
-    for (const std::uint32_t v : b.mesh.triangles[t]) renumber[v] = 0;
+    mesh.triangles[kept] = mesh.triangles[t];
+    source[kept] = source[t];
+    ++kept;
+    for (const std::uint32_t v : mesh.triangles[t]) renumber[v] = 0;
   }
+  mesh.triangles.resize(kept);
+  source.resize(kept);
   std::uint32_t next = 0;
-  for (std::size_t v = 0; v < renumber.size(); ++v) {
+  for (std::uint32_t v = 0; v < renumber.size(); ++v) {
     if (renumber[v] == none) continue;
     renumber[v] = next;
-    b.mesh.vertices[next] = b.mesh.vertices[v];
-    b.displacement[next] = b.displacement[v];
-    b.planes[next] = b.planes[v];
+    mesh.vertices[next] = mesh.vertices[v];
+    move(next, v);
     ++next;
   }
-  b.mesh.vertices.resize(next);
-  b.displacement.resize(next);
-  b.planes.resize(next);
-  for (auto& t : kept)
+  mesh.vertices.resize(next);
+  for (auto& t : mesh.triangles)
     for (auto& v : t) v = renumber[v];
-  b.mesh.triangles = std::move(kept);
+  return renumber;
+}
+
+void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle) {
+  compact_mesh(b.mesh, b.source, keep_triangle, [&b](std::uint32_t to, std::uint32_t from) {
+        b.displacement[to] = b.displacement[from];
+        b.planes[to] = b.planes[from];
+        b.stem[to] = b.stem[from];
+      });
+  b.displacement.resize(b.mesh.vertices.size());
+  b.planes.resize(b.mesh.vertices.size());
+  b.stem.resize(b.mesh.vertices.size());
 }
 
 void check_input(const RefinementInput& in) {
@@ -904,9 +924,8 @@ void check_input(const RefinementInput& in) {
 
 }  // namespace
 
-Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, const RefinementOptions& options) {
+RefinedPatch refine_patch(const Mesh& contoured, const RefinementInput& input, const RefinementOptions& options) {
   check_input(input);
-  Timer timer;
   const double cos_crease = std::cos(options.crease_angle_degrees * std::numbers::pi / 180.0);
   Projected pr = project_vertices(contoured, input, options.max_move);
   interruption_point();
@@ -915,7 +934,11 @@ Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, cons
   b.mesh.vertices = pr.point;
   b.displacement.resize(pr.point.size());
   b.planes.resize(pr.point.size());
-  for (std::uint32_t v = 0; v < pr.point.size(); ++v) b.planes[v] = {v, pr.partner[v]};
+  b.stem.resize(pr.point.size());
+  for (std::uint32_t v = 0; v < pr.point.size(); ++v) {
+    b.planes[v] = {v, pr.partner[v]};
+    b.stem[v] = {v, none};
+  }
   if (options.chord_balance != 0.0) {
     const std::vector<double> sag = mean_sag(contoured, pr, cos_crease);
     for (std::size_t v = 0; v < sag.size(); ++v) b.mesh.vertices[v] += options.chord_balance * sag[v] * pr.normal[v];
@@ -925,21 +948,60 @@ Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, cons
   interruption_point();
   sharpen(b, pr, contoured, input, cos_crease);
   interruption_point();
+  RefinedPatch patch;
+  patch.covered = covered_vertices(b, pr);
+  patch.far = far_vertices(b, pr, input);
+  patch.piece.resize(b.mesh.vertices.size());
+  for (std::size_t v = 0; v < patch.piece.size(); ++v) {
+    const std::uint32_t projected = b.planes[v][0];  // none for a corner; a crease vertex votes with its first end
+    patch.piece[v] = projected == none ? none : input.piece.empty() ? 0 : input.piece[pr.plane[projected]];
+  }
+  patch.crease_vertices = b.creases;
+  patch.brought_back = brought_back;
+  patch.corner_vertices = b.corners;
+  patch.unmoved = pr.unmoved;
+  patch.mesh = std::move(b.mesh);
+  patch.displacement = std::move(b.displacement);
+  patch.stem = std::move(b.stem);
+  patch.source = std::move(b.source);
+  return patch;
+}
+
+void RefinedPatch::keep(const std::vector<std::uint8_t>& keep_triangle) {
+  compact_mesh(mesh, source, keep_triangle, [this](std::uint32_t to, std::uint32_t from) {
+    displacement[to] = displacement[from];
+    stem[to] = stem[from];
+    covered[to] = covered[from];
+    far[to] = far[from];
+    piece[to] = piece[from];
+  });
+  const std::size_t n = mesh.vertices.size();
+  displacement.resize(n);
+  stem.resize(n);
+  covered.resize(n);
+  far.resize(n);
+  piece.resize(n);
+}
+
+// Steps 1 to 3 (refine_patch), then step 4 over the whole mesh.
+Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, const RefinementOptions& options) {
+  Timer timer;
+  RefinedPatch patch = refine_patch(contoured, input, options);
   Refinement result;
-  result.trimmed = trim_boundaries(b, pr);
-  if (input.sample_tree != nullptr) result.stray_triangles = drop_strays(b, pr, input);
-  result.crease_vertices = b.creases;
-  result.brought_back = brought_back;
-  result.corner_vertices = b.corners;
-  result.unmoved = pr.unmoved;
+  result.trimmed = trim_boundaries(patch);
+  result.stray_triangles = drop_strays(patch);
+  result.crease_vertices = patch.crease_vertices;
+  result.brought_back = patch.brought_back;
+  result.corner_vertices = patch.corner_vertices;
+  result.unmoved = patch.unmoved;
   if (!options.keep_fragments) {
-    const Fragments f = find_fragments(b.mesh, b.planes, pr, input, options.fragment_fraction);
+    const Fragments f = find_fragments(patch.mesh, patch.piece, options.fragment_fraction);
     result.fragments = f.dropped;
     result.fragment_triangles = f.dropped_triangles;
-    if (f.dropped > 0) compact(b, f.keep_triangle);
+    if (f.dropped > 0) patch.keep(f.keep_triangle);
   }
-  result.mesh = std::move(b.mesh);
-  result.displacement = std::move(b.displacement);
+  result.mesh = std::move(patch.mesh);
+  result.displacement = std::move(patch.displacement);
   result.seconds = timer.lap();
   return result;
 }

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace recon::tile_files {
 
@@ -38,19 +39,57 @@ struct PieceTop {
   std::uint64_t index = UINT64_MAX;
 };
 
-/// A vertex of a tile's mesh: its position (input coordinates) and lattice edge.
+inline constexpr std::uint32_t none = UINT32_MAX;
+
+/// A vertex of a tile's mesh: its position (input coordinates) and its name
+/// in the whole mesh: the lattice edge it was contoured on, or for a vertex
+/// phase V added on a crease the two edges whose vertices it lies between
+/// (the lesser first; corner[1] = UINT64_MAX for one). Shared: other
+/// tiles' triangles use it too. Atom and object: step 4 of phase V (see
+/// tiles.cpp), none where not needed.
 struct MeshVertex {
   double x = 0.0, y = 0.0, z = 0.0;
-  std::uint64_t corner = 0;
-  std::uint32_t axis = 0, unused = 0;
+  std::uint64_t corner[2] = {0, UINT64_MAX};
+  std::uint32_t axis[2] = {0, 0};
+  std::uint32_t shared = 0;
+  std::uint32_t atom = none;
+  std::uint32_t object = none;
+  std::uint32_t unused = 0;
 };
 
-inline constexpr char plan_magic[9] = "RCNPLAN1";
+/// A triangle of a tile's own cubes, and what step 4 of phase V decides
+/// it by: the peelable component it is in (none: not peelable), and
+/// whether it lies beyond f's reach (stray).
+struct MeshTriangle {
+  std::uint32_t v[3] = {0, 0, 0};
+  std::uint32_t peel = none;
+  std::uint32_t stray = 0;
+};
+
+/// Vertices of an atom that vote for an object (step 4's fragments).
+struct AtomVote {
+  std::uint32_t atom = 0, object = 0;
+  std::uint64_t count = 0;
+};
+
+/// What step 4 writes of a tile (tile-N.mesh) and step 5 reads.
+struct TileMesh {
+  std::vector<MeshVertex> vertices;
+  std::vector<MeshTriangle> triangles;
+  std::vector<std::uint8_t> peel_open;        ///< per peelable component: on the mesh's open boundary
+  std::vector<std::uint64_t> atom_triangles;  ///< per atom: its triangles
+  std::vector<AtomVote> votes;
+};
+void write_mesh(const std::filesystem::path& path, const TileMesh& mesh);
+/// Checks that every index names something (ParseError naming the file).
+[[nodiscard]] TileMesh read_mesh(const std::filesystem::path& path);
+
+inline constexpr char plan_magic[9] = "RCNPLAN2";
 inline constexpr char points_magic[9] = "RCNPTS01";
 inline constexpr char orient_magic[9] = "RCNORI01";
-inline constexpr char flips_magic[9] = "RCNFLIP1";
-inline constexpr char mesh_magic[9] = "RCNMESH1";
-inline constexpr char planes_magic[9] = "RCNPLNS1";
+inline constexpr char flips_magic[9] = "RCNFLIP2";
+inline constexpr char mesh_magic[9] = "RCNMESH2";
+inline constexpr char planes_magic[9] = "RCNPLNS2";
 
 /// The tile's core, in cubes: [lo, hi) per axis.
 struct CoreBox {

@@ -156,6 +156,7 @@ ReconstructionOptions tile_options(const TilePlan& plan) {
   o.orientation.vote_rounds = plan.vote_rounds;
   o.orientation.graph.gap_factor = plan.gap_factor;
   o.orientation.graph.min_component_points = plan.min_component_points;
+  o.refinement = plan.refinement;
   o.keep_graph = false;
   o.mesh_colors = false;
   return o;
@@ -164,6 +165,14 @@ ReconstructionOptions tile_options(const TilePlan& plan) {
 }  // namespace tile_files
 
 namespace {
+
+// The cubes the walk may cross around those it emits triangles for, and
+// the ring of cubes around the core a tile refines too: phase V's choices
+// (which crease vertex comes first, which sliver flips) depend on the
+// triangles a few cubes around, never farther in the meshes tried.
+constexpr std::int32_t walk_ring = 2;
+constexpr std::int32_t refine_ring = 3;
+constexpr std::int32_t plain_ring = 1;
 
 // ---------------------------------------------------------------------------
 // Pass 1: the count and the bounding box (input coordinates).
@@ -282,6 +291,9 @@ void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan&
   plan.vote_rounds = o.orientation.vote_rounds;
   plan.gap_factor = o.orientation.graph.gap_factor;
   plan.min_component_points = o.orientation.graph.min_component_points;
+  plan.refinement = o.refinement;
+  plan.ring = o.method == Method::refined ? refine_ring : plain_ring;
+  plan.walk_margin = walk_ring + plan.ring;
   // (Quantiles over the samples whose neighbourhoods the patches left whole.)
   const std::vector<std::uint8_t> inside =
       inside_patches(sample, r, plan, 3.0 * static_cast<double>(quantile(r.planes.radius, 0.5)));
@@ -303,6 +315,10 @@ void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan&
   const double reach = 1.5 * plan.rho_q + delta + 2.0 * cell;
   plan.exact_margin = plan.walk_margin * cell + reach + plan.radius_q;
   plan.halo = plan.exact_margin + 2.0 * plan.radius_q;
+  // Phase V drops a triangle whose vertices lie beyond reach * rho_i + delta
+  // of every sample: the samples that far around the walk must be there.
+  if (o.method == Method::refined)
+    plan.halo = std::max(plan.halo, plan.walk_margin * cell + RefinementInput{}.reach * plan.rho_q + delta);
   plan.statistics_points = sample.cloud.size();
 }
 
@@ -530,6 +546,11 @@ void write_plan(const TilePlan& plan, const std::filesystem::path& dir) {
     out.put(v);
   out.put(plan.tile_cubes);
   out.put(plan.walk_margin);
+  out.put(plan.ring);
+  for (const double v : {plan.refinement.crease_angle_degrees, plan.refinement.chord_balance,
+                         plan.refinement.fragment_fraction, plan.refinement.max_move})
+    out.put(v);
+  out.put(static_cast<std::uint8_t>(plan.refinement.keep_fragments));
   out.put(plan.input_points);
   out.put(plan.statistics_points);
   out.put_vector<TileInfo>(plan.tiles);
@@ -562,6 +583,11 @@ TilePlan read_tile_plan(const std::filesystem::path& work_dir) {
     *v = in.get<double>();
   plan.tile_cubes = in.get<std::int32_t>();
   plan.walk_margin = in.get<std::int32_t>();
+  plan.ring = in.get<std::int32_t>();
+  for (double* v : {&plan.refinement.crease_angle_degrees, &plan.refinement.chord_balance,
+                    &plan.refinement.fragment_fraction, &plan.refinement.max_move})
+    *v = in.get<double>();
+  plan.refinement.keep_fragments = in.get<std::uint8_t>() != 0;
   plan.input_points = in.get<std::uint64_t>();
   plan.statistics_points = in.get<std::uint64_t>();
   plan.tiles = in.get_vector<TileInfo>();

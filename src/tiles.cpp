@@ -3,7 +3,6 @@
 #include "recon/tiles.h"
 
 #include "recon/errors.h"
-#include "recon/io/mesh_stream.h"
 #include "recon/memory_budget.h"
 #include "recon/parallel.h"
 #include "recon/timer.h"
@@ -160,9 +159,10 @@ Orientation orient_points(const TilePlan& plan, const CoreBox& core, Reconstruct
 }
 
 // What step 4 needs of phase I, so that it does not run it again: per
-// sample (spatial order) the plane, rho_i and the crease band, and the
-// order that the kd-tree over the tile's points gives (step 4 builds the
-// same tree, and checks it is the same).
+// sample (spatial order) the plane, rho_i and the crease band, and for
+// phase V the curvature and spacing; and the order that the kd-tree over
+// the tile's points gives (step 4 builds the same tree, and checks it is
+// the same).
 void write_planes(const std::filesystem::path& path, const Reconstruction& r) {
   detail::BinaryWriter out(path, tile_files::planes_magic);
   out.put_vector<std::uint32_t>(r.order);
@@ -175,6 +175,14 @@ void write_planes(const std::filesystem::path& path, const Reconstruction& r) {
   out.put_vector<std::uint8_t>(r.quadrics ? std::span<const std::uint8_t>(r.quadrics->near_crease)
                                           : std::span<const std::uint8_t>());
   out.put(r.planes.noise);
+  std::vector<float> curvature;
+  if (r.quadrics) {
+    curvature.reserve(3 * r.quadrics->curvature.size());
+    for (const Curvature& c : r.quadrics->curvature) curvature.insert(curvature.end(), {c.p, c.q, c.r});
+  }
+  out.put_vector<float>(curvature);
+  out.put_vector<float>(r.planes.local_gap);
+  out.put(r.planes.rho);
   out.commit();
 }
 
@@ -248,7 +256,13 @@ SignGraph sign_graph(const std::filesystem::path& dir, const TilePlan& plan) {
 
 // The maximum spanning forest by margin of agreement (Kruskal), walked
 // breadth-first from each object's highest piece, which keeps its sign.
-std::vector<std::int8_t> reconcile(const SignGraph& g, TileReconciliation& result) {
+// Per node: its sign, and its object (the node it was walked from).
+struct Signs {
+  std::vector<std::int8_t> flip;
+  std::vector<std::uint32_t> object;
+};
+
+Signs reconcile(const SignGraph& g, TileReconciliation& result) {
   const std::size_t n = g.tops.size();
   std::vector<std::pair<NodePair, Agreement>> edges(g.edges.begin(), g.edges.end());
   const auto margin = [](const Agreement& a) { return a.agree > a.disagree ? a.agree - a.disagree : a.disagree - a.agree; };
@@ -270,20 +284,22 @@ std::vector<std::int8_t> reconcile(const SignGraph& g, TileReconciliation& resul
     };
     if (best == UINT32_MAX || higher(v, best)) best = v;
   }
-  std::vector<std::int8_t> flip(n, 0);
+  Signs s{std::vector<std::int8_t>(n, 0), std::vector<std::uint32_t>(n, UINT32_MAX)};
   for (std::uint32_t v = 0; v < n; ++v) {
     if (root[v] == UINT32_MAX) continue;
     if (g.tops[root[v]].index != UINT64_MAX) ++result.objects;  // (pieces of halos alone are no object)
     std::vector<std::uint32_t> queue{root[v]};
-    flip[root[v]] = 1;
-    for (std::size_t q = 0; q < queue.size(); ++q)
+    s.flip[root[v]] = 1;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      s.object[queue[q]] = root[v];
       for (const auto& [next, relation] : tree[queue[q]])
-        if (flip[next] == 0) {
-          flip[next] = static_cast<std::int8_t>(flip[queue[q]] * relation);
+        if (s.flip[next] == 0) {
+          s.flip[next] = static_cast<std::int8_t>(s.flip[queue[q]] * relation);
           queue.push_back(next);
         }
+    }
   }
-  return flip;
+  return s;
 }
 
 }  // namespace
@@ -293,7 +309,8 @@ TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
   const TilePlan plan = read_tile_plan(work_dir);
   const SignGraph g = sign_graph(work_dir, plan);
   TileReconciliation result;
-  const std::vector<std::int8_t> flip = reconcile(g, result);
+  const Signs signs = reconcile(g, result);
+  const std::vector<std::int8_t>& flip = signs.flip;
   result.nodes = g.tops.size();
   result.edges = g.edges.size();
   result.shared_samples = g.shared;
@@ -303,6 +320,7 @@ TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
   detail::BinaryWriter out(tile_files::flips(work_dir), tile_files::flips_magic);
   out.put_vector<std::uint64_t>(g.first_node);
   out.put_vector<std::int8_t>(flip);
+  out.put_vector<std::uint32_t>(signs.object);
   out.commit();
   result.seconds = timer.elapsed();
   return result;
@@ -318,6 +336,7 @@ struct TileSurface {
   TangentPlanes<3> planes;
   std::vector<std::uint32_t> order;
   std::vector<std::uint8_t> near_crease;
+  std::vector<Curvature> curvature;  // (the refined method)
 };
 
 TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan, const TilePoints& points) {
@@ -328,10 +347,14 @@ TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan
   s.planes.local_rho = in.get_vector<float>();
   s.near_crease = in.get_vector<std::uint8_t>();
   s.planes.noise = in.get<double>();
+  const std::vector<float> curvature = in.get_vector<float>();
+  s.planes.local_gap = in.get_vector<float>();
+  s.planes.rho = in.get<double>();
   const std::size_t n = s.order.size();
   WorkingTree w = working_tree(points.positions, TangentPlaneOptions{}.tree, plan.offset);
   if (w.order != s.order || coordinates.size() != 6 * n || s.planes.local_rho.size() != n ||
-      (!s.near_crease.empty() && s.near_crease.size() != n))
+      (!s.near_crease.empty() && s.near_crease.size() != n) || (!curvature.empty() && curvature.size() != 3 * n) ||
+      s.planes.local_gap.size() != n)
     throw ParseError(path.string() + ": these planes are not those of the tile's points");
   s.planes.point_tree = std::move(w.tree);
   for (std::size_t j = 0; j < n; ++j) {
@@ -339,49 +362,258 @@ TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan
     const std::size_t m = 3 * (n + j);
     s.planes.normals.emplace_back(coordinates[m], coordinates[m + 1], coordinates[m + 2]);
   }
+  for (std::size_t c = 0; c < curvature.size(); c += 3) s.curvature.push_back({curvature[c], curvature[c + 1], curvature[c + 2]});
   return s;
 }
 
-// The tile's normals, oriented as reconciled (spatial order).
-std::vector<Vec3> reconciled_normals(const std::filesystem::path& dir, const Orientation& o, std::size_t tile,
-                                     const TileSurface& s) {
+// The tile's normals, oriented as reconciled, and the object each belongs
+// to (spatial order).
+struct Reconciled {
+  std::vector<Vec3> normals;
+  std::vector<std::uint32_t> object;
+};
+
+Reconciled reconciled_planes(const std::filesystem::path& dir, const Orientation& o, std::size_t tile,
+                             const TileSurface& s) {
   detail::BinaryReader in(tile_files::flips(dir), tile_files::flips_magic);
   const std::vector<std::uint64_t> first_node = in.get_vector<std::uint64_t>();
   const std::vector<std::int8_t> flip = in.get_vector<std::int8_t>();
-  if (o.sign.size() != s.order.size() || tile >= first_node.size())
+  const std::vector<std::uint32_t> object = in.get_vector<std::uint32_t>();
+  if (o.sign.size() != s.order.size() || tile >= first_node.size() || object.size() != flip.size())
     throw ParseError(dir.string() + ": the orientation of tile " + std::to_string(tile) + " does not match its points");
-  std::vector<Vec3> normals(s.order.size());
-  for (std::size_t j = 0; j < normals.size(); ++j) {
+  Reconciled r;
+  r.normals.resize(s.order.size());
+  r.object.resize(s.order.size());
+  for (std::size_t j = 0; j < s.order.size(); ++j) {
     const std::uint32_t t = s.order[j];
     const std::uint64_t node = first_node[tile] + o.piece[t];
     if (node >= flip.size()) throw ParseError(tile_files::flips(dir).string() + ": too few pieces");
-    normals[j] = s.planes.normals[j] * static_cast<double>(o.sign[t] * flip[node]);
+    r.normals[j] = s.planes.normals[j] * static_cast<double>(o.sign[t] * flip[node]);
+    r.object[j] = object[node];
   }
-  return normals;
+  return r;
 }
 
+// The walk: the core and the ring around it emit triangles, and the walk
+// may go 2 cubes further.
 LatticeRegion region_of(const TilePlan& plan, const CoreBox& core) {
   LatticeRegion region;
   region.lattice = plan.lattice;
-  region.own_lo = core.lo;
-  region.own_hi = core.hi;
   for (std::size_t a = 0; a < 3; ++a) {
+    region.own_lo[a] = std::max(0, core.lo[a] - plan.ring);
+    region.own_hi[a] = std::min(plan.lattice.size[a], core.hi[a] + plan.ring);
     region.walk_lo[a] = std::max(0, core.lo[a] - plan.walk_margin);
     region.walk_hi[a] = std::min(plan.lattice.size[a], core.hi[a] + plan.walk_margin);
   }
   return region;
 }
 
-void write_mesh(const std::filesystem::path& path, const MarchingCubesResult& contour, const Vec3& offset) {
-  std::vector<MeshVertex> vertices(contour.mesh.vertices.size());
-  for (std::size_t v = 0; v < vertices.size(); ++v) {
-    const Vec3 p = contour.mesh.vertices[v] + offset;
-    vertices[v] = {p.x(), p.y(), p.z(), contour.vertex_edges[v].corner, contour.vertex_edges[v].axis, 0};
+// The tile's mesh before its own triangles are picked: the core's and the
+// ring's triangles, in their cubes' order (sort_by_cube), refined when the
+// method is (phase V's steps 1-3, refinement.h), or as contoured.
+struct TilePatch {
+  MarchingCubesResult contour;
+  RefinedPatch refined;
+};
+
+RefinedPatch unrefined(const Mesh& contoured) {
+  RefinedPatch p;
+  p.mesh = contoured;
+  const std::size_t n = contoured.vertices.size();
+  p.displacement.assign(n, 0.0f);
+  p.stem.resize(n);
+  for (std::uint32_t v = 0; v < n; ++v) p.stem[v] = {v, RefinedPatch::none};
+  p.covered.assign(n, 1);
+  p.far.assign(n, 0);
+  p.piece.assign(n, RefinedPatch::none);
+  p.source.resize(contoured.triangles.size());
+  for (std::uint32_t t = 0; t < p.source.size(); ++t) p.source[t] = t;
+  return p;
+}
+
+TilePatch tile_patch(const TilePlan& plan, std::size_t tile, const TileSurface& surface, const Reconciled& reconciled,
+                     std::size_t points) {
+  const KdTree<3> origin_tree = surface.planes.point_tree.refit(surface.planes.origins);
+  const ReconstructionOptions options = tile_files::tile_options(plan);
+  SignedDistanceOptions distance = signed_distance_options(plan.method, options.distance, std::nullopt);
+  distance.near_crease = surface.near_crease;
+  const SignedDistance<3> f = make_signed_distance<3>(surface.planes, reconciled.normals, origin_tree, distance);
+  MarchingCubesOptions mc;
+  mc.cell = plan.lattice.cell;
+  mc.max_cubes = max_cubes_within(memory_limit_or_default(options.max_memory), points);
+  mc.region = region_of(plan, tile_files::core_of(plan, tile));
+  mc.keep_vertex_edges = true;
+  mc.keep_triangle_cubes = true;
+  TilePatch patch;
+  patch.contour = marching_cubes(std::cref(f), surface.planes.point_tree.points(), mc);
+  sort_by_cube(patch.contour);
+  if (plan.method != Method::refined || surface.curvature.empty()) {
+    patch.refined = unrefined(patch.contour.mesh);
+    return patch;
   }
-  detail::BinaryWriter out(path, tile_files::mesh_magic);
-  out.put_vector<MeshVertex>(vertices);
-  out.put_vector<std::array<std::uint32_t, 3>>(contour.mesh.triangles);
-  out.commit();
+  // As reconstruct() refines (refinement_input_of there).
+  RefinementInput input;
+  input.origins = surface.planes.origins;
+  input.normals = surface.planes.normals;
+  input.oriented = reconciled.normals;
+  input.curvature = surface.curvature;
+  input.distance = &f;
+  input.spacing = surface.planes.local_gap;
+  if (surface.planes.noise > 0.01 * surface.planes.rho) {
+    input.blend = 8;
+    input.origin_tree = &origin_tree;
+  }
+  input.piece = reconciled.object;
+  input.sample_tree = &surface.planes.point_tree;
+  input.local_rho = surface.planes.local_rho;
+  input.delta = f.delta();
+  RefinementOptions refinement = plan.refinement;
+  if (refinement.max_move <= 0.0) refinement.max_move = plan.lattice.cell;
+  patch.refined = refine_patch(patch.contour.mesh, input, refinement);
+  return patch;
+}
+
+// The name of a patch vertex in the whole mesh (MeshVertex).
+void name_vertex(const TilePatch& patch, std::uint32_t v, MeshVertex& out) {
+  const auto& stem = patch.refined.stem[v];
+  const VertexEdge a = patch.contour.vertex_edges[stem[0]];
+  out.corner[0] = a.corner;
+  out.axis[0] = a.axis;
+  if (stem[1] == RefinedPatch::none) return;
+  const VertexEdge b = patch.contour.vertex_edges[stem[1]];
+  const bool swap = std::tie(b.corner, b.axis) < std::tie(a.corner, a.axis);
+  out.corner[swap ? 0 : 1] = b.corner;
+  out.axis[swap ? 0 : 1] = b.axis;
+  out.corner[swap ? 1 : 0] = a.corner;
+  out.axis[swap ? 1 : 0] = a.axis;
+}
+
+std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
+  return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
+}
+
+// Step 4 of phase V is decided over the whole mesh at the stitch; each tile
+// marks what it needs among its own triangles (see stitch_tiles):
+//   - peelable components: own triangles whose three vertices are
+//     uncovered, joined across edges; open where one of them has an edge
+//     no other triangle of the patch shares (the mesh's open boundary);
+//   - atoms: components of the own triangles that stay whatever is peeled
+//     (not peelable, not strays), joined through vertices; a vertex only
+//     peelable triangles use is an atom of its own;
+//   - the votes of the vertices no other tile uses for the objects they
+//     stand for (a shared vertex votes at the stitch, once).
+void mark_peelable(const RefinedPatch& p, const std::vector<std::uint32_t>& own, tile_files::TileMesh& out) {
+  std::vector<std::uint32_t> peelable;  // indices into own
+  for (std::uint32_t o = 0; o < own.size(); ++o) {
+    const auto& t = p.mesh.triangles[own[o]];
+    if (!p.covered[t[0]] && !p.covered[t[1]] && !p.covered[t[2]]) peelable.push_back(o);
+  }
+  if (peelable.empty()) return;
+  std::unordered_map<std::uint64_t, std::uint32_t> sides;  // edge of a peelable triangle -> triangles of the patch on it
+  for (const std::uint32_t o : peelable)
+    for (std::size_t e = 0; e < 3; ++e) sides.emplace(edge_key(p.mesh.triangles[own[o]][e], p.mesh.triangles[own[o]][(e + 1) % 3]), 0);
+  for (const auto& t : p.mesh.triangles)
+    for (std::size_t e = 0; e < 3; ++e)
+      if (const auto it = sides.find(edge_key(t[e], t[(e + 1) % 3])); it != sides.end()) ++it->second;
+  UnionFind sets(peelable.size());
+  std::unordered_map<std::uint64_t, std::uint32_t> first;  // edge -> the first peelable triangle on it
+  for (std::uint32_t q = 0; q < peelable.size(); ++q)
+    for (std::size_t e = 0; e < 3; ++e) {
+      const auto& t = p.mesh.triangles[own[peelable[q]]];
+      const auto [it, added] = first.emplace(edge_key(t[e], t[(e + 1) % 3]), q);
+      if (!added) sets.unite(it->second, q);
+    }
+  std::vector<std::uint32_t> component(peelable.size(), tile_files::none);
+  std::vector<std::uint32_t> number(peelable.size(), tile_files::none);
+  for (std::uint32_t q = 0; q < peelable.size(); ++q) {
+    std::uint32_t& c = number[sets.find(q)];
+    if (c == tile_files::none) {
+      c = static_cast<std::uint32_t>(out.peel_open.size());
+      out.peel_open.push_back(0);
+    }
+    out.triangles[peelable[q]].peel = c;
+    const auto& t = p.mesh.triangles[own[peelable[q]]];
+    for (std::size_t e = 0; e < 3; ++e)
+      if (sides.at(edge_key(t[e], t[(e + 1) % 3])) == 1) out.peel_open[c] = 1;
+  }
+}
+
+void mark_atoms(const RefinedPatch& p, const std::vector<std::uint32_t>& own, tile_files::TileMesh& out,
+                const std::vector<std::uint32_t>& written) {
+  UnionFind sets(p.mesh.vertices.size());
+  for (std::uint32_t o = 0; o < own.size(); ++o) {
+    const auto& t = p.mesh.triangles[own[o]];
+    out.triangles[o].stray = p.far[t[0]] && p.far[t[1]] && p.far[t[2]] ? 1 : 0;
+    if (out.triangles[o].peel != tile_files::none || out.triangles[o].stray) continue;
+    sets.unite(t[0], t[1]);
+    sets.unite(t[0], t[2]);
+  }
+  std::vector<std::uint32_t> atom_of_root(p.mesh.vertices.size(), tile_files::none);
+  auto atom_of = [&](std::uint32_t root) {
+    std::uint32_t& a = atom_of_root[root];
+    if (a == tile_files::none) {
+      a = static_cast<std::uint32_t>(out.atom_triangles.size());
+      out.atom_triangles.push_back(0);
+    }
+    return a;
+  };
+  for (std::uint32_t o = 0; o < own.size(); ++o) {  // the lasting triangles first, then the peelable ones
+    const auto& t = p.mesh.triangles[own[o]];
+    if (out.triangles[o].peel != tile_files::none || out.triangles[o].stray) continue;
+    const std::uint32_t a = atom_of(sets.find(t[0]));
+    ++out.atom_triangles[a];
+    for (const std::uint32_t v : t) out.vertices[written[v]].atom = a;
+  }
+  for (std::uint32_t o = 0; o < own.size(); ++o) {
+    const auto& t = p.mesh.triangles[own[o]];
+    if (out.triangles[o].peel == tile_files::none || out.triangles[o].stray) continue;
+    for (const std::uint32_t v : t)
+      if (out.vertices[written[v]].atom == tile_files::none) out.vertices[written[v]].atom = atom_of(sets.find(v));
+  }
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint64_t> votes;
+  for (const MeshVertex& v : out.vertices)
+    if (!v.shared && v.atom != tile_files::none && v.object != tile_files::none) ++votes[{v.atom, v.object}];
+  for (const auto& [key, count] : votes) out.votes.push_back({key.first, key.second, count});
+}
+
+// The tile's own triangles (those cut from its core's cubes) and the
+// vertices they use, named for the stitch.
+tile_files::TileMesh own_mesh(const TilePlan& plan, std::size_t tile, const TilePatch& patch) {
+  const RefinedPatch& p = patch.refined;
+  const CoreBox core = tile_files::core_of(plan, tile);
+  std::vector<std::uint32_t> own;  // patch triangles
+  std::vector<std::uint8_t> used_own(p.mesh.vertices.size(), 0), used_other(p.mesh.vertices.size(), 0);
+  for (std::uint32_t t = 0; t < p.mesh.triangles.size(); ++t) {
+    const auto cube = Lattice<3>::index(patch.contour.triangle_cubes[p.source[t]]);
+    const bool mine = LatticeRegion::inside(cube, core.lo, core.hi);
+    if (mine) own.push_back(t);
+    for (const std::uint32_t v : p.mesh.triangles[t]) (mine ? used_own : used_other)[v] = 1;
+  }
+  tile_files::TileMesh out;
+  std::vector<std::uint32_t> written(p.mesh.vertices.size(), tile_files::none);
+  for (std::uint32_t v = 0; v < p.mesh.vertices.size(); ++v) {
+    if (!used_own[v]) continue;
+    written[v] = static_cast<std::uint32_t>(out.vertices.size());
+    MeshVertex m;
+    const Vec3 x = p.mesh.vertices[v] + plan.offset;
+    m.x = x.x();
+    m.y = x.y();
+    m.z = x.z();
+    name_vertex(patch, v, m);
+    m.shared = used_other[v];
+    m.object = p.piece[v];
+    out.vertices.push_back(m);
+  }
+  for (const std::uint32_t t : own) {
+    tile_files::MeshTriangle m;
+    for (std::size_t c = 0; c < 3; ++c) m.v[c] = written[p.mesh.triangles[t][c]];
+    out.triangles.push_back(m);
+  }
+  if (plan.method == Method::refined) {
+    mark_peelable(p, own, out);
+    mark_atoms(p, own, out, written);
+  }
+  return out;
 }
 
 }  // namespace
@@ -389,87 +621,19 @@ void write_mesh(const std::filesystem::path& path, const MarchingCubesResult& co
 TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile) {
   Timer timer;
   const auto& [plan, info, points] = load_tile(work_dir, tile);
-  MarchingCubesResult contour;
-  const auto planes_file = tile_files::of_tile(work_dir, info.id, "planes");
   const Orientation orientation = read_orientation(tile_files::of_tile(work_dir, info.id, "orient"));
-  if (!orientation.sign.empty()) {  // (none when the tile makes no plane: then no planes file either)
-    const TileSurface surface = read_surface(planes_file, plan, points);
-    const std::vector<Vec3> normals = reconciled_normals(work_dir, orientation, tile, surface);
-    const KdTree<3> origin_tree = surface.planes.point_tree.refit(surface.planes.origins);
-    const ReconstructionOptions options = tile_files::tile_options(plan);
-    SignedDistanceOptions distance = signed_distance_options(plan.method, options.distance, std::nullopt);
-    distance.near_crease = surface.near_crease;
-    const SignedDistance<3> f = make_signed_distance<3>(surface.planes, normals, origin_tree, distance);
-    MarchingCubesOptions mc;
-    mc.cell = plan.lattice.cell;
-    mc.max_cubes = max_cubes_within(memory_limit_or_default(options.max_memory), points.positions.size());
-    mc.region = region_of(plan, tile_files::core_of(plan, tile));
-    mc.keep_vertex_edges = true;
-    contour = marching_cubes(std::cref(f), surface.planes.point_tree.points(), mc);
-  }
-  write_mesh(tile_files::of_tile(work_dir, info.id, "mesh"), contour, plan.offset);
+  tile_files::TileMesh mesh;
   TileContour result;
-  result.vertices = contour.mesh.vertices.size();
-  result.triangles = contour.mesh.triangles.size();
-  result.visited_cubes = contour.visited_cubes;
-  result.seconds = timer.elapsed();
-  return result;
-}
-
-// ---------------------------------------------------------------------------
-// Step 5.
-
-namespace {
-
-// Whether a lattice edge lies on a face of the core's box: another tile's
-// cubes share it.
-bool on_border(const MeshVertex& v, const CoreBox& core) {
-  if (v.axis > 2) return false;
-  const Lattice<3>::Index c = Lattice<3>::index(v.corner);
-  for (std::size_t b = 0; b < 3; ++b)
-    if (b != v.axis && (c[b] == core.lo[b] || c[b] == core.hi[b])) return true;
-  return false;
-}
-
-}  // namespace
-
-StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::filesystem::path& output) {
-  Timer timer;
-  const TilePlan plan = read_tile_plan(work_dir);
-  io::PlyMeshStream out(output, false);
-  std::unordered_map<std::uint64_t, std::array<std::uint32_t, 3>> border;  // per corner: its 3 edges' vertices
-  StitchedMesh result;
-  for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) {
-    detail::BinaryReader in(tile_files::of_tile(work_dir, plan.tiles[tile].id, "mesh"), tile_files::mesh_magic);
-    const std::vector<MeshVertex> vertices = in.get_vector<MeshVertex>();
-    const auto triangles = in.get_vector<std::array<std::uint32_t, 3>>();
-    const CoreBox core = tile_files::core_of(plan, tile);
-    std::vector<std::uint32_t> id(vertices.size());
-    for (std::size_t v = 0; v < vertices.size(); ++v) {
-      const MeshVertex& m = vertices[v];
-      std::uint32_t* slot = nullptr;
-      if (on_border(m, core)) {
-        auto [at, added] = border.try_emplace(m.corner, std::array<std::uint32_t, 3>{UINT32_MAX, UINT32_MAX, UINT32_MAX});
-        slot = &at->second[m.axis];
-        if (*slot != UINT32_MAX) {
-          id[v] = *slot;
-          ++result.welded;
-          continue;
-        }
-      }
-      id[v] = out.add_vertex(Vec3(m.x, m.y, m.z));
-      if (slot) *slot = id[v];
-    }
-    for (const auto& t : triangles) {
-      if (t[0] >= id.size() || t[1] >= id.size() || t[2] >= id.size())
-        throw ParseError(tile_files::of_tile(work_dir, plan.tiles[tile].id, "mesh").string() +
-                         ": a triangle names a vertex it does not have");
-      out.add_triangle({id[t[0]], id[t[1]], id[t[2]]});
-    }
+  if (!orientation.sign.empty()) {  // (none when the tile makes no plane: then no planes file either)
+    const TileSurface surface = read_surface(tile_files::of_tile(work_dir, info.id, "planes"), plan, points);
+    const TilePatch patch =
+        tile_patch(plan, tile, surface, reconciled_planes(work_dir, orientation, tile, surface), points.positions.size());
+    mesh = own_mesh(plan, tile, patch);
+    result.visited_cubes = patch.contour.visited_cubes;
   }
-  result.vertices = out.vertex_count();
-  result.triangles = out.triangle_count();
-  out.finish();
+  tile_files::write_mesh(tile_files::of_tile(work_dir, info.id, "mesh"), mesh);
+  result.vertices = mesh.vertices.size();
+  result.triangles = mesh.triangles.size();
   result.seconds = timer.elapsed();
   return result;
 }

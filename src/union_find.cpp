@@ -9,6 +9,14 @@ UnionFind::UnionFind(std::size_t n) : parent_(n), size_(n, 1), sets_(n) {
   std::iota(parent_.begin(), parent_.end(), 0u);
 }
 
+std::uint32_t UnionFind::add() {
+  const auto x = static_cast<std::uint32_t>(parent_.size());
+  parent_.push_back(x);
+  size_.push_back(1);
+  ++sets_;
+  return x;
+}
+
 std::uint32_t UnionFind::find(std::uint32_t x) {
   ++finds_;
   while (parent_[x] != x) {

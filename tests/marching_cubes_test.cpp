@@ -204,6 +204,52 @@ TEST(MarchingCubes, SphereIsOutwardFacingAndAccurate) {
   for (const Vec3& v : r.mesh.vertices) EXPECT_NEAR(v.norm(), 1.0, 0.05 * 0.05);  // linear interpolation error ~ h^2
 }
 
+// sort_by_cube gives one order whatever the walk: from every sample, or
+// from one (another start, other waves), the sorted meshes are the same
+// bytes, though the walks' own orders differ. The vertex edges follow.
+TEST(MarchingCubes, SortByCubeDoesNotDependOnTheWalk) {
+  const ScalarField f = [](const Vec3& p) { return std::optional<double>(p.norm() - 1.0); };
+  const PointCloud seeds = make_sphere()->sample(3000, 4);
+  Box<3> box;
+  for (const Vec3& p : seeds.positions) box.extend(p);
+  MarchingCubesOptions options;
+  options.cell = 0.1;
+  options.keep_vertex_edges = true;
+  options.keep_triangle_cubes = true;
+  LatticeRegion region;
+  region.lattice = make_lattice<3>(box, options.cell);
+  region.walk_hi = region.own_hi = region.lattice.size;
+  options.region = region;
+  MarchingCubesResult all = marching_cubes(f, seeds.positions, options);
+  MarchingCubesResult one = marching_cubes(f, std::span<const Vec3>(&seeds.positions.back(), 1), options);
+  ASSERT_EQ(all.mesh.triangles.size(), one.mesh.triangles.size());
+  EXPECT_NE(all.mesh.triangles, one.mesh.triangles) << "the walks' orders should differ, or the test shows nothing";
+  sort_by_cube(all);
+  sort_by_cube(one);
+  EXPECT_EQ(all.mesh.vertices, one.mesh.vertices);
+  EXPECT_EQ(all.mesh.triangles, one.mesh.triangles);
+  EXPECT_EQ(all.vertex_edges, one.vertex_edges);
+  EXPECT_TRUE(std::is_sorted(all.triangle_cubes.begin(), all.triangle_cubes.end()));
+  // Each vertex still lies on its edge: between the edge's corners on its axis.
+  for (std::size_t v = 0; v < all.mesh.vertices.size(); ++v) {
+    const VertexEdge e = all.vertex_edges[v];
+    const Vec3 corner = region.lattice.position(Lattice<3>::index(e.corner));
+    for (std::size_t a = 0; a < 3; ++a) {
+      const double along = all.mesh.vertices[v][static_cast<Eigen::Index>(a)] - corner[static_cast<Eigen::Index>(a)];
+      if (a == e.axis) {
+        EXPECT_GT(along, 0.0);
+        EXPECT_LT(along, options.cell);
+      } else {
+        EXPECT_NEAR(along, 0.0, 1e-12);
+      }
+    }
+  }
+  MarchingCubesOptions plain;
+  plain.cell = 0.1;
+  MarchingCubesResult bare = marching_cubes(f, seeds.positions, plain);
+  EXPECT_THROW(sort_by_cube(bare), InvalidInputError);
+}
+
 // Time and memory follow the surface: halving the cell visits about 4 times
 // the cubes (area), not 8 (volume).
 TEST(MarchingCubes, VisitedCubesGrowWithAreaNotVolume) {

@@ -309,6 +309,49 @@ TEST(Refinement, ThreadCountDoesNotChangeTheMesh) {
   }
 }
 
+// refine_patch (steps 1-3, what tiles run) says where each triangle and
+// vertex came from: every triangle's vertices stem from its source triangle
+// (a crease vertex from two of its corners), but where a sliver was flipped
+// or collapsed; each vertex lies its displacement from its stem (a crease
+// vertex from its edge's midpoint). And
+// refine_mesh, which is refine_patch and step 4, gives reconstruct()'s mesh.
+TEST(Refinement, PatchSaysWhereTrianglesAndVerticesCameFrom) {
+  const Reconstruction r = run(bare(make_box()->sample(20000, 70)), Method::refined);
+  ASSERT_GT(r.refinement->crease_vertices, 100u);
+  const SignedDistance<3> f = signed_distance_of(r);
+  const RefinementInput input = refinement_input_of(r, f);
+  RefinementOptions options;
+  options.max_move = r.contour.cell;
+  Mesh contoured = r.contour.mesh;
+  for (Vec3& v : contoured.vertices) v -= r.offset;
+  const RefinedPatch patch = refine_patch(contoured, input, options);
+  ASSERT_EQ(patch.source.size(), patch.mesh.triangles.size());
+  ASSERT_EQ(patch.stem.size(), patch.mesh.vertices.size());
+  std::size_t crease = 0, from_source = 0;
+  for (std::size_t v = 0; v < patch.stem.size(); ++v) {
+    const auto [a, b] = patch.stem[v];
+    ASSERT_LT(a, contoured.vertices.size());
+    crease += b != RefinedPatch::none ? 1 : 0;  // (displaced from the midpoint of the edge it splits)
+    const Vec3 from = b != RefinedPatch::none ? Vec3(0.5 * (contoured.vertices[a] + contoured.vertices[b]))
+                                              : contoured.vertices[a];
+    EXPECT_LE((patch.mesh.vertices[v] - from).norm(), static_cast<double>(patch.displacement[v]) + 1e-6);
+  }
+  EXPECT_EQ(crease, patch.crease_vertices);
+  for (std::size_t t = 0; t < patch.mesh.triangles.size(); ++t) {
+    const auto& source = contoured.triangles[patch.source[t]];
+    bool inside = true;
+    for (const std::uint32_t v : patch.mesh.triangles[t])
+      for (const std::uint32_t s : patch.stem[v])
+        inside = inside && (s == RefinedPatch::none || std::find(source.begin(), source.end(), s) != source.end());
+    from_source += inside ? 1 : 0;
+  }
+  EXPECT_GT(static_cast<double>(from_source), 0.995 * static_cast<double>(patch.mesh.triangles.size()));
+  Refinement whole = refine_mesh(contoured, input, options);
+  for (Vec3& v : whole.mesh.vertices) v += r.offset;
+  EXPECT_TRUE(whole.mesh.vertices == r.refinement->mesh.vertices);
+  EXPECT_TRUE(whole.mesh.triangles == r.refinement->mesh.triangles);
+}
+
 TEST(Refinement, RefusesInputsThatDoNotMatch) {
   const Reconstruction r = run(bare(make_sphere()->sample(2000, 69)), Method::refined);
   const SignedDistance<3> f = signed_distance_of(r);

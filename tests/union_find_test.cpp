@@ -82,5 +82,19 @@ TEST(UnionFind, Empty) {
   EXPECT_EQ(sets.set_count(), 0u);
 }
 
+// Sets added one at a time (the stitch of tiles.h grows its sets as it reads).
+TEST(UnionFind, AddGrowsBySingletons) {
+  UnionFind sets(0);
+  for (std::uint32_t i = 0; i < 5; ++i) EXPECT_EQ(sets.add(), i);
+  EXPECT_EQ(sets.size(), 5u);
+  EXPECT_EQ(sets.set_count(), 5u);
+  EXPECT_TRUE(sets.unite(0, 4));
+  EXPECT_EQ(sets.add(), 5u);
+  EXPECT_TRUE(sets.unite(5, 4));
+  EXPECT_EQ(sets.set_count(), 4u);
+  EXPECT_EQ(sets.find(5), sets.find(0));
+  EXPECT_EQ(sets.set_size(5), 3u);
+}
+
 }  // namespace
 }  // namespace recon

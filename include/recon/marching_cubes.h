@@ -66,6 +66,7 @@ struct MarchingCubesOptions {
   bool keep_corners = false;             ///< keep every evaluated corner in the result
   std::optional<LatticeRegion> region;   ///< walk part of this lattice (see above); its cell must be `cell`
   bool keep_vertex_edges = false;        ///< name each vertex's lattice edge in the result
+  bool keep_triangle_cubes = false;      ///< name each triangle's cube in the result
 };
 
 /// The lattice edge a vertex lies on: the key of the edge's lower corner
@@ -91,6 +92,7 @@ struct MarchingCubesResult {
   std::size_t undefined_corners = 0;
   std::vector<LatticeCorner> corners;     ///< every evaluated corner (if keep_corners)
   std::vector<VertexEdge> vertex_edges;   ///< per mesh vertex, its edge (if keep_vertex_edges)
+  std::vector<std::uint64_t> triangle_cubes;  ///< per triangle, its cube's key (Lattice<3>::key; if keep_triangle_cubes)
   double seconds = 0.0;                   ///< the whole walk, evaluations of f included
   double seconds_field = 0.0;             ///< of which evaluating f (phase III's share)
 };
@@ -117,5 +119,16 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 /// exceed max_cubes.
 [[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
                                                  const MarchingCubesOptions& options);
+
+/// Puts the triangles in the order of their cubes' keys (each cube's in
+/// the case table's order) and numbers the vertices in the order the
+/// triangles first use them. The walk's order depends on where it started;
+/// this one does not, so a part of the lattice walked on its own (a tile,
+/// tiles.h) lists its triangles in the same order, relative to one another,
+/// as a walk over the whole: phase V, whose few order-dependent choices
+/// (which crease vertex comes first) follow the triangles' order, then makes
+/// the same choices in both. Needs the triangle cubes (keep_triangle_cubes);
+/// the vertex edges, if kept, follow their vertices.
+void sort_by_cube(MarchingCubesResult& result);
 
 }  // namespace recon

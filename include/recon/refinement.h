@@ -40,12 +40,19 @@
 //      component, so a separate object is never dropped however small: only
 //      debris next to a larger surface of the same piece is.
 //
+// Steps 1 to 3 are local: a vertex's new place depends on the planes and
+// triangles around it. Step 4 is not (a peeled strip or a component can be
+// any size), so refine_patch runs steps 1-3 alone on part of a larger mesh
+// (the tiles of tiles.h) and marks what step 4 needs, to be decided over the
+// whole; refine_mesh is refine_patch followed by step 4.
+//
 // Vertices, triangles and their order are the same for any thread count.
 
 #include "recon/local_quadrics.h"
 #include "recon/mesh.h"
 #include "recon/signed_distance.h"
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -107,8 +114,28 @@ struct Refinement {
   double seconds = 0.0;
 };
 
+/// Steps 1 to 3, and per vertex and triangle what step 4 decides by.
+struct RefinedPatch {
+  static constexpr std::uint32_t none = UINT32_MAX;
+  Mesh mesh;                          ///< nothing removed yet
+  std::vector<float> displacement;    ///< per vertex (as Refinement's)
+  /// Per vertex, the contoured vertex it was moved from ({v, none}), or for
+  /// a vertex added on a crease the two ends of the contoured edge it splits.
+  std::vector<std::array<std::uint32_t, 2>> stem;
+  std::vector<std::uint8_t> covered;  ///< per vertex: within the local spacing of a sample (4a)
+  std::vector<std::uint8_t> far;      ///< per vertex: beyond f's reach from every sample (4b; 0 without sample_tree)
+  std::vector<std::uint32_t> piece;   ///< per vertex: the piece of data it stands for (none at a corner)
+  std::vector<std::uint32_t> source;  ///< per triangle: the contoured triangle it was cut from
+  std::size_t crease_vertices = 0, brought_back = 0, corner_vertices = 0, unmoved = 0;
+
+  /// Keeps the triangles marked 1 and the vertices they use, in order.
+  void keep(const std::vector<std::uint8_t>& keep_triangle);
+};
+
 /// Throws InvalidInputError when the input's arrays differ in length or f is
 /// missing. The contoured mesh must lie in the origins' coordinates.
+[[nodiscard]] RefinedPatch refine_patch(const Mesh& contoured, const RefinementInput& input,
+                                        const RefinementOptions& options = {});
 [[nodiscard]] Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input,
                                      const RefinementOptions& options = {});
 

@@ -31,11 +31,16 @@
 //      pieces that disagree. Separate objects stay separate.
 //   4. contour_tile, for every tile: the planes step 2 wrote, their
 //      normals signed as reconciled, f, and marching cubes over the tile's
-//      own cubes on the one global lattice; its vertices carry their
-//      lattice edge.
+//      own cubes and a ring of cubes around them on the one global lattice,
+//      in the cubes' order (sort_by_cube); for the refined method, phase V's
+//      local steps over all of it (refine_patch); then the triangles of its
+//      own cubes are kept, each vertex named by the lattice edge it comes
+//      from (or the two, for a vertex phase V put on a crease).
 //   5. stitch_tiles: the tiles' triangles into one PLY file, written as
-//      they come; vertices on the lattice edges of tile borders are welded
-//      by edge, so there are no cracks and no doubled triangles.
+//      they come; vertices other tiles use too are welded by name, so there
+//      are no cracks and no doubled triangles. Phase V's last step (trim
+//      open boundaries, drop strays and fragments) is decided over the
+//      whole mesh first, from what each tile marked (tile_stitch.cpp).
 //
 // Steps 2 and 4 read and write only their tile's files in the work
 // directory: they can run in any order, in parallel, on other machines
@@ -45,19 +50,23 @@
 // ran which tile.
 //
 // What a tiled mesh is. On clouds that fit in memory it has the same
-// triangles as reconstruct()'s contoured mesh (phase IV's) on clean data
-// (tests/tiles_test.cpp), when the cloud-wide measures come from the whole
-// cloud. The refined method's phase V (refinement.h) is not run in tiles
-// yet: the tiled mesh is phase IV's, from the refined planes, not moved
-// onto the fitted quadrics. Colours are not carried.
+// triangles as reconstruct()'s final mesh on clean data, phase V's for the
+// refined method (tests/tiles_test.cpp), when the cloud-wide measures come
+// from the whole cloud. Phase V's few order-dependent choices (which crease
+// vertex comes first, which sliver flips) see the same triangles in the same
+// order in a tile, as far as the ring reaches. A component's object (for
+// fragments) is voted by its vertices, each counted once, those that only
+// peeled triangles use included (in memory they are gone by then): a tie
+// could go the other way. Colours are not carried.
 //
 // Halo. A sample's plane is exact when its k-NN ball lies inside the tile's
 // points, and its neighbours' balls too (their spacing, their fits); a
 // corner's f is exact when the planes and samples within f's reach of it
-// are. The halo is the walk margin (2 cubes) plus f's reach (1.5 rho +
-// delta + 2 cells) plus three neighbourhood radii (one to the nearest
-// plane's sample, two for its neighbourhood and its neighbours'), with rho
-// at its 99.9th percentile over
+// are. The halo is the walk margin (the ring plus 2 cubes) plus f's reach
+// (1.5 rho + delta + 2 cells) plus three neighbourhood radii (one to the
+// nearest plane's sample, two for its neighbourhood and its neighbours'),
+// and for the refined method at least the walk margin plus phase V's reach
+// for strays (5 rho + delta), with rho at its 99.9th percentile over
 // the statistics run and the radius at 1.5 times its own; each tile counts
 // the samples near its core (isolated ones aside) whose neighbourhood may
 // reach past its points (TileOrientation::inexact_samples), which should be 0.
@@ -121,6 +130,11 @@ struct TilePlan {
   double halo = 0.0;                ///< a length (see the header)
   double exact_margin = 0.0;        ///< around the core, where planes and f are exact
   std::int32_t walk_margin = 2;     ///< cubes around the core the walk may cross
+  /// Cubes around the core whose triangles a tile makes too, to see the
+  /// triangles its own meet (1), and for phase V (the refined method) the
+  /// neighbours its choices depend on (3). The walk goes 2 cubes further.
+  std::int32_t ring = 1;
+  RefinementOptions refinement;     ///< phase V's options (max_move 0: the cell)
   double radius_q = 0.0, rho_q = 0.0;  ///< 99.9th percentiles of the neighbourhood radius and of rho_i
   std::uint64_t input_points = 0;
   std::uint64_t statistics_points = 0;  ///< points phase I ran on for the cloud-wide measures
@@ -148,7 +162,7 @@ struct TileReconciliation {
 };
 
 struct TileContour {
-  std::size_t vertices = 0, triangles = 0;
+  std::size_t vertices = 0, triangles = 0;  ///< of the tile's own cubes
   std::size_t visited_cubes = 0;
   double seconds = 0.0;
 };
@@ -156,6 +170,8 @@ struct TileContour {
 struct StitchedMesh {
   std::size_t vertices = 0, triangles = 0;
   std::size_t welded = 0;  ///< vertices on tile borders met more than once
+  /// Phase V's (refinement.h): vertices added on creases, and step 4 over the whole mesh.
+  std::size_t crease_vertices = 0, trimmed = 0, stray_triangles = 0, fragments = 0, fragment_triangles = 0;
   double seconds = 0.0;
 };
 

@@ -31,6 +31,10 @@ class UnionFind {
   /// n singleton sets {0}, {1}, ..., {n-1}.
   explicit UnionFind(std::size_t n);
 
+  /// Adds the singleton set {size()} and returns its element.
+  std::uint32_t add();
+  [[nodiscard]] std::size_t size() const { return parent_.size(); }
+
   /// The root of x's set. Shortens the path it walks (path halving).
   std::uint32_t find(std::uint32_t x);
   /// The same without shortening paths: safe from many threads at once

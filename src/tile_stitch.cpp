@@ -1,0 +1,264 @@
+// Step 5 of a tiled run (tiles.h): the tiles' own triangles into one mesh,
+// welded where tiles meet, with phase V's step 4 (refinement.h) decided
+// over the whole mesh, as refine_mesh decides it in memory:
+//   - trim: a peelable component (triangles with three uncovered vertices,
+//     joined across edges) goes when it reaches the mesh's open boundary.
+//     Each tile numbers its own components and marks those that reach
+//     it; here they are joined across tile borders by the edges they share;
+//   - strays go (each tile marked them);
+//   - fragments: a component smaller than fragment_fraction of the largest
+//     drawn from the same object goes. Each tile joins its own triangles
+//     into atoms (see tiles.cpp); here atoms are joined through the
+//     vertices tiles share and the peelable triangles that stay, and their
+//     triangles and votes are added up.
+// The stitch reads every tile's mesh twice: once to decide, once to write.
+#include "recon/tiles.h"
+
+#include "recon/errors.h"
+#include "recon/io/mesh_stream.h"
+#include "recon/timer.h"
+#include "recon/union_find.h"
+#include "tile_files.h"
+
+#include <map>
+#include <unordered_map>
+
+namespace recon {
+
+namespace tile_files {
+
+void write_mesh(const std::filesystem::path& path, const TileMesh& mesh) {
+  detail::BinaryWriter out(path, mesh_magic);
+  out.put_vector<MeshVertex>(mesh.vertices);
+  out.put_vector<MeshTriangle>(mesh.triangles);
+  out.put_vector<std::uint8_t>(mesh.peel_open);
+  out.put_vector<std::uint64_t>(mesh.atom_triangles);
+  out.put_vector<AtomVote>(mesh.votes);
+  out.commit();
+}
+
+TileMesh read_mesh(const std::filesystem::path& path) {
+  detail::BinaryReader in(path, mesh_magic);
+  TileMesh m;
+  m.vertices = in.get_vector<MeshVertex>();
+  m.triangles = in.get_vector<MeshTriangle>();
+  m.peel_open = in.get_vector<std::uint8_t>();
+  m.atom_triangles = in.get_vector<std::uint64_t>();
+  m.votes = in.get_vector<AtomVote>();
+  const auto bad = [&](const char* what) { return ParseError(path.string() + ": " + what); };
+  const std::size_t atoms = m.atom_triangles.size();
+  for (const MeshVertex& v : m.vertices)
+    if ((v.atom != none && v.atom >= atoms) || v.axis[0] > 3 || v.axis[1] > 3)
+      throw bad("a vertex names an atom or an edge it cannot have");
+  for (const MeshTriangle& t : m.triangles)
+    if (t.v[0] >= m.vertices.size() || t.v[1] >= m.vertices.size() || t.v[2] >= m.vertices.size() ||
+        (t.peel != none && t.peel >= m.peel_open.size()))
+      throw bad("a triangle names a vertex it does not have");
+  for (const AtomVote& v : m.votes)
+    if (v.atom >= atoms) throw bad("a vote names an atom it does not have");
+  return m;
+}
+
+}  // namespace tile_files
+
+namespace {
+
+using tile_files::MeshTriangle;
+using tile_files::MeshVertex;
+using tile_files::none;
+using tile_files::TileMesh;
+
+// A vertex's name in the whole mesh (MeshVertex).
+struct WeldKey {
+  std::uint64_t corner[2];
+  std::uint32_t axis[2];
+  friend bool operator==(const WeldKey& a, const WeldKey& b) {
+    return a.corner[0] == b.corner[0] && a.corner[1] == b.corner[1] && a.axis[0] == b.axis[0] && a.axis[1] == b.axis[1];
+  }
+};
+struct WeldKeyHash {
+  std::size_t operator()(const WeldKey& k) const {
+    std::uint64_t h = k.corner[0] * 0x9E3779B97F4A7C15ull;
+    h ^= (k.corner[1] + (std::uint64_t{k.axis[0]} << 2 | k.axis[1])) * 0xC2B2AE3D27D4EB4Full;
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+WeldKey key_of(const MeshVertex& v) { return {{v.corner[0], v.corner[1]}, {v.axis[0], v.axis[1]}}; }
+
+// A vertex more than one tile uses.
+struct Welded {
+  std::uint32_t id = 0;      // among the welded (names the edges between them)
+  std::uint32_t atom = none; // (global) of the first tile where it had one: it voted there
+  std::uint32_t out = none;  // in the output, once written
+};
+
+std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
+  return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
+}
+
+class Stitch {
+ public:
+  explicit Stitch(const TilePlan& plan) : plan_(plan) {}
+
+  // Pass 1, per tile: its atoms and peelable components join the global ones.
+  void gather(const TileMesh& m, StitchedMesh& result) {
+    const auto atom_base = static_cast<std::uint32_t>(atoms_.size());
+    const auto peel_base = static_cast<std::uint32_t>(peels_.size());
+    atom_base_.push_back(atom_base);
+    peel_base_.push_back(peel_base);
+    for (const std::uint64_t count : m.atom_triangles) {
+      atoms_.add();
+      atom_triangles_.push_back(count);
+    }
+    for (const std::uint8_t open : m.peel_open) {
+      peels_.add();
+      peel_open_.push_back(open);
+    }
+    for (const auto& v : m.votes) votes_[{atom_base + v.atom, v.object}] += v.count;
+    std::vector<std::uint32_t> weld_id(m.vertices.size(), none);
+    for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+      const MeshVertex& x = m.vertices[v];
+      if (!x.shared) continue;
+      const auto [at, added] =
+          welded_.try_emplace(key_of(x), Welded{static_cast<std::uint32_t>(welded_.size()), none, none});
+      if (!added) ++result.welded;
+      weld_id[v] = at->second.id;
+      if (x.atom == none) continue;
+      if (at->second.atom == none) {
+        at->second.atom = atom_base + x.atom;
+        if (x.object != none) ++votes_[{atom_base + x.atom, x.object}];
+      } else {
+        atoms_.unite(at->second.atom, atom_base + x.atom);
+      }
+    }
+    for (const MeshTriangle& t : m.triangles) {
+      if (t.peel == none) continue;
+      const std::uint32_t node = peel_base + t.peel;
+      for (std::size_t e = 0; e < 3; ++e) {
+        const std::uint32_t a = weld_id[t.v[e]], b = weld_id[t.v[(e + 1) % 3]];
+        if (a == none || b == none) continue;
+        const auto [at, added] = peel_edges_.try_emplace(edge_key(a, b), node);
+        if (!added) peels_.unite(at->second, node);
+      }
+      if (!t.stray) peelable_.push_back({node, {atom_base + m.vertices[t.v[0]].atom, atom_base + m.vertices[t.v[1]].atom,
+                                               atom_base + m.vertices[t.v[2]].atom}});
+    }
+  }
+
+  // Between the passes: which peelable components go, then which components.
+  void decide(StitchedMesh& result) {
+    peeled_.assign(peels_.size(), 0);
+    for (std::uint32_t p = 0; p < peels_.size(); ++p)
+      if (peel_open_[p]) peeled_[peels_.find(p)] = 1;
+    for (const Pending& p : peelable_) {
+      if (peeled(p.peel)) continue;
+      atoms_.unite(p.atom[0], p.atom[1]);
+      atoms_.unite(p.atom[0], p.atom[2]);
+      ++atom_triangles_[p.atom[0]];
+    }
+    kept_.assign(atoms_.size(), 1);
+    if (plan_.method == Method::refined && !plan_.refinement.keep_fragments) drop_fragments(result);
+  }
+
+  // Pass 2, per tile: the triangles that stay, and the vertices they use.
+  void write(const TileMesh& m, std::size_t tile, io::PlyMeshStream& out, StitchedMesh& result) {
+    std::vector<std::uint32_t> id(m.vertices.size(), none);
+    const auto vertex = [&](std::uint32_t v) {
+      if (id[v] != none) return id[v];
+      const MeshVertex& x = m.vertices[v];
+      std::uint32_t* slot = x.shared ? &welded_.at(key_of(x)).out : nullptr;
+      if (slot && *slot != none) return id[v] = *slot;
+      id[v] = out.add_vertex(Vec3(x.x, x.y, x.z));
+      if (slot) *slot = id[v];
+      if (x.corner[1] != UINT64_MAX) ++result.crease_vertices;
+      return id[v];
+    };
+    for (const MeshTriangle& t : m.triangles) {
+      if (t.peel != none && peeled(peel_base_[tile] + t.peel)) {
+        ++result.trimmed;
+        continue;
+      }
+      if (t.stray) {
+        ++result.stray_triangles;
+        continue;
+      }
+      const std::uint32_t atom = m.vertices[t.v[0]].atom;
+      if (atom != none && !kept_[atoms_.find(atom_base_[tile] + atom)]) continue;
+      out.add_triangle({vertex(t.v[0]), vertex(t.v[1]), vertex(t.v[2])});
+    }
+  }
+
+ private:
+  struct Pending {
+    std::uint32_t peel;
+    std::array<std::uint32_t, 3> atom;
+  };
+
+  [[nodiscard]] bool peeled(std::uint32_t node) { return peeled_[peels_.find(node)] != 0; }
+
+  // As refine_mesh's step 4: a component (a set of atoms) smaller than
+  // fragment_fraction of the largest drawn from the same object goes; its
+  // object is the one most of its vertices vote for.
+  void drop_fragments(StitchedMesh& result) {
+    std::map<std::uint32_t, std::uint64_t> triangles;  // per component (root atom)
+    for (std::uint32_t a = 0; a < atoms_.size(); ++a)
+      if (atom_triangles_[a] > 0) triangles[atoms_.find(a)] += atom_triangles_[a];
+    if (triangles.size() < 2) return;
+    std::map<std::uint32_t, std::map<std::uint32_t, std::uint64_t>> votes;  // per component, per object
+    for (const auto& [key, count] : votes_) votes[atoms_.find(key.first)][key.second] += count;
+    std::map<std::uint32_t, std::uint32_t> object;  // per component
+    std::map<std::uint32_t, std::uint64_t> largest;  // per object
+    for (const auto& [root, count] : triangles) {
+      std::uint32_t best = 0;
+      std::uint64_t most = 0;
+      for (const auto& [o, c] : votes[root])
+        if (c > most) {  // (ties: the lower object, met first)
+          most = c;
+          best = o;
+        }
+      object[root] = best;
+      largest[best] = std::max(largest[best], count);
+    }
+    for (const auto& [root, count] : triangles)
+      if (static_cast<double>(count) <
+          plan_.refinement.fragment_fraction * static_cast<double>(largest[object[root]])) {
+        kept_[root] = 0;
+        ++result.fragments;
+        result.fragment_triangles += count;
+      }
+  }
+
+  const TilePlan& plan_;
+  std::unordered_map<WeldKey, Welded, WeldKeyHash> welded_;
+  UnionFind atoms_{0};
+  std::vector<std::uint64_t> atom_triangles_;
+  UnionFind peels_{0};
+  std::vector<std::uint8_t> peel_open_, peeled_, kept_;
+  std::unordered_map<std::uint64_t, std::uint32_t> peel_edges_;  // edge between welded vertices -> a peelable component on it
+  std::vector<Pending> peelable_;                                // peelable triangles, strays aside
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint64_t> votes_;  // (atom, object) -> vertices
+  std::vector<std::uint32_t> atom_base_, peel_base_;                        // per tile
+};
+
+}  // namespace
+
+StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::filesystem::path& output) {
+  Timer timer;
+  const TilePlan plan = read_tile_plan(work_dir);
+  const auto mesh_of = [&](std::size_t tile) {
+    return tile_files::read_mesh(tile_files::of_tile(work_dir, plan.tiles[tile].id, "mesh"));
+  };
+  StitchedMesh result;
+  Stitch stitch(plan);
+  for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) stitch.gather(mesh_of(tile), result);
+  stitch.decide(result);
+  io::PlyMeshStream out(output, false);
+  for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) stitch.write(mesh_of(tile), tile, out, result);
+  result.vertices = out.vertex_count();
+  result.triangles = out.triangle_count();
+  out.finish();
+  result.seconds = timer.elapsed();
+  return result;
+}
+
+}  // namespace recon
