@@ -182,9 +182,10 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
   summary.add(run_report(run), "tiled", "run");
   summary.say("mesh      " + plural(run.mesh.vertices, "vertex") + ", " + plural(run.mesh.triangles, "triangle") +
               (run.plan.method == Method::refined ? " (refined, phase V included" : " (hoppe92") +
-              "; without colours: colours do not come through tiles yet)");
+              (run.plan.colors ? ", with colours)" : ")"));
   summary.stats()["mesh"]["vertices"] = run.mesh.vertices;
   summary.stats()["mesh"]["triangles"] = run.mesh.triangles;
+  summary.stats()["mesh"]["has_colors"] = run.plan.colors;
   if (const std::optional<std::size_t> peak = peak_resident_bytes())
     summary.stats()["memory"]["peak_mib_total"] = static_cast<double>(*peak) / (1024.0 * 1024.0);
   finish_run(summary, o.output, run.mesh.seconds, total.elapsed());

@@ -446,41 +446,70 @@ void CubeWalk::summarise() {
 
 }  // namespace
 
+std::uint64_t triangle_cube(const MarchingCubesResult& result, std::size_t t) {
+  const auto& tri = result.mesh.triangles[t];
+  const auto& x = result.mesh.vertices;
+  const Vec3 centre = (x[tri[0]] + x[tri[1]] + x[tri[2]]) / 3.0;
+  Index3 cube;
+  for (std::size_t a = 0; a < 3; ++a) {
+    const auto i = static_cast<Eigen::Index>(a);
+    cube[a] = static_cast<std::int32_t>(std::floor((centre[i] - result.origin[i]) / result.cell));
+  }
+  return pack(cube);
+}
+
+// The walk emits each cube's triangles together: they are moved as runs,
+// one per cube, sorted by the cubes' keys (each cube is emitted once). The
+// triangles and vertices are gathered into new arrays (reads from
+// everywhere at once, not one after another as a permutation in place
+// would make them), one array at a time.
 void sort_by_cube(MarchingCubesResult& result) {
   Mesh& mesh = result.mesh;
-  const bool edges_kept = !result.vertex_edges.empty();
-  if (result.triangle_cubes.size() != mesh.triangles.size() ||
-      (edges_kept && result.vertex_edges.size() != mesh.vertices.size()))
-    throw InvalidInputError("sort_by_cube: the walk did not name the triangles' cubes (keep_triangle_cubes)");
-  std::vector<std::uint32_t> order(mesh.triangles.size());
-  for (std::uint32_t t = 0; t < order.size(); ++t) order[t] = t;
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return result.triangle_cubes[a] < result.triangle_cubes[b];
-  });
+  const std::size_t count = mesh.triangles.size();
+  const bool cubes_kept = result.triangle_cubes.size() == count;
+  struct Run {
+    std::uint64_t cube;
+    std::uint32_t first, end;  // its triangles
+  };
+  std::vector<Run> runs;
+  for (std::uint32_t t = 0; t < count; ++t) {
+    const std::uint64_t cube = triangle_cube(result, t);
+    if (runs.empty() || runs.back().cube != cube) runs.push_back({cube, t, t});
+    runs.back().end = t + 1;
+  }
+  std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.cube < b.cube; });
+  {
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<std::uint64_t> cubes;
+    triangles.reserve(count);
+    for (const Run& r : runs)
+      for (std::uint32_t t = r.first; t < r.end; ++t) {
+        triangles.push_back(mesh.triangles[t]);
+        if (cubes_kept) cubes.push_back(result.triangle_cubes[t]);
+      }
+    mesh.triangles = std::move(triangles);
+    if (cubes_kept) result.triangle_cubes = std::move(cubes);
+  }
+  runs = {};
+  // The vertices in the order the triangles first use them.
   constexpr std::uint32_t unused = UINT32_MAX;
   std::vector<std::uint32_t> renumber(mesh.vertices.size(), unused);
-  std::vector<std::array<std::uint32_t, 3>> triangles(order.size());
-  std::vector<std::uint64_t> cubes(order.size());
   std::uint32_t next = 0;
-  for (std::size_t t = 0; t < order.size(); ++t) {
-    for (std::size_t c = 0; c < 3; ++c) {
-      std::uint32_t& id = renumber[mesh.triangles[order[t]][c]];
-      if (id == unused) id = next++;
-      triangles[t][c] = id;
+  for (auto& tri : mesh.triangles)
+    for (std::uint32_t& v : tri) {
+      if (renumber[v] == unused) renumber[v] = next++;
+      v = renumber[v];
     }
-    cubes[t] = result.triangle_cubes[order[t]];
-  }
+  for (std::uint32_t& id : renumber)
+    if (id == unused) id = next++;  // (a walk uses every vertex it makes)
   std::vector<Vec3> vertices(mesh.vertices.size());
-  std::vector<VertexEdge> edges(edges_kept ? vertices.size() : 0);
-  for (std::size_t v = 0; v < vertices.size(); ++v) {
-    if (renumber[v] == unused) renumber[v] = next++;  // (a walk uses every vertex it makes)
-    vertices[renumber[v]] = mesh.vertices[v];
-    if (edges_kept) edges[renumber[v]] = result.vertex_edges[v];
-  }
+  for (std::size_t v = 0; v < vertices.size(); ++v) vertices[renumber[v]] = mesh.vertices[v];
   mesh.vertices = std::move(vertices);
-  mesh.triangles = std::move(triangles);
-  result.vertex_edges = std::move(edges);
-  result.triangle_cubes = std::move(cubes);
+  if (result.vertex_edges.size() == renumber.size()) {
+    std::vector<VertexEdge> edges(renumber.size());
+    for (std::size_t v = 0; v < edges.size(); ++v) edges[renumber[v]] = result.vertex_edges[v];
+    result.vertex_edges = std::move(edges);
+  }
 }
 
 MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,

@@ -296,7 +296,6 @@ void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   mc.cell = cell;
   mc.max_cubes = max_cubes_within(run.limit, r.order.size());
   mc.keep_corners = run.options.keep_corners;
-  mc.keep_triangle_cubes = run.refined();  // (phase V takes the triangles in their cubes' order)
   r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc)
                            : marching_cubes(std::cref(f), r.points(), mc);
 }
@@ -307,7 +306,6 @@ void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   // The triangles in their cubes' order, not the walk's: the same order as
   // a tile's (tiles.h), so that phase V makes the same choices there.
   sort_by_cube(r.contour);
-  r.contour.triangle_cubes = {};
   const RefinementInput input = refinement_input_of(r, f);
   RefinementOptions refinement = run.options.refinement;
   if (refinement.max_move <= 0.0) refinement.max_move = cell;

@@ -54,7 +54,7 @@ struct MeshVertex {
   std::uint32_t shared = 0;
   std::uint32_t atom = none;
   std::uint32_t object = none;
-  std::uint32_t unused = 0;
+  std::uint32_t color = 0;  ///< r | g << 8 | b << 16 (when the plan has colours)
 };
 
 /// A triangle of a tile's own cubes, and what step 4 of phase V decides
@@ -86,6 +86,7 @@ void write_mesh(const std::filesystem::path& path, const TileMesh& mesh);
 
 inline constexpr char plan_magic[9] = "RCNPLAN2";
 inline constexpr char points_magic[9] = "RCNPTS01";
+inline constexpr char colors_magic[9] = "RCNCOL01";
 inline constexpr char orient_magic[9] = "RCNORI01";
 inline constexpr char flips_magic[9] = "RCNFLIP2";
 inline constexpr char mesh_magic[9] = "RCNMESH2";

@@ -292,6 +292,7 @@ void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan&
   plan.gap_factor = o.orientation.graph.gap_factor;
   plan.min_component_points = o.orientation.graph.min_component_points;
   plan.refinement = o.refinement;
+  plan.color_blend = o.colors;
   plan.ring = o.method == Method::refined ? refine_ring : plain_ring;
   plan.walk_margin = walk_ring + plan.ring;
   // (Quantiles over the samples whose neighbourhoods the patches left whole.)
@@ -378,13 +379,18 @@ class Binner {
  public:
   Binner(TilePlan& plan, const std::filesystem::path& dir) : plan_(plan), dir_(dir) {}
 
-  void add(const Vec3& p, std::uint64_t index) {
+  // (`color` null when the plan has no colours.)
+  void add(const Vec3& p, std::uint64_t index, const Color* color) {
     const Vec3 w = p - plan_.offset;
     const Index3 lo = tile_of(w - Vec3::Constant(plan_.halo)), hi = tile_of(w + Vec3::Constant(plan_.halo));
     const Index3 own = tile_of(w);
     for (std::int32_t x = lo[0]; x <= hi[0]; ++x)
       for (std::int32_t y = lo[1]; y <= hi[1]; ++y)
-        for (std::int32_t z = lo[2]; z <= hi[2]; ++z) put({x, y, z}, w, PointRecord{index, p.x(), p.y(), p.z()}, own);
+        for (std::int32_t z = lo[2]; z <= hi[2]; ++z) {
+          Tile& t = put({x, y, z}, w, PointRecord{index, p.x(), p.y(), p.z()}, own);
+          if (color) t.colors.push_back(*color);
+          if (t.buffer.size() == 4096) t.flush(dir_);
+        }
   }
 
   // Keeps the tiles whose cores could own triangles: with a point within
@@ -393,12 +399,12 @@ class Binner {
     std::vector<Tile*> order(tiles_.size());
     for (auto& [key, tile] : tiles_) order[tile.id] = &tile;
     for (Tile* t : order) {
-      const auto path = tile_files::of_tile(dir_, t->id, "points");
       if (t->near == 0) {
-        std::filesystem::remove(path);
+        std::filesystem::remove(tile_files::of_tile(dir_, t->id, "points"));
+        std::filesystem::remove(tile_files::of_tile(dir_, t->id, "colors"));
         continue;
       }
-      t->flush(path);
+      t->flush(dir_);
       plan_.tiles.push_back({t->index, t->id, t->points, t->core});
     }
     tiles_.clear();
@@ -408,18 +414,27 @@ class Binner {
   // A tile's file is appended to a buffer at a time (a cloud may make more
   // tiles than a process may hold files open); it counts only once the plan,
   // written last, names it.
+  // Colours, when the cloud has them, go to a file of their own beside
+  // the points (tile-N.colors), one per point in the same order.
   struct Tile {
     Index3 index{};
     std::uint32_t id = 0;
     std::vector<PointRecord> buffer;
+    std::vector<Color> colors;
     std::uint64_t points = 0, core = 0, near = 0;
-    void flush(const std::filesystem::path& path) {
-      std::ofstream out(path, std::ios::binary | std::ios::app);
-      if (points == buffer.size()) out.write(tile_files::points_magic, 8);
-      out.write(reinterpret_cast<const char*>(buffer.data()),
-                static_cast<std::streamsize>(buffer.size() * sizeof(PointRecord)));
-      if (!out.flush()) throw IoError(path.string() + ": cannot write the tile (disk full?)");
+    void flush(const std::filesystem::path& dir) {
+      const bool first = points == buffer.size();
+      append(tile_files::of_tile(dir, id, "points"), first ? tile_files::points_magic : nullptr, buffer);
+      if (!colors.empty()) append(tile_files::of_tile(dir, id, "colors"), first ? tile_files::colors_magic : nullptr, colors);
       buffer.clear();
+      colors.clear();
+    }
+    template <class T>
+    static void append(const std::filesystem::path& path, const char* magic, const std::vector<T>& records) {
+      std::ofstream out(path, std::ios::binary | std::ios::app);
+      if (magic) out.write(magic, 8);
+      out.write(reinterpret_cast<const char*>(records.data()), static_cast<std::streamsize>(records.size() * sizeof(T)));
+      if (!out.flush()) throw IoError(path.string() + ": cannot write the tile (disk full?)");
     }
   };
 
@@ -449,13 +464,13 @@ class Binner {
     return std::floor((plan_.lattice.size[static_cast<std::size_t>(a)] - 1) / static_cast<double>(plan_.tile_cubes));
   }
 
-  void put(const Index3& t, const Vec3& w, const PointRecord& record, const Index3& own) {
+  Tile& put(const Index3& t, const Vec3& w, const PointRecord& record, const Index3& own) {
     Tile& tile = this->tile(t);
     tile.buffer.push_back(record);
     ++tile.points;
-    if (tile.buffer.size() == 4096) tile.flush(tile_files::of_tile(dir_, tile.id, "points"));
     if (t == own) ++tile.core;
     if (tile_files::outside_core(plan_, tile_files::core_at(plan_, t), w) <= plan_.exact_margin) ++tile.near;
+    return tile;
   }
 
   TilePlan& plan_;
@@ -489,8 +504,11 @@ TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const s
   plan.seconds_statistics = timer.lap();
   // (Each tile holds a buffer of 4096 records, 128 KiB, while binning.)
   Binner binner(plan, work_dir);
+  // (Whether the cloud has colours, the reader says of every chunk alike.)
   counted_pass(pass, options.progress, plan.input_points, [&](PointCloudView chunk, std::size_t first) {
-    for (std::size_t i = 0; i < chunk.size(); ++i) binner.add(chunk.positions[i], first + i);
+    plan.colors = options.reconstruction.mesh_colors && chunk.has_colors();
+    for (std::size_t i = 0; i < chunk.size(); ++i)
+      binner.add(chunk.positions[i], first + i, plan.colors ? &chunk.colors[i] : nullptr);
   });
   binner.finish();
   plan.seconds_binning = timer.lap();
@@ -551,6 +569,8 @@ void write_plan(const TilePlan& plan, const std::filesystem::path& dir) {
                          plan.refinement.fragment_fraction, plan.refinement.max_move})
     out.put(v);
   out.put(static_cast<std::uint8_t>(plan.refinement.keep_fragments));
+  out.put(static_cast<std::uint8_t>(plan.colors));
+  out.put(plan.color_blend.k);
   out.put(plan.input_points);
   out.put(plan.statistics_points);
   out.put_vector<TileInfo>(plan.tiles);
@@ -588,6 +608,8 @@ TilePlan read_tile_plan(const std::filesystem::path& work_dir) {
                     &plan.refinement.fragment_fraction, &plan.refinement.max_move})
     *v = in.get<double>();
   plan.refinement.keep_fragments = in.get<std::uint8_t>() != 0;
+  plan.colors = in.get<std::uint8_t>() != 0;
+  plan.color_blend.k = in.get<int>();
   plan.input_points = in.get<std::uint64_t>();
   plan.statistics_points = in.get<std::uint64_t>();
   plan.tiles = in.get_vector<TileInfo>();

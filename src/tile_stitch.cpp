@@ -92,6 +92,11 @@ struct Welded {
   std::uint32_t out = none;  // in the output, once written
 };
 
+Color color_of(const MeshVertex& v) {
+  return {static_cast<std::uint8_t>(v.color & 0xFF), static_cast<std::uint8_t>(v.color >> 8 & 0xFF),
+          static_cast<std::uint8_t>(v.color >> 16 & 0xFF)};
+}
+
 std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
   return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
 }
@@ -168,7 +173,7 @@ class Stitch {
       const MeshVertex& x = m.vertices[v];
       std::uint32_t* slot = x.shared ? &welded_.at(key_of(x)).out : nullptr;
       if (slot && *slot != none) return id[v] = *slot;
-      id[v] = out.add_vertex(Vec3(x.x, x.y, x.z));
+      id[v] = plan_.colors ? out.add_vertex(Vec3(x.x, x.y, x.z), color_of(x)) : out.add_vertex(Vec3(x.x, x.y, x.z));
       if (slot) *slot = id[v];
       if (x.corner[1] != UINT64_MAX) ++result.crease_vertices;
       return id[v];
@@ -252,7 +257,7 @@ StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::file
   Stitch stitch(plan);
   for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) stitch.gather(mesh_of(tile), result);
   stitch.decide(result);
-  io::PlyMeshStream out(output, false);
+  io::PlyMeshStream out(output, plan.colors);
   for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) stitch.write(mesh_of(tile), tile, out, result);
   result.vertices = out.vertex_count();
   result.triangles = out.triangle_count();

@@ -34,9 +34,10 @@ namespace {
 struct TilePoints {
   std::vector<Vec3> positions;
   std::vector<std::uint64_t> index;  // in the input
+  std::vector<Color> colors;         // (when the plan has colours)
 };
 
-TilePoints read_points(const std::filesystem::path& dir, const TileInfo& info) {
+TilePoints read_points(const std::filesystem::path& dir, const TilePlan& plan, const TileInfo& info) {
   detail::BinaryReader in(tile_files::of_tile(dir, info.id, "points"), tile_files::points_magic);
   const std::vector<PointRecord> records = in.get_rest<PointRecord>();
   TilePoints t;
@@ -45,6 +46,13 @@ TilePoints read_points(const std::filesystem::path& dir, const TileInfo& info) {
   for (const PointRecord& r : records) {
     t.positions.emplace_back(r.x, r.y, r.z);
     t.index.push_back(r.index);
+  }
+  if (plan.colors) {
+    const auto path = tile_files::of_tile(dir, info.id, "colors");
+    t.colors = detail::BinaryReader(path, tile_files::colors_magic).get_rest<Color>();
+    if (t.colors.size() != t.positions.size())
+      throw ParseError(path.string() + ": " + std::to_string(t.colors.size()) + " colours for " +
+                       std::to_string(t.positions.size()) + " points");
   }
   return t;
 }
@@ -67,7 +75,7 @@ TileInput load_tile(const std::filesystem::path& dir, std::size_t tile) {
   TileInput in;
   in.plan = read_tile_plan(dir);
   in.info = tile_info(in.plan, tile);
-  in.points = read_points(dir, in.info);
+  in.points = read_points(dir, in.plan, in.info);
   return in;
 }
 
@@ -443,7 +451,6 @@ TilePatch tile_patch(const TilePlan& plan, std::size_t tile, const TileSurface& 
   mc.max_cubes = max_cubes_within(memory_limit_or_default(options.max_memory), points);
   mc.region = region_of(plan, tile_files::core_of(plan, tile));
   mc.keep_vertex_edges = true;
-  mc.keep_triangle_cubes = true;
   TilePatch patch;
   patch.contour = marching_cubes(std::cref(f), surface.planes.point_tree.points(), mc);
   sort_by_cube(patch.contour);
@@ -576,15 +583,28 @@ void mark_atoms(const RefinedPatch& p, const std::vector<std::uint32_t>& own, ti
   for (const auto& [key, count] : votes) out.votes.push_back({key.first, key.second, count});
 }
 
+// The colours of the vertices `at` (working coordinates), blended from the
+// tile's samples' as reconstruct() blends them (vertex_colors.h).
+void blend_colors(const TilePlan& plan, const TileSurface& surface, const TilePoints& points,
+                  const std::vector<Vec3>& at, tile_files::TileMesh& out) {
+  std::vector<Color> colors(surface.order.size());  // (spatial order, as the tree's points)
+  for (std::size_t j = 0; j < colors.size(); ++j) colors[j] = points.colors[surface.order[j]];
+  const std::vector<Color> blended = vertex_colors(at, surface.planes.point_tree, colors, plan.color_blend);
+  for (std::size_t v = 0; v < at.size(); ++v)
+    out.vertices[v].color = std::uint32_t{blended[v][0]} | std::uint32_t{blended[v][1]} << 8 |
+                            std::uint32_t{blended[v][2]} << 16;
+}
+
 // The tile's own triangles (those cut from its core's cubes) and the
-// vertices they use, named for the stitch.
-tile_files::TileMesh own_mesh(const TilePlan& plan, std::size_t tile, const TilePatch& patch) {
+// vertices they use, named for the stitch; `at`: those vertices in working
+// coordinates.
+tile_files::TileMesh own_mesh(const TilePlan& plan, std::size_t tile, const TilePatch& patch, std::vector<Vec3>& at) {
   const RefinedPatch& p = patch.refined;
   const CoreBox core = tile_files::core_of(plan, tile);
   std::vector<std::uint32_t> own;  // patch triangles
   std::vector<std::uint8_t> used_own(p.mesh.vertices.size(), 0), used_other(p.mesh.vertices.size(), 0);
   for (std::uint32_t t = 0; t < p.mesh.triangles.size(); ++t) {
-    const auto cube = Lattice<3>::index(patch.contour.triangle_cubes[p.source[t]]);
+    const auto cube = Lattice<3>::index(triangle_cube(patch.contour, p.source[t]));
     const bool mine = LatticeRegion::inside(cube, core.lo, core.hi);
     if (mine) own.push_back(t);
     for (const std::uint32_t v : p.mesh.triangles[t]) (mine ? used_own : used_other)[v] = 1;
@@ -594,6 +614,7 @@ tile_files::TileMesh own_mesh(const TilePlan& plan, std::size_t tile, const Tile
   for (std::uint32_t v = 0; v < p.mesh.vertices.size(); ++v) {
     if (!used_own[v]) continue;
     written[v] = static_cast<std::uint32_t>(out.vertices.size());
+    at.push_back(p.mesh.vertices[v]);
     MeshVertex m;
     const Vec3 x = p.mesh.vertices[v] + plan.offset;
     m.x = x.x();
@@ -628,7 +649,9 @@ TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile
     const TileSurface surface = read_surface(tile_files::of_tile(work_dir, info.id, "planes"), plan, points);
     const TilePatch patch =
         tile_patch(plan, tile, surface, reconciled_planes(work_dir, orientation, tile, surface), points.positions.size());
-    mesh = own_mesh(plan, tile, patch);
+    std::vector<Vec3> at;
+    mesh = own_mesh(plan, tile, patch, at);
+    if (plan.colors) blend_colors(plan, surface, points, at, mesh);
     result.visited_cubes = patch.contour.visited_cubes;
   }
   tile_files::write_mesh(tile_files::of_tile(work_dir, info.id, "mesh"), mesh);

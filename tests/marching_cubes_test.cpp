@@ -89,6 +89,24 @@ TEST(MarchingCubesTable, EveryConfigurationIsBoundedOnlyByFaceSegments) {
   }
 }
 
+// No triangle has its three vertices on one face of its cube (a loop's
+// centre is inside it): a triangle's centroid lies inside its cube, which
+// names the cube (triangle_cube).
+TEST(MarchingCubesTable, NoTriangleLiesInAFace) {
+  for (unsigned config = 0; config < 256; ++config) {
+    const mc::CubeCase& c = mc::cube_case(config);
+    for (int t = 0; t < c.triangle_count; ++t) {
+      const auto& tri = c.triangles[static_cast<std::size_t>(t)];
+      for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+          bool all_on_face = true;
+          for (const auto v : tri) all_on_face = all_on_face && v < 12 && edge_on_face(v, axis, side);
+          EXPECT_FALSE(all_on_face) << "configuration " << config << ", triangle " << t;
+        }
+    }
+  }
+}
+
 TEST(MarchingCubesTable, ComplementaryConfigurationsCrossTheSameEdges) {
   for (unsigned config = 0; config < 256; ++config) {
     std::set<int> a, b;
@@ -156,8 +174,11 @@ TEST(MarchingCubes, RandomFieldsGiveClosedManifoldSurfaces) {
         }
     MarchingCubesOptions options;
     options.cell = cell;
+    options.keep_triangle_cubes = true;
     const MarchingCubesResult r = marching_cubes(std::cref(field), seeds, options);
     ASSERT_FALSE(r.mesh.triangles.empty()) << seed;
+    for (std::size_t tri = 0; tri < r.mesh.triangles.size(); ++tri)  // the centroid names the cube
+      ASSERT_EQ(triangle_cube(r, tri), r.triangle_cubes[tri]) << "seed " << seed << ", triangle " << tri;
     ASSERT_NEAR(r.origin.norm(), 0.0, 1e-12);
     const MeshTopology t = analyze_topology(r.mesh);
     EXPECT_EQ(t.boundary_edges, 0u) << "seed " << seed;
@@ -230,6 +251,7 @@ TEST(MarchingCubes, SortByCubeDoesNotDependOnTheWalk) {
   EXPECT_EQ(all.mesh.triangles, one.mesh.triangles);
   EXPECT_EQ(all.vertex_edges, one.vertex_edges);
   EXPECT_TRUE(std::is_sorted(all.triangle_cubes.begin(), all.triangle_cubes.end()));
+  for (std::size_t t = 0; t < all.mesh.triangles.size(); ++t) EXPECT_EQ(triangle_cube(all, t), all.triangle_cubes[t]);
   // Each vertex still lies on its edge: between the edge's corners on its axis.
   for (std::size_t v = 0; v < all.mesh.vertices.size(); ++v) {
     const VertexEdge e = all.vertex_edges[v];
@@ -244,10 +266,6 @@ TEST(MarchingCubes, SortByCubeDoesNotDependOnTheWalk) {
       }
     }
   }
-  MarchingCubesOptions plain;
-  plain.cell = 0.1;
-  MarchingCubesResult bare = marching_cubes(f, seeds.positions, plain);
-  EXPECT_THROW(sort_by_cube(bare), InvalidInputError);
 }
 
 // Time and memory follow the surface: halving the cell visits about 4 times

@@ -413,7 +413,6 @@ TEST(Reconstruct, FirstWaveBesideOrientationGivesTheWalksOwnValues) {
       const SignedDistance<3> f = signed_distance_of(r);
       MarchingCubesOptions mc;
       mc.cell = r.contour.cell;
-      mc.keep_triangle_cubes = method == Method::refined;
       MarchingCubesResult walk = marching_cubes(std::cref(f), r.points(), mc);
       if (method == Method::refined) sort_by_cube(walk);  // (as reconstruct() does before phase V)
       for (Vec3& v : walk.mesh.vertices) v += r.offset;

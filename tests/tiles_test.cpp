@@ -97,6 +97,36 @@ TEST_P(TiledRunOnCleanData, SameTrianglesAsInMemory) {
   }
 }
 
+// Colours come through tiles as in memory: each vertex the same blend of
+// the same samples' colours (a cloud coloured in stripes across the tiles).
+TEST(TiledRun, ColoursAreTheInMemoryOnes) {
+  const Case c{"torus", 12000, Method::refined, 0.9};
+  PointCloud cloud = cloud_of(c);
+  for (const Vec3& p : cloud.positions)
+    cloud.colors.push_back({static_cast<std::uint8_t>(128.0 + 127.0 * std::sin(7.0 * p.x())),
+                            static_cast<std::uint8_t>(128.0 + 127.0 * std::cos(5.0 * p.y())),
+                            static_cast<std::uint8_t>(p.z() > 0.0 ? 200 : 30)});
+  const Reconstruction whole = reconstruct(cloud);
+  const Tiled tiled = run_tiled(cloud, c);
+  ASSERT_GT(tiled.run.plan.tiles.size(), 1u);
+  EXPECT_TRUE(tiled.run.plan.colors);
+  ASSERT_TRUE(same_mesh(tiled.mesh, whole.mesh(), 1e-9 * whole.contour.cell));
+  ASSERT_EQ(tiled.mesh.colors.size(), tiled.mesh.vertices.size());
+  const KdTree<3> tree(whole.mesh().vertices);
+  std::size_t same = 0;
+  for (std::size_t v = 0; v < tiled.mesh.vertices.size(); ++v)
+    same += tiled.mesh.colors[v] == whole.mesh().colors[tree.nearest(tiled.mesh.vertices[v]).index] ? 1u : 0u;
+  EXPECT_EQ(same, tiled.mesh.vertices.size());
+  // Without colours asked for, none.
+  TilingOptions options;
+  options.reconstruction.mesh_colors = false;
+  options.tile_size = c.tile_size;
+  const auto dir = scratch("no-colours");
+  reconstruct_tiled(pass_over(cloud, 4096), options, dir / "work", dir / "mesh.ply");
+  EXPECT_FALSE(io::read_mesh(dir / "mesh.ply").has_colors());
+  std::filesystem::remove_all(dir);
+}
+
 // Real scans, cut into tiles a quarter of their extent wide (or the least
 // the halo allows): the bunny into 16 tiles, distcap with its open boundary
 // trimmed, its strays and fragments dropped across tiles, the kitten's

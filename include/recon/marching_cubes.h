@@ -66,7 +66,7 @@ struct MarchingCubesOptions {
   bool keep_corners = false;             ///< keep every evaluated corner in the result
   std::optional<LatticeRegion> region;   ///< walk part of this lattice (see above); its cell must be `cell`
   bool keep_vertex_edges = false;        ///< name each vertex's lattice edge in the result
-  bool keep_triangle_cubes = false;      ///< name each triangle's cube in the result
+  bool keep_triangle_cubes = false;      ///< name each triangle's cube in the result (triangle_cube finds it too)
 };
 
 /// The lattice edge a vertex lies on: the key of the edge's lower corner
@@ -120,15 +120,23 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 [[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
                                                  const MarchingCubesOptions& options);
 
+/// The key (Lattice<3>::key) of the cube a triangle of the result was
+/// emitted for: the cube its centroid lies in. (A triangle's vertices lie on
+/// edges of its cube, or at its centre, never all three on one face
+/// (tests/marching_cubes_test.cpp), and at least a thousandth of an edge
+/// from a corner, so the centroid lies inside, by a margin rounding cannot
+/// cross.)
+[[nodiscard]] std::uint64_t triangle_cube(const MarchingCubesResult& result, std::size_t triangle);
+
 /// Puts the triangles in the order of their cubes' keys (each cube's in
 /// the case table's order) and numbers the vertices in the order the
-/// triangles first use them. The walk's order depends on where it started;
-/// this one does not, so a part of the lattice walked on its own (a tile,
-/// tiles.h) lists its triangles in the same order, relative to one another,
-/// as a walk over the whole: phase V, whose few order-dependent choices
-/// (which crease vertex comes first) follow the triangles' order, then makes
-/// the same choices in both. Needs the triangle cubes (keep_triangle_cubes);
-/// the vertex edges, if kept, follow their vertices.
+/// triangles first use them, in place. The walk's order depends on where
+/// it started; this one does not, so a part of the lattice walked on its own
+/// (a tile, tiles.h) lists its triangles in the same order, relative to one
+/// another, as a walk over the whole: phase V, whose few order-dependent
+/// choices (which crease vertex comes first) follow the triangles' order,
+/// then makes the same choices in both. Vertex edges and triangle cubes,
+/// if kept, follow.
 void sort_by_cube(MarchingCubesResult& result);
 
 }  // namespace recon

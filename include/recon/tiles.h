@@ -35,7 +35,8 @@
 //      in the cubes' order (sort_by_cube); for the refined method, phase V's
 //      local steps over all of it (refine_patch); then the triangles of its
 //      own cubes are kept, each vertex named by the lattice edge it comes
-//      from (or the two, for a vertex phase V put on a crease).
+//      from (or the two, for a vertex phase V put on a crease), and
+//      coloured from the samples' colours when the cloud has them.
 //   5. stitch_tiles: the tiles' triangles into one PLY file, written as
 //      they come; vertices other tiles use too are welded by name, so there
 //      are no cracks and no doubled triangles. Phase V's last step (trim
@@ -57,7 +58,8 @@
 // order in a tile, as far as the ring reaches. A component's object (for
 // fragments) is voted by its vertices, each counted once, those that only
 // peeled triangles use included (in memory they are gone by then): a tie
-// could go the other way. Colours are not carried.
+// could go the other way. Colours: each tile blends its own vertices'
+// colours from its samples' (vertex_colors.h), as reconstruct() does.
 //
 // Halo. A sample's plane is exact when its k-NN ball lies inside the tile's
 // points, and its neighbours' balls too (their spacing, their fits); a
@@ -135,6 +137,8 @@ struct TilePlan {
   /// neighbours its choices depend on (3). The walk goes 2 cubes further.
   std::int32_t ring = 1;
   RefinementOptions refinement;     ///< phase V's options (max_move 0: the cell)
+  bool colors = false;              ///< the cloud has colours, and the mesh gets them (mesh_colors)
+  VertexColorOptions color_blend;   ///< how (vertex_colors.h)
   double radius_q = 0.0, rho_q = 0.0;  ///< 99.9th percentiles of the neighbourhood radius and of rho_i
   std::uint64_t input_points = 0;
   std::uint64_t statistics_points = 0;  ///< points phase I ran on for the cloud-wide measures
