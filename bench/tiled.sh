@@ -7,8 +7,8 @@
 #   3. on a local Dask cluster of 2 workers (python3 -m recon.distributed),
 #      at N points,
 # printing one markdown row per run: points, seconds, microseconds a point,
-# peak resident memory (the process's; for Dask, the largest worker's and
-# the client's), tiles, triangles.
+# peak resident memory (GNU time's; for Dask, the largest worker's and the
+# client's), tiles, triangles. Each run's --stats is kept as stats-N.json.
 #
 #   bench/tiled.sh                 # N = 100M: about 25 GB of disk under $SCRATCH, 15-25 minutes
 #   N=20000000 SCRATCH=/tmp bench/tiled.sh
@@ -51,6 +51,8 @@ run() {  # run LABEL POINTS ARGS...
   /usr/bin/time -f "%e %M" -o "$scratch/time.txt" "$recon" --quiet reconstruct "$@" --stats "$scratch/stats.json" \
     -o "$scratch/mesh.ply"
   row "$label" "$points" "$scratch/stats.json" "$scratch/time.txt"
+  runs=$((${runs:-0} + 1))
+  cp "$scratch/stats.json" "$scratch/stats-$runs.json"  # (kept for the details)
   rm -f "$scratch/mesh.ply"
 }
 

@@ -1336,6 +1336,23 @@ TEST_F(CliTiles, TileSizeGivesTheSameMeshAsInMemory) {
   EXPECT_EQ(entries(), (std::vector<std::string>{"tiled.json", "tiled.ply", "two.ply", "whole.ply"}));
 }
 
+// The default method in tiles: phase V too, its open boundary trimmed over
+// the whole mesh, as in memory.
+TEST_F(CliTiles, RefinedMeshInTilesIsTheInMemoryOne) {
+  ASSERT_NO_FATAL_FAILURE(generate("terrain", 15000, "t.ply"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "whole.ply", "--stats", "whole.json"})));
+  const RunResult tiled = recon({"reconstruct", "t.ply", "-o", "tiled.ply", "--tile-size", "0.5", "--stats", "tiled.json"});
+  ASSERT_TRUE(succeeded(tiled)) << describe(tiled);
+  EXPECT_NE(tiled.out.find("refine    "), std::string::npos) << tiled.out;
+  EXPECT_NE(tiled.out.find("(refined, phase V included)"), std::string::npos) << tiled.out;
+  const std::string json = read_bytes(at("tiled.json"));
+  EXPECT_GT(stat(json, "tiled", "tiles").value_or(0.0), 4.0);
+  const std::optional<double> trimmed = stat(json, "tiled", "trimmed_triangles");
+  EXPECT_GT(trimmed.value_or(0.0), 0.0);
+  EXPECT_EQ(trimmed, stat(read_bytes(at("whole.json")), "refinement", "trimmed_triangles"));
+  EXPECT_TRUE(same_mesh(io::read_mesh(at("tiled.ply")), io::read_mesh(at("whole.ply")), 1e-9));
+}
+
 // A cloud estimated to need several times --max-memory is reconstructed in
 // tiles, and the process's peak stays within the limit.
 TEST_F(CliTiles, PastMaxMemoryTilesAndStaysWithinIt) {
