@@ -7,8 +7,9 @@
 #   3. on a local Dask cluster of 2 workers (python3 -m recon.distributed),
 #      at N points,
 # printing one markdown row per run: points, seconds, microseconds a point,
-# peak resident memory (GNU time's; for Dask, the largest worker's and the
-# client's), tiles, triangles. Each run's --stats is kept as stats-N.json.
+# peak resident memory (the run's --stats; for Dask, the largest worker's
+# and the client's), tiles, triangles. Each run's --stats is kept as
+# stats-N.json.
 #
 #   bench/tiled.sh                 # N = 100M: about 25 GB of disk under $SCRATCH, 15-25 minutes
 #   N=20000000 SCRATCH=/tmp bench/tiled.sh
@@ -37,6 +38,10 @@ label, points, stats, timing = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.a
 seconds, kib = open(timing).read().split()
 s = json.load(open(stats))
 tiles = s.get("tiled", {}).get("tiles", "-")
+# (The peak from --stats: an in-memory run clears the kernel's high-water
+# mark at each phase to measure the phases' own, so GNU time's is the last
+# phase's there.)
+kib = s.get("memory", {}).get("peak_mib_total", int(kib) / 1024) * 1024
 mesh = s.get("mesh", {})
 triangles = mesh.get("triangles", mesh.get("faces"))  # (an in-memory run's summary says faces)
 triangles = f"{triangles:,}" if isinstance(triangles, int) else "-"

@@ -58,7 +58,12 @@
 // order in a tile, as far as the ring reaches. A component's object (for
 // fragments) is voted by its vertices, each counted once, those that only
 // peeled triangles use included (in memory they are gone by then): a tie
-// could go the other way. Colours: each tile blends its own vertices'
+// could go the other way. Where samples lie on an exact grid, a k-th
+// neighbour can be a tie between equidistant samples, which the kd-tree
+// breaks by its own numbering: a tile's tree may break it another way than
+// the whole cloud's, and a few planes differ (Hoppe's cactus: 120 of a
+// tile's 2698 samples, most in its halo; the same triangles, 67 of 5313
+// vertices up to a quarter of a cell apart). Colours: each tile blends its own vertices'
 // colours from its samples' (vertex_colors.h), as reconstruct() does.
 //
 // Halo. A sample's plane is exact when its k-NN ball lies inside the tile's
