@@ -78,7 +78,7 @@ void join(const char* dir, const char* name, char* out, std::size_t size) {
 void remove_workspace_files(const char* dir) {
   char path[4200], name[40];
   for (std::uint32_t id = 0; id < tile_ids_made.load(); ++id)
-    for (const char* kind : {"points", "orient", "planes", "mesh"}) {
+    for (const char* kind : {"points", "colors", "orient", "planes", "mesh"}) {
       const char prefix[] = "tile-";
       std::size_t n = 0;
       for (const char c : prefix)

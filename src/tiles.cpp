@@ -483,16 +483,16 @@ TilePatch tile_patch(const TilePlan& plan, std::size_t tile, const TileSurface& 
 // The name of a patch vertex in the whole mesh (MeshVertex).
 void name_vertex(const TilePatch& patch, std::uint32_t v, MeshVertex& out) {
   const auto& stem = patch.refined.stem[v];
-  const VertexEdge a = patch.contour.vertex_edges[stem[0]];
+  VertexEdge a = patch.contour.vertex_edges[stem[0]];
   out.corner[0] = a.corner;
   out.axis[0] = a.axis;
   if (stem[1] == RefinedPatch::none) return;
-  const VertexEdge b = patch.contour.vertex_edges[stem[1]];
-  const bool swap = std::tie(b.corner, b.axis) < std::tie(a.corner, a.axis);
-  out.corner[swap ? 0 : 1] = b.corner;
-  out.axis[swap ? 0 : 1] = b.axis;
-  out.corner[swap ? 1 : 0] = a.corner;
-  out.axis[swap ? 1 : 0] = a.axis;
+  VertexEdge b = patch.contour.vertex_edges[stem[1]];
+  if (std::tie(b.corner, b.axis) < std::tie(a.corner, a.axis)) std::swap(a, b);  // (the lesser first)
+  out.corner[0] = a.corner;
+  out.axis[0] = a.axis;
+  out.corner[1] = b.corner;
+  out.axis[1] = b.axis;
 }
 
 std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
@@ -530,8 +530,7 @@ void mark_peelable(const RefinedPatch& p, const std::vector<std::uint32_t>& own,
       const auto [it, added] = first.emplace(edge_key(t[e], t[(e + 1) % 3]), q);
       if (!added) sets.unite(it->second, q);
     }
-  std::vector<std::uint32_t> component(peelable.size(), tile_files::none);
-  std::vector<std::uint32_t> number(peelable.size(), tile_files::none);
+  std::vector<std::uint32_t> number(peelable.size(), tile_files::none);  // per set (root): its component
   for (std::uint32_t q = 0; q < peelable.size(); ++q) {
     std::uint32_t& c = number[sets.find(q)];
     if (c == tile_files::none) {

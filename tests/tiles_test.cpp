@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -240,6 +241,55 @@ TEST(TiledRun, DamagedFilesAreErrorsNamingThem) {
   EXPECT_THROW(reconcile_tiles(dir), IoError) << "no tile was oriented";
   std::filesystem::remove(dir / "plan.bin");
   EXPECT_THROW(read_tile_plan(dir), IoError);
+  std::filesystem::remove_all(dir);
+}
+
+// A tile's mesh naming a vertex it does not have, and a tile's colours
+// fewer than its points, are errors naming the file.
+TEST(TiledRun, DamagedMeshesAndColoursAreErrorsNamingThem) {
+  const Case c{"sphere", 20000, Method::refined, 0.7};
+  PointCloud cloud = cloud_of(c);
+  cloud.colors.assign(cloud.size(), Color{10, 20, 30});
+  const auto dir = scratch("damaged-mesh");
+  TilingOptions options;
+  options.tile_size = c.tile_size;
+  const TilePlan plan = plan_tiles(pass_over(cloud), options, dir);
+  ASSERT_TRUE(plan.colors);
+  for (std::size_t t = 0; t < plan.tiles.size(); ++t) orient_tile(dir, t);
+  reconcile_tiles(dir);
+  for (std::size_t t = 0; t < plan.tiles.size(); ++t) contour_tile(dir, t);
+  ASSERT_GT(plan.tiles.size(), 1u);
+  const auto name_of_file = [&](std::size_t tile, const char* kind) {
+    char name[64];
+    std::snprintf(name, sizeof name, "tile-%06u.%s", static_cast<unsigned>(plan.tiles[tile].id), kind);
+    return std::string(name);
+  };
+  const auto mesh = dir / name_of_file(0, "mesh");
+  {
+    std::fstream file(mesh, std::ios::in | std::ios::out | std::ios::binary);
+    std::uint64_t vertices = 0;
+    file.seekg(8);
+    file.read(reinterpret_cast<char*>(&vertices), sizeof vertices);
+    ASSERT_GT(vertices, 0u);
+    file.seekp(static_cast<std::streamoff>(8 + 8 + vertices * 64 + 8));  // the first triangle's first vertex
+    const std::uint32_t wrong = 0xFFFFFFF0u;
+    file.write(reinterpret_cast<const char*>(&wrong), sizeof wrong);
+  }
+  try {
+    stitch_tiles(dir, dir / "out.ply");
+    ADD_FAILURE() << "a damaged mesh was stitched";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find(name_of_file(0, "mesh")), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.ply"));
+  const auto colors = dir / name_of_file(1, "colors");
+  std::filesystem::resize_file(colors, std::filesystem::file_size(colors) - 3);
+  try {
+    contour_tile(dir, 1);
+    ADD_FAILURE() << "colours fewer than the points were read";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find(name_of_file(1, "colors")), std::string::npos) << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -1,18 +1,20 @@
 #pragma once
 // Clouds larger than memory: the same reconstruction, tile by tile.
 //
-// The plain idea. Phases I, III and IV are local: a sample's plane depends
-// on its k nearest neighbours, f at a lattice corner on the planes and
-// samples within a few neighbourhoods of it, and a cube's triangles on its
-// 8 corners. So cut space into tiles (boxes of whole lattice cubes), give
+// The plain idea. Phases I, III and IV are local, and most of V: a
+// sample's plane depends on its k nearest neighbours, f at a lattice
+// corner on the planes and samples within a few neighbourhoods of it, a
+// cube's triangles on its 8 corners, and where phase V moves a vertex on
+// the planes and triangles a few cubes around it. So cut space into tiles (boxes of whole lattice cubes), give
 // each tile its points plus a halo of the points around it, run the phases
 // there, and keep only the triangles of the tile's own cubes (its core):
 // every cube belongs to one tile, and where the halo is wide enough the
 // tile sees the same neighbourhoods and nearest planes as the whole cloud,
 // so the pieces meet exactly on the lattice edges of the tiles' borders.
-// Only phase II is global: each tile orients its own pieces, and the signs
-// are then made to agree through the halos, where two tiles orient the same
-// samples. In steps:
+// Phase II is global: each tile orients its own pieces, and the signs are
+// then made to agree through the halos, where two tiles orient the same
+// samples; so is phase V's last step (trimming, fragments), decided over
+// the whole mesh as it is stitched. In steps:
 //
 //   1. plan_tiles: stream the input (never held whole): its bounding box
 //      and count; then the cloud-wide choices, made once as reconstruct()
@@ -63,8 +65,9 @@
 // breaks by its own numbering: a tile's tree may break it another way than
 // the whole cloud's, and a few planes differ (Hoppe's cactus: 120 of a
 // tile's 2698 samples, most in its halo; the same triangles, 67 of 5313
-// vertices up to a quarter of a cell apart). Colours: each tile blends its own vertices'
-// colours from its samples' (vertex_colors.h), as reconstruct() does.
+// vertices up to a quarter of a cell apart). Colours: each tile blends its
+// own vertices' colours from its samples' (vertex_colors.h), as
+// reconstruct() does.
 //
 // Halo. A sample's plane is exact when its k-NN ball lies inside the tile's
 // points, and its neighbours' balls too (their spacing, their fits); a
