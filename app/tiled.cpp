@@ -152,6 +152,7 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
   Summary summary(global.quiet);
   TilingOptions tiling;
   tiling.reconstruction = options;
+  if (o.in.no_colors) tiling.reconstruction.mesh_colors = false;  // (the tiles then hold none)
   tiling.tile_size = o.tile_size;
   const std::filesystem::path parent =
       !o.tmpdir.empty() ? o.tmpdir : std::filesystem::absolute(o.output).parent_path();

@@ -1353,6 +1353,24 @@ TEST_F(CliTiles, RefinedMeshInTilesIsTheInMemoryOne) {
   EXPECT_TRUE(same_mesh(io::read_mesh(at("tiled.ply")), io::read_mesh(at("whole.ply")), 1e-9));
 }
 
+// Colours come through tiles as in memory, and --no-colors drops them there too.
+TEST_F(CliTiles, ColoursComeThroughTilesUnlessNoColors) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 20000, "s.xyz"));
+  add_red_above_blue_below(at("s.xyz"), at("c.ply"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "c.ply", "-o", "whole.ply"})));
+  const RunResult tiled = recon({"reconstruct", "c.ply", "-o", "tiled.ply", "--tile-size", "0.7"});
+  ASSERT_TRUE(succeeded(tiled)) << describe(tiled);
+  EXPECT_NE(tiled.out.find("(refined, phase V included, with colours)"), std::string::npos) << tiled.out;
+  const Mesh whole = io::read_mesh(at("whole.ply")), mesh = io::read_mesh(at("tiled.ply"));
+  ASSERT_TRUE(same_mesh(mesh, whole, 1e-9));
+  ASSERT_TRUE(mesh.has_colors());
+  const KdTree<3> tree(whole.vertices);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    ASSERT_EQ(mesh.colors[v], whole.colors[tree.nearest(mesh.vertices[v]).index]) << "vertex " << v;
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "c.ply", "-o", "plain.ply", "--tile-size", "0.7", "--no-colors"})));
+  EXPECT_FALSE(io::read_mesh(at("plain.ply")).has_colors());
+}
+
 // A cloud estimated to need several times --max-memory is reconstructed in
 // tiles, and the process's peak stays within the limit.
 TEST_F(CliTiles, PastMaxMemoryTilesAndStaysWithinIt) {
