@@ -128,9 +128,9 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 /// cross.)
 [[nodiscard]] std::uint64_t triangle_cube(const MarchingCubesResult& result, std::size_t triangle);
 
-/// Puts the triangles in the order of their cubes' keys (each cube's in
-/// the case table's order) and numbers the vertices in the order the
-/// triangles first use them, in place. The walk's order depends on where
+/// Reorders the result's triangles by their cubes' keys (each cube's in
+/// the case table's order) and renumbers the vertices in the order the
+/// triangles first use them. The walk's order depends on where
 /// it started; this one does not, so a part of the lattice walked on its own
 /// (a tile, tiles.h) lists its triangles in the same order, relative to one
 /// another, as a walk over the whole: phase V, whose few order-dependent
