@@ -7,8 +7,8 @@
 // cube's triangles on its 8 corners, and where phase V moves a vertex on
 // the planes and triangles a few cubes around it. So cut space into tiles
 // (boxes of whole lattice cubes), give each tile its points plus a halo of
-// the points around it, run the phases
-// there, and keep only the triangles of the tile's own cubes (its core):
+// the points around it, run the phases there, and keep only the triangles
+// of the tile's own cubes (its core):
 // every cube belongs to one tile, and where the halo is wide enough the
 // tile sees the same neighbourhoods and nearest planes as the whole cloud,
 // so the pieces meet exactly on the lattice edges of the tiles' borders.
