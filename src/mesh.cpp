@@ -45,10 +45,6 @@ struct HalfEdge {
   bool forward;  ///< traversed from the smaller to the larger vertex
 };
 
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-  return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
-}
-
 constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
 
 // The bounding box of the used vertices; throws for an index past the end.

@@ -93,26 +93,40 @@ SignedDistanceOptions signed_distance_options(Method method, const SignedDistanc
   return options;
 }
 
-RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistance<3>& f) {
-  if (!r.quadrics) throw InvalidInputError("refinement_input_of: the reconstruction has no second-order fits (hoppe92)");
+RefinementInput refinement_input(const TangentPlanes<3>& planes, std::span<const Vec3> oriented,
+                                 std::span<const Curvature> curvature, std::span<const std::uint32_t> piece,
+                                 const SignedDistance<3>& f, const KdTree<3>& origin_tree) {
   RefinementInput input;
-  input.origins = r.planes.origins;
-  input.normals = r.planes.normals;
-  input.oriented = r.normals();
-  input.curvature = r.quadrics->curvature;
+  input.origins = planes.origins;
+  input.normals = planes.normals;
+  input.oriented = oriented;
+  input.curvature = curvature;
   input.distance = &f;
-  input.spacing = r.planes.local_gap;
+  input.spacing = planes.local_gap;
   // Noisy data (the fits miss their samples by over a hundredth of the
   // sampling density): blend the quadrics of 8 planes around each vertex.
-  if (r.planes.noise > 0.01 * r.planes.rho) {
+  if (planes.noise > 0.01 * planes.rho) {
     input.blend = 8;
-    input.origin_tree = &r.origin_tree;
+    input.origin_tree = &origin_tree;
   }
-  if (r.oriented) input.piece = r.oriented->graph.components.label;
-  input.sample_tree = &r.planes.point_tree;
-  input.local_rho = r.planes.local_rho;
-  input.delta = r.delta;
+  input.piece = piece;
+  input.sample_tree = &planes.point_tree;
+  input.local_rho = planes.local_rho;
+  input.delta = f.delta();
   return input;
+}
+
+RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistance<3>& f) {
+  if (!r.quadrics) throw InvalidInputError("refinement_input_of: the reconstruction has no second-order fits (hoppe92)");
+  const std::span<const std::uint32_t> piece =
+      r.oriented ? std::span<const std::uint32_t>(r.oriented->graph.components.label) : std::span<const std::uint32_t>();
+  return refinement_input(r.planes, r.normals(), r.quadrics->curvature, piece, f, r.origin_tree);
+}
+
+RefinementOptions refinement_options(const RefinementOptions& given, double cell) {
+  RefinementOptions options = given;
+  if (options.max_move <= 0.0) options.max_move = cell;
+  return options;
 }
 
 SignedDistance<3> signed_distance_of(const Reconstruction& r) {
@@ -306,10 +320,7 @@ void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   // The triangles in their cubes' order, not the walk's: the same order as
   // a tile's (tiles.h), so that phase V makes the same choices there.
   sort_by_cube(r.contour);
-  const RefinementInput input = refinement_input_of(r, f);
-  RefinementOptions refinement = run.options.refinement;
-  if (refinement.max_move <= 0.0) refinement.max_move = cell;
-  r.refinement = refine_mesh(r.contour.mesh, input, refinement);
+  r.refinement = refine_mesh(r.contour.mesh, refinement_input_of(r, f), refinement_options(run.options.refinement, cell));
 }
 
 // The final mesh's colours from the samples' (vertex_colors.h). Called

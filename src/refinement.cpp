@@ -247,7 +247,7 @@ struct Builder {
 std::uint32_t split_vertex(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in,
                            std::uint32_t u, std::uint32_t v, double cos_crease) {
   if (std::abs(pr.normal[u].dot(pr.normal[v])) >= cos_crease) return none;  // the common case, no lookup
-  const std::uint64_t key = (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
+  const std::uint64_t key = edge_key(u, v);
   const auto found = b.crease_of_edge.find(key);
   if (found != b.crease_of_edge.end()) return found->second;
   std::uint32_t id = none;
@@ -499,10 +499,6 @@ void weld_coincident(Builder& b, std::size_t projected) {
 // until no sliver is left (a few passes at most).
 using Triangles = std::vector<std::array<std::uint32_t, 3>>;
 
-std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
-  return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
-}
-
 // The edge e (tri[e] -> tri[e + 1]) that is a sliver's longest, or 3 when
 // the triangle is no sliver.
 std::size_t sliver_edge(const std::vector<Vec3>& x, const std::array<std::uint32_t, 3>& tri) {
@@ -702,7 +698,7 @@ class Peeling {
       for (std::size_t e = 0; e < 3; ++e) {
         const std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
         if (covered[u] && covered[v]) continue;
-        auto [it, added] = sides_.try_emplace(key(u, v), std::array<std::uint32_t, 2>{t, none});
+        auto [it, added] = sides_.try_emplace(edge_key(u, v), std::array<std::uint32_t, 2>{t, none});
         if (!added) it->second[1] = t;
       }
     }
@@ -735,16 +731,13 @@ class Peeling {
   }
 
  private:
-  static std::uint64_t key(std::uint32_t u, std::uint32_t v) {
-    return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
-  }
   [[nodiscard]] bool peelable(std::uint32_t t) const {
     const auto& tri = mesh_.triangles[t];
     return !removed_[t] && !covered_[tri[0]] && !covered_[tri[1]] && !covered_[tri[2]];
   }
   // Across edge (u, v) of t: the other triangle, or none at the boundary.
   [[nodiscard]] std::uint32_t across(std::uint32_t t, std::uint32_t u, std::uint32_t v) const {
-    const auto& two = sides_.at(key(u, v));
+    const auto& two = sides_.at(edge_key(u, v));
     const std::uint32_t other = two[0] == t ? two[1] : two[0];
     return other != none && !removed_[other] ? other : none;
   }

@@ -156,7 +156,6 @@ ReconstructionOptions tile_options(const TilePlan& plan) {
   o.orientation.vote_rounds = plan.vote_rounds;
   o.orientation.graph.gap_factor = plan.gap_factor;
   o.orientation.graph.min_component_points = plan.min_component_points;
-  o.refinement = plan.refinement;
   o.keep_graph = false;
   o.mesh_colors = false;
   return o;

@@ -97,10 +97,6 @@ Color color_of(const MeshVertex& v) {
           static_cast<std::uint8_t>(v.color >> 16 & 0xFF)};
 }
 
-std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
-  return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
-}
-
 class Stitch {
  public:
   explicit Stitch(const TilePlan& plan) : plan_(plan) {}

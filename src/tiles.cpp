@@ -344,7 +344,7 @@ struct TileSurface {
   TangentPlanes<3> planes;
   std::vector<std::uint32_t> order;
   std::vector<std::uint8_t> near_crease;
-  std::vector<Curvature> curvature;  // (the refined method)
+  std::vector<Curvature> curvature;  // (the refined method's)
 };
 
 TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan, const TilePoints& points) {
@@ -361,8 +361,8 @@ TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan
   const std::size_t n = s.order.size();
   WorkingTree w = working_tree(points.positions, TangentPlaneOptions{}.tree, plan.offset);
   if (w.order != s.order || coordinates.size() != 6 * n || s.planes.local_rho.size() != n ||
-      (!s.near_crease.empty() && s.near_crease.size() != n) || (!curvature.empty() && curvature.size() != 3 * n) ||
-      s.planes.local_gap.size() != n)
+      (!s.near_crease.empty() && s.near_crease.size() != n) ||
+      curvature.size() != (plan.method == Method::refined ? 3 * n : 0) || s.planes.local_gap.size() != n)
     throw ParseError(path.string() + ": these planes are not those of the tile's points");
   s.planes.point_tree = std::move(w.tree);
   for (std::size_t j = 0; j < n; ++j) {
@@ -454,29 +454,13 @@ TilePatch tile_patch(const TilePlan& plan, std::size_t tile, const TileSurface& 
   TilePatch patch;
   patch.contour = marching_cubes(std::cref(f), surface.planes.point_tree.points(), mc);
   sort_by_cube(patch.contour);
-  if (plan.method != Method::refined || surface.curvature.empty()) {
-    patch.refined = unrefined(patch.contour.mesh);
-    return patch;
-  }
-  // As reconstruct() refines (refinement_input_of there).
-  RefinementInput input;
-  input.origins = surface.planes.origins;
-  input.normals = surface.planes.normals;
-  input.oriented = reconciled.normals;
-  input.curvature = surface.curvature;
-  input.distance = &f;
-  input.spacing = surface.planes.local_gap;
-  if (surface.planes.noise > 0.01 * surface.planes.rho) {
-    input.blend = 8;
-    input.origin_tree = &origin_tree;
-  }
-  input.piece = reconciled.object;
-  input.sample_tree = &surface.planes.point_tree;
-  input.local_rho = surface.planes.local_rho;
-  input.delta = f.delta();
-  RefinementOptions refinement = plan.refinement;
-  if (refinement.max_move <= 0.0) refinement.max_move = plan.lattice.cell;
-  patch.refined = refine_patch(patch.contour.mesh, input, refinement);
+  patch.refined =
+      plan.method == Method::refined
+          ? refine_patch(patch.contour.mesh,
+                         refinement_input(surface.planes, reconciled.normals, surface.curvature, reconciled.object, f,
+                                          origin_tree),
+                         refinement_options(plan.refinement, plan.lattice.cell))
+          : unrefined(patch.contour.mesh);
   return patch;
 }
 
@@ -493,10 +477,6 @@ void name_vertex(const TilePatch& patch, std::uint32_t v, MeshVertex& out) {
   out.axis[0] = a.axis;
   out.corner[1] = b.corner;
   out.axis[1] = b.axis;
-}
-
-std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
-  return (std::uint64_t{std::min(u, v)} << 32) | std::max(u, v);
 }
 
 // Step 4 of phase V is decided over the whole mesh at the stitch; each tile
@@ -549,7 +529,6 @@ void mark_atoms(const RefinedPatch& p, const std::vector<std::uint32_t>& own, ti
   UnionFind sets(p.mesh.vertices.size());
   for (std::uint32_t o = 0; o < own.size(); ++o) {
     const auto& t = p.mesh.triangles[own[o]];
-    out.triangles[o].stray = p.far[t[0]] && p.far[t[1]] && p.far[t[2]] ? 1 : 0;
     if (out.triangles[o].peel != tile_files::none || out.triangles[o].stray) continue;
     sets.unite(t[0], t[1]);
     sets.unite(t[0], t[2]);
@@ -625,8 +604,10 @@ tile_files::TileMesh own_mesh(const TilePlan& plan, std::size_t tile, const Tile
     out.vertices.push_back(m);
   }
   for (const std::uint32_t t : own) {
+    const auto& tri = p.mesh.triangles[t];
     tile_files::MeshTriangle m;
-    for (std::size_t c = 0; c < 3; ++c) m.v[c] = written[p.mesh.triangles[t][c]];
+    for (std::size_t c = 0; c < 3; ++c) m.v[c] = written[tri[c]];
+    m.stray = p.far[tri[0]] && p.far[tri[1]] && p.far[tri[2]] ? 1 : 0;
     out.triangles.push_back(m);
   }
   if (plan.method == Method::refined) {

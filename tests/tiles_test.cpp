@@ -8,6 +8,7 @@
 #include "recon/errors.h"
 #include "recon/io/mesh_io.h"
 #include "recon/shapes.h"
+#include "../src/tile_files.h"  // (the tiles' files, made by hand below)
 #include "mesh_compare.h"
 #include "test_data.h"
 
@@ -290,6 +291,78 @@ TEST(TiledRun, DamagedMeshesAndColoursAreErrorsNamingThem) {
   } catch (const ParseError& e) {
     EXPECT_NE(std::string(e.what()).find(name_of_file(1, "colors")), std::string::npos) << e.what();
   }
+  std::filesystem::remove_all(dir);
+}
+
+// Phase V's last step across tiles, on tile meshes made by hand (the
+// clouds above rarely need it: a peelable strip there reaches the open
+// boundary in every tile it crosses, and every part of a component is
+// large). Tile A holds a fan of 100 lasting triangles and a peelable
+// triangle with no open edge, and another on the fan's edge; tile B a
+// peelable triangle across an edge from the first that is on the open
+// boundary, a triangle hanging on the fan by a vertex, and a lone
+// triangle. The first two peelable triangles go (joined across the
+// border), the one on the fan stays with it, as does the hanging triangle
+// (their component is the fan's); the lone one goes as a fragment.
+TEST(TiledRun, StitchDecidesTrimmingAndFragmentsAcrossTiles) {
+  const Case c{"sphere", 20000, Method::refined, 0.7};
+  const auto dir = scratch("stitch-by-hand");
+  TilingOptions options;
+  options.tile_size = c.tile_size;
+  const TilePlan plan = plan_tiles(pass_over(cloud_of(c)), options, dir);
+  ASSERT_GT(plan.tiles.size(), 1u);
+  using tile_files::MeshTriangle;
+  using tile_files::MeshVertex;
+  auto vertex = [](std::uint64_t name, bool shared, std::uint32_t atom) {
+    MeshVertex v;
+    v.x = static_cast<double>(name);
+    v.corner[0] = name;
+    v.shared = shared ? 1 : 0;
+    v.atom = atom;
+    v.object = 0;
+    return v;
+  };
+  auto triangle = [](std::uint32_t p, std::uint32_t q, std::uint32_t r, std::uint32_t peel) {
+    MeshTriangle t;
+    t.v[0] = p;
+    t.v[1] = q;
+    t.v[2] = r;
+    t.peel = peel;
+    return t;
+  };
+  tile_files::TileMesh a;  // names: fan 1000..1101 (1000 shared), peelable 2000 and 2001-2002 (shared)
+  for (std::uint64_t v = 0; v < 102; ++v) a.vertices.push_back(vertex(1000 + v, v == 0, 0));
+  for (std::uint32_t t = 1; t <= 100; ++t) a.triangles.push_back(triangle(0, t, t + 1, tile_files::none));
+  a.atom_triangles = {100, 0, 0, 0, 0, 0};
+  a.vertices.push_back(vertex(2000, false, 1));
+  a.vertices.push_back(vertex(2001, true, 2));
+  a.vertices.push_back(vertex(2002, true, 3));
+  a.triangles.push_back(triangle(102, 103, 104, 0));
+  a.vertices.push_back(vertex(2100, false, 4));  // a peelable triangle on the fan that reaches no open edge
+  a.vertices.push_back(vertex(2101, false, 5));
+  a.triangles.push_back(triangle(105, 106, 5, 1));
+  a.peel_open = {0, 0};
+  a.votes = {{0, 0, 101}, {1, 0, 1}};
+  tile_files::TileMesh b;
+  b.vertices = {vertex(2002, true, 0), vertex(2001, true, 1), vertex(2003, false, 2),   // peelable
+                vertex(1000, true, 3), vertex(3001, false, 3), vertex(3002, false, 3),  // hanging on the fan
+                vertex(4000, false, 4), vertex(4001, false, 4), vertex(4002, false, 4)};  // alone
+  b.triangles = {triangle(0, 1, 2, 0), triangle(3, 4, 5, tile_files::none), triangle(6, 7, 8, tile_files::none)};
+  b.peel_open = {1};
+  b.atom_triangles = {0, 0, 0, 1, 1};
+  b.votes = {{2, 0, 1}, {3, 0, 2}, {4, 0, 3}};
+  for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
+    char name[64];
+    std::snprintf(name, sizeof name, "tile-%06u.mesh", static_cast<unsigned>(plan.tiles[t].id));
+    tile_files::write_mesh(dir / name, t == 0 ? a : t == 1 ? b : tile_files::TileMesh{});
+  }
+  const StitchedMesh m = stitch_tiles(dir, dir / "out.ply");
+  EXPECT_EQ(m.trimmed, 2u) << "the peelable triangle without an open edge goes with the one across the border";
+  EXPECT_EQ(m.fragments, 1u);
+  EXPECT_EQ(m.fragment_triangles, 1u) << "the triangles on the fan, by a vertex or a shared vertex, are part of it";
+  EXPECT_EQ(m.triangles, 102u);
+  EXPECT_EQ(m.vertices, 106u);  // the fan's 102, and 2 of each triangle on it (1000 welded)
+  EXPECT_EQ(io::read_mesh(dir / "out.ply").triangles.size(), 102u);
   std::filesystem::remove_all(dir);
 }
 

@@ -21,6 +21,12 @@ struct Mesh {
   [[nodiscard]] bool has_colors() const { return !colors.empty(); }
 };
 
+/// An undirected edge (a, b) of vertex indices as one number, the same for
+/// (b, a): the key of the maps from edges to the triangles on them.
+[[nodiscard]] inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
+}
+
 /// Topology of a mesh. "Edge" means an undirected pair of vertices used by
 /// at least one triangle.
 struct MeshTopology {

@@ -174,6 +174,17 @@ struct Reconstruction {
 /// Phase V's input as reconstruct() gave it for `r` (refined; f from
 /// signed_distance_of): it references r and f, which must outlive it.
 [[nodiscard]] RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistance<3>& f);
+/// The same from its parts (each tile of tiles.h has its own): phase I's
+/// planes, their normals as phase II oriented them, the second-order fits'
+/// curvature, each plane's piece of data (empty: one), f over the planes and
+/// the tree over their origins (blending, on noisy data). It references them.
+[[nodiscard]] RefinementInput refinement_input(const TangentPlanes<3>& planes, std::span<const Vec3> oriented,
+                                               std::span<const Curvature> curvature,
+                                               std::span<const std::uint32_t> piece, const SignedDistance<3>& f,
+                                               const KdTree<3>& origin_tree);
+/// Phase V's options as reconstruct() runs it at cube side `cell`: a
+/// max_move of 0 becomes the cell.
+[[nodiscard]] RefinementOptions refinement_options(const RefinementOptions& given, double cell);
 
 /// The translation reconstruct() applies before working: the centre of the
 /// bounding box when the cloud lies farther from the origin than its own
