@@ -74,13 +74,19 @@ StepReport plan_report(const TilePlan& plan, const std::string& why) {
                     format_seconds(plan.seconds_bounds + plan.seconds_binning) + ")");
   r.lines.push_back("          cloud-wide: k = " + std::to_string(plan.k) + ", rho = " + format_length(plan.spacing.rho) +
                     ", cell " + format_length(plan.lattice.cell) + ", from phase I on " +
-                    plural(plan.statistics_points, "point") + " (" + format_seconds(plan.seconds_statistics) + ")");
+                    plural(plan.statistics_points, "point") + (plan.statistics_over_tiles ? " measured over the tiles" : "") +
+                    " (" + format_seconds(plan.seconds_statistics) + ")");
+  if (plan.statistics_inexact > 0)
+    r.lines.push_back("          " + plural(plan.statistics_inexact, "sample") +
+                      " measured with a neighbourhood that may reach past its tile (halo too narrow)");
   r.stats["reason"] = why;
   r.stats["tiles"] = plan.tiles.size();
   r.stats["core_edge"] = edge;
   r.stats["halo"] = plan.halo;
   r.stats["points_binned"] = static_cast<double>(binned);
   r.stats["statistics_points"] = static_cast<double>(plan.statistics_points);
+  r.stats["statistics_over_tiles"] = plan.statistics_over_tiles;
+  r.stats["statistics_inexact"] = static_cast<double>(plan.statistics_inexact);
   r.stats["k"] = plan.k;
   r.stats["rho"] = plan.spacing.rho;
   r.stats["cell"] = plan.lattice.cell;

@@ -455,6 +455,7 @@ void split_sheets(const TangentPlanes<3>& planes, Fits& fits, const std::vector<
   for (std::uint32_t i = 0; i < n; ++i)
     if (suspect[i]) suspects.push_back(i);
   fits.frames.resize(suspects.size());
+  if (options.keep_parts) result.was_split.assign(n, 0);
   std::size_t split = 0;
   const auto count = static_cast<std::int64_t>(suspects.size());
 #pragma omp parallel reduction(+ : split)
@@ -469,6 +470,7 @@ void split_sheets(const TangentPlanes<3>& planes, Fits& fits, const std::vector<
       if (std::isnan(sheet.cut)) continue;
       fits.frames[slot] = {sheet.quadric.origin, sheet.quadric.normal};
       fits.set(i, sheet.quadric, static_cast<std::uint32_t>(slot));
+      if (options.keep_parts) result.was_split[i] = 1;
       ++split;
     }
   }
@@ -556,6 +558,10 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
   banded = {};
   // A fit is poor (a crease, a corner) beyond four times the typical
   // residual; only those look for a better one.
+  if (options.keep_parts) {
+    result.fit_residual.resize(n);
+    for (std::size_t i = 0; i < n; ++i) result.fit_residual[i] = static_cast<float>(fits.residual(i));
+  }
   result.medians.fit_residual = options.cloud ? options.cloud->fit_residual : median_residual(fits);
   const double poor = 4.0 * result.medians.fit_residual;
 

@@ -1,5 +1,6 @@
 #include "recon/tangent_planes.h"
 
+#include "recon/detail/mix64.h"
 #include "recon/detail/parallel_for.h"
 #include "recon/errors.h"
 #include "recon/interruption.h"
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -27,21 +29,14 @@ double median(std::vector<double> values) {
 // Tells noise from curvature. A plane fitted to a curved, noise-free patch
 // of radius r misses it by about r^2 / R, so doubling the neighbourhood
 // (r grows by sqrt 2) doubles the residual; noise gives the same residual at
-// any size. Measured on up to 2000 evenly spread points at 2k neighbours.
+// any size. Measured on the noise probes (about 2000 samples spread by a
+// hash of their position) at 2k neighbours.
 template <int D>
-bool residual_is_noise(std::span<const Vec<D>> points, const TangentPlanes<D>& planes, int wider_k) {
-  const std::size_t n = points.size();
-  if (static_cast<std::size_t>(wider_k) > n) return false;
-  const std::size_t step = std::max<std::size_t>(1, n / 2000);
+double probe_median(std::span<const Vec<D>> points, const TangentPlanes<D>& planes, int wider_k) {
   std::vector<double> residual;
-  std::vector<Neighbor> neighbours(static_cast<std::size_t>(wider_k));
-  std::vector<std::uint32_t> indices(neighbours.size());
-  for (std::size_t i = 0; i < n; i += step) {
-    planes.point_tree.knn(points[i], std::span<Neighbor>(neighbours));
-    for (std::size_t j = 0; j < neighbours.size(); ++j) indices[j] = neighbours[j].index;
-    residual.push_back(std::sqrt(fit_plane<D>(points, indices).eigenvalues[0]));
-  }
-  return median(std::move(residual)) < 1.4 * planes.noise;
+  for (const Vec<D>& p : points)
+    if (is_noise_probe<D>(p, points.size())) residual.push_back(probe_residual<D>(planes, points, p, wider_k));
+  return residual.empty() ? std::numeric_limits<double>::infinity() : median(std::move(residual));
 }
 
 // Throws unless the options and the point count make a neighbourhood.
@@ -190,10 +185,10 @@ void use_given_rho(TangentPlanes<D>& result, double rho) {
 // each nearest-neighbour distance over the mean of its neighbourhood's (so
 // a density that varies smoothly does not count). Random samples give
 // about 0.5, scanners' grids 0.05 to 0.15.
-// (Summed serially afterwards: a parallel reduction's rounding would depend
-// on the thread count, and the output must not.)
+// (Summed in fixed point: the sum depends neither on the thread count nor
+// on the order of the terms; see SpacingSums.)
 template <int D>
-double local_gaps_and_irregularity(TangentPlanes<D>& result, const std::vector<float>& nn_distance) {
+double local_gaps_and_irregularity(TangentPlanes<D>& result, const std::vector<float>& nn_distance, bool keep_parts) {
   const std::size_t n = nn_distance.size();
   const auto kk = static_cast<std::size_t>(result.k);
   std::vector<float> relative(n, 1.0f);
@@ -207,14 +202,10 @@ double local_gaps_and_irregularity(TangentPlanes<D>& result, const std::vector<f
     result.local_gap[i] = widest;
     if (sum > 0.0) relative[i] = static_cast<float>(static_cast<double>(nn_distance[i]) * static_cast<double>(kk) / sum);
   });
-  double sum_relative = 0.0, sum_relative2 = 0.0;
-  for (const float r : relative) {
-    sum_relative += static_cast<double>(r);
-    sum_relative2 += static_cast<double>(r) * static_cast<double>(r);
-  }
-  const double mean = sum_relative / static_cast<double>(n);
-  const double variance = std::max(0.0, sum_relative2 / static_cast<double>(n) - mean * mean);
-  return std::sqrt(variance) / mean;
+  SpacingSums sums;
+  for (const float r : relative) sums.add(r);
+  if (keep_parts) result.relative_spacing = std::move(relative);
+  return sums.irregularity();
 }
 
 // rho_i, the radius within which every surface point has a sample: 1.5
@@ -223,11 +214,8 @@ double local_gaps_and_irregularity(TangentPlanes<D>& result, const std::vector<f
 // neighbourhood radius for random samples, in between by the irregularity.
 template <int D>
 void local_rhos(TangentPlanes<D>& result) {
-  const double w = std::clamp((result.irregularity - 0.15) / 0.3, 0.0, 1.0);
   detail::parallel_for(result.radius.size(), [&](std::size_t i) {
-    const auto radius = static_cast<double>(result.radius[i]);
-    const double regular = std::min(1.5 * static_cast<double>(result.local_gap[i]), radius);
-    result.local_rho[i] = static_cast<float>(regular + w * (radius - regular));
+    result.local_rho[i] = local_rho_of(result.local_gap[i], result.radius[i], result.irregularity);
   });
 }
 
@@ -245,8 +233,9 @@ double median_of_measured(const std::vector<float>& values) {
 // whole cloud's, when given: the irregularity decides rho_i).
 template <int D>
 void measure_spacing(TangentPlanes<D>& result, const std::vector<float>& nn_distance,
-                     const std::optional<CloudSpacing>& cloud) {
-  result.irregularity = local_gaps_and_irregularity(result, nn_distance);
+                     const std::optional<CloudSpacing>& cloud, bool keep_parts) {
+  result.irregularity = local_gaps_and_irregularity(result, nn_distance, keep_parts);
+  if (keep_parts) result.raw_gap = result.local_gap;
   if (cloud) result.irregularity = cloud->irregularity;
   local_rhos(result);
   if (cloud) {
@@ -318,15 +307,8 @@ void mark_isolated(TangentPlanes<D>& result) {
 // neighbourhoods (see the header), or 0 when once is enough.
 template <int D>
 int adapted_k(std::span<const Vec<D>> points, const TangentPlanes<D>& result, const TangentPlaneOptions& options) {
-  constexpr double noise_limit = 0.1;  // noise / rho above which k is raised
-  constexpr int max_adapted_k = 64;
-  const int k = options.k;
-  if (!options.adapt_k || options.rho || !(result.noise > noise_limit * result.rho) || k >= max_adapted_k ||
-      !residual_is_noise(points, result, 2 * k))
-    return 0;
-  const double wanted = std::ceil(k * result.noise / (noise_limit * result.rho));
-  const int raised = static_cast<int>(std::min<double>(max_adapted_k, wanted));
-  return static_cast<std::size_t>(raised) + 1 <= result.distinct_points ? raised : 0;
+  return raised_k(options, result.noise, result.rho, result.distinct_points, points.size(),
+                  [&] { return probe_median<D>(points, result, 2 * options.k); });
 }
 
 // The phase over a built tree; `given` holds the points by index, or is
@@ -351,7 +333,7 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
   if (options.rho)
     use_given_rho(result, *options.rho);
   else
-    measure_spacing(result, nn_distance, options.cloud);
+    measure_spacing(result, nn_distance, options.cloud, options.keep_spacing_parts);
   mark_isolated(result);
   result.seconds_spacing = timer.lap();
   result.k_requested = options.k;
@@ -372,6 +354,72 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
 }
 
 }  // namespace
+
+void SpacingSums::add(float relative) {
+  constexpr double scale = 1099511627776.0;  // 2^40
+  const auto r = static_cast<double>(relative);  // (at most k: a neighbourhood's mean includes x_i's own)
+  sum += static_cast<Wide>(std::llround(r * scale));
+  sum2 += static_cast<Wide>(std::llround(r * r * scale));
+  ++count;
+}
+
+void SpacingSums::add(const SpacingSums& other) {
+  count += other.count;
+  sum += other.sum;
+  sum2 += other.sum2;
+}
+
+double SpacingSums::irregularity() const {
+  if (count == 0 || sum == 0) return 0.0;
+  constexpr double scale = 1099511627776.0;
+  const auto n = static_cast<double>(count);
+  const double mean = static_cast<double>(sum) / scale / n;
+  const double variance = std::max(0.0, static_cast<double>(sum2) / scale / n - mean * mean);
+  return std::sqrt(variance) / mean;
+}
+
+float local_rho_of(float gap, float radius, double irregularity) {
+  const double w = std::clamp((irregularity - 0.15) / 0.3, 0.0, 1.0);
+  const auto r = static_cast<double>(radius);
+  const double regular = std::min(1.5 * static_cast<double>(gap), r);
+  return static_cast<float>(regular + w * (r - regular));
+}
+
+template <int D>
+bool is_noise_probe(const Vec<D>& p, std::size_t n) {
+  constexpr double probes = 2000.0;
+  if (static_cast<double>(n) <= probes) return true;
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (int a = 0; a < D; ++a) h = detail::mix64(h ^ std::bit_cast<std::uint64_t>(p[a]));
+  return static_cast<double>(h) < probes / static_cast<double>(n) * 18446744073709551616.0;
+}
+
+int raised_k(const TangentPlaneOptions& options, double noise, double rho, std::size_t distinct, std::size_t n,
+             const std::function<double()>& probe_median) {
+  constexpr double noise_limit = 0.1;  // noise / rho above which k is raised
+  constexpr int max_adapted_k = 64;
+  const int k = options.k;
+  if (!options.adapt_k || options.rho || !(noise > noise_limit * rho) || k >= max_adapted_k ||
+      static_cast<std::size_t>(2 * k) > n || !(probe_median() < 1.4 * noise))
+    return 0;
+  const double wanted = std::ceil(k * noise / (noise_limit * rho));
+  const int raised = static_cast<int>(std::min<double>(max_adapted_k, wanted));
+  return static_cast<std::size_t>(raised) + 1 <= distinct ? raised : 0;
+}
+
+template <int D>
+double probe_residual(const TangentPlanes<D>& planes, std::span<const Vec<D>> points, const Vec<D>& p, int wider_k) {
+  std::vector<Neighbor> neighbours(static_cast<std::size_t>(wider_k));
+  planes.point_tree.knn(p, std::span<Neighbor>(neighbours));
+  std::vector<std::uint32_t> indices(neighbours.size());
+  for (std::size_t j = 0; j < neighbours.size(); ++j) indices[j] = neighbours[j].index;
+  return std::sqrt(fit_plane<D>(points, indices).eigenvalues[0]);
+}
+
+template bool is_noise_probe<2>(const Vec<2>&, std::size_t);
+template bool is_noise_probe<3>(const Vec<3>&, std::size_t);
+template double probe_residual<2>(const TangentPlanes<2>&, std::span<const Vec<2>>, const Vec<2>&, int);
+template double probe_residual<3>(const TangentPlanes<3>&, std::span<const Vec<3>>, const Vec<3>&, int);
 
 template <int D>
 TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points, const TangentPlaneOptions& options) {

@@ -92,6 +92,20 @@ inline constexpr char flips_magic[9] = "RCNFLIP2";
 inline constexpr char mesh_magic[9] = "RCNMESH2";
 inline constexpr char planes_magic[9] = "RCNPLNS2";
 
+/// A tile's points as its file holds them, in input order.
+struct TilePoints {
+  std::vector<Vec3> positions;
+  std::vector<std::uint64_t> index;  ///< in the input
+  std::vector<Color> colors;         ///< (when the plan has colours)
+};
+/// The points (and colours) of a tile (ParseError/IoError naming a damaged file).
+[[nodiscard]] TilePoints read_points(const std::filesystem::path& dir, const TilePlan& plan, const TileInfo& info);
+
+/// The tile whose core holds w (working coordinates), in the grid of
+/// tiles: each point is one tile's (points beyond the lattice go to the
+/// nearest tile).
+[[nodiscard]] Lattice<3>::Index tile_at(const TilePlan& plan, const Vec3& w);
+
 /// The tile's core, in cubes: [lo, hi) per axis.
 struct CoreBox {
   Lattice<3>::Index lo{}, hi{};

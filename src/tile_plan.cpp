@@ -2,11 +2,13 @@
 // cloud-wide choices, the tile size and the binning; and the plan's file.
 #include "recon/tiles.h"
 
+#include "recon/detail/mix64.h"
 #include "recon/errors.h"
 #include "recon/io/point_stream.h"
 #include "recon/memory_budget.h"
 #include "recon/timer.h"
 #include "tile_files.h"
+#include "tile_statistics.h"
 
 #include <unistd.h>
 
@@ -123,6 +125,17 @@ namespace tile_files {
 
 CoreBox core_of(const TilePlan& plan, std::size_t tile) { return core_at(plan, plan.tiles[tile].index); }
 
+Index3 tile_at(const TilePlan& plan, const Vec3& w) {
+  Index3 t;
+  for (int a = 0; a < 3; ++a) {
+    const auto size = plan.lattice.size[static_cast<std::size_t>(a)];
+    const double last = std::floor((size - 1) / static_cast<double>(plan.tile_cubes));
+    const double cube = std::floor((w[a] - plan.lattice.origin[a]) / plan.lattice.cell);
+    t[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(std::clamp(std::floor(cube / plan.tile_cubes), 0.0, last));
+  }
+  return t;
+}
+
 double outside_core(const TilePlan& plan, const CoreBox& core, const Vec3& w) {
   double d = -1e300;
   for (std::size_t a = 0; a < 3; ++a) {
@@ -214,14 +227,6 @@ struct Sample {
   double patch = 0.0;  // side of the patches drawn; 0: the whole cloud
 };
 
-std::uint64_t mix(std::uint64_t x) {  // splitmix64's finaliser
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
 std::uint64_t bin_key(const Vec3& w, const Vec3& low, double side) {
   std::uint64_t key = 0;
   for (int a = 0; a < 3; ++a) key = key << 21 | static_cast<std::uint64_t>(std::floor((w[a] - low[a]) / side));
@@ -248,7 +253,7 @@ Sample sample_pass(const PointPass& pass, ProgressCounter* counter, const TilePl
       const Vec3 w = p - plan.offset;
       ++s.histogram[bin_key(w, plan.box.min, s.bin)];
       if (s.cloud.positions.size() >= budget) continue;
-      if (whole || mix(bin_key(w, plan.box.min, patch) ^ seed) < threshold) s.cloud.positions.push_back(p);
+      if (whole || detail::mix64(bin_key(w, plan.box.min, patch) ^ seed) < threshold) s.cloud.positions.push_back(p);
     }
   });
   return s;
@@ -275,25 +280,16 @@ float quantile(std::vector<float> values, double q) {
   return *at;
 }
 
-// Phase I over the sample, as reconstruct() runs it: the cloud-wide choices.
-void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan& plan) {
+// Phase I over the sample, as reconstruct() runs it: the cloud-wide measures.
+tile_statistics::Measures measure_sample(const Sample& sample, const TilingOptions& options, const TilePlan& plan) {
   ReconstructionOptions o = options.reconstruction;
   o.offset = plan.offset;
   const Reconstruction r = reconstruct_phase_1(PointCloudView(sample.cloud), o);
-  plan.method = o.method;
-  plan.k = r.planes.k;
-  plan.spacing = r.planes.spacing();
-  plan.has_quadric_medians = r.quadrics.has_value();
-  if (r.quadrics) plan.quadric_medians = r.quadrics->medians;
-  plan.rho = o.planes.rho;
-  plan.delta = o.distance.delta;
-  plan.vote_rounds = o.orientation.vote_rounds;
-  plan.gap_factor = o.orientation.graph.gap_factor;
-  plan.min_component_points = o.orientation.graph.min_component_points;
-  plan.refinement = o.refinement;
-  plan.color_blend = o.colors;
-  plan.ring = o.method == Method::refined ? refine_ring : plain_ring;
-  plan.walk_margin = walk_ring + plan.ring;
+  tile_statistics::Measures m;
+  m.k = r.planes.k;
+  m.spacing = r.planes.spacing();
+  if (r.quadrics) m.quadric_medians = r.quadrics->medians;
+  m.samples = sample.cloud.size();
   // (Quantiles over the samples whose neighbourhoods the patches left whole.)
   const std::vector<std::uint8_t> inside =
       inside_patches(sample, r, plan, 3.0 * static_cast<double>(quantile(r.planes.radius, 0.5)));
@@ -303,13 +299,37 @@ void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan&
       radius.push_back(r.planes.radius[j]);
       rho.push_back(r.planes.local_rho[j]);
     }
-  plan.radius_q = 1.5 * static_cast<double>(quantile(radius.empty() ? r.planes.radius : radius, 0.999));
-  plan.rho_q = static_cast<double>(quantile(rho.empty() ? r.planes.local_rho : rho, 0.999));
-  const double fallback = o.method == Method::hoppe92 ? r.planes.rho : r.planes.rho / std::numbers::sqrt2;
+  m.radius_q = 1.5 * static_cast<double>(quantile(radius.empty() ? r.planes.radius : radius, 0.999));
+  m.rho_q = static_cast<double>(quantile(rho.empty() ? r.planes.local_rho : rho, 0.999));
+  return m;
+}
+
+// The plan's cloud-wide choices from the measures: k, rho, delta, the
+// lattice, the halo.
+void choose(const tile_statistics::Measures& m, const TilingOptions& options, TilePlan& plan) {
+  const ReconstructionOptions& o = options.reconstruction;
+  plan.method = o.method;
+  plan.k = m.k;
+  plan.spacing = m.spacing;
+  plan.has_quadric_medians = m.quadric_medians.has_value();
+  plan.quadric_medians = m.quadric_medians.value_or(QuadricMedians{});
+  plan.rho = o.planes.rho;
+  plan.delta = o.distance.delta;
+  plan.vote_rounds = o.orientation.vote_rounds;
+  plan.gap_factor = o.orientation.graph.gap_factor;
+  plan.min_component_points = o.orientation.graph.min_component_points;
+  plan.refinement = o.refinement;
+  plan.color_blend = o.colors;
+  plan.ring = o.method == Method::refined ? refine_ring : plain_ring;
+  plan.walk_margin = walk_ring + plan.ring;
+  plan.radius_q = m.radius_q;
+  plan.rho_q = m.rho_q;
+  const double rho = o.planes.rho ? *o.planes.rho : m.spacing.rho;
+  const double fallback = o.method == Method::hoppe92 ? rho : rho / std::numbers::sqrt2;
   const double cell = chosen_cell(
       o.cell, o.resolution, [&] { return plan.box.extent().maxCoeff(); }, fallback);
   plan.lattice = make_lattice<3>(plan.box, cell);
-  const double delta = o.distance.delta ? *o.distance.delta : 2.0 * r.planes.noise;
+  const double delta = o.distance.delta ? *o.distance.delta : 2.0 * m.spacing.noise;
   // (Distances to a core are taken on the axes: a ball of radius R around
   // a point within d of the core lies within d + R of it.)
   const double reach = 1.5 * plan.rho_q + delta + 2.0 * cell;
@@ -319,7 +339,8 @@ void measure_cloud(const Sample& sample, const TilingOptions& options, TilePlan&
   // of every sample: the samples that far around the walk must be there.
   if (o.method == Method::refined)
     plan.halo = std::max(plan.halo, plan.walk_margin * cell + RefinementInput{}.reach * plan.rho_q + delta);
-  plan.statistics_points = sample.cloud.size();
+  plan.statistics_points = m.samples;
+  plan.statistics_inexact = m.inexact;
 }
 
 // ---------------------------------------------------------------------------
@@ -381,8 +402,9 @@ class Binner {
   // (`color` null when the plan has no colours.)
   void add(const Vec3& p, std::uint64_t index, const Color* color) {
     const Vec3 w = p - plan_.offset;
-    const Index3 lo = tile_of(w - Vec3::Constant(plan_.halo)), hi = tile_of(w + Vec3::Constant(plan_.halo));
-    const Index3 own = tile_of(w);
+    const Index3 lo = tile_files::tile_at(plan_, w - Vec3::Constant(plan_.halo));
+    const Index3 hi = tile_files::tile_at(plan_, w + Vec3::Constant(plan_.halo));
+    const Index3 own = tile_files::tile_at(plan_, w);
     for (std::int32_t x = lo[0]; x <= hi[0]; ++x)
       for (std::int32_t y = lo[1]; y <= hi[1]; ++y)
         for (std::int32_t z = lo[2]; z <= hi[2]; ++z) {
@@ -450,19 +472,6 @@ class Binner {
     return tile;
   }
 
-  [[nodiscard]] Index3 tile_of(const Vec3& w) const {
-    Index3 t;
-    for (int a = 0; a < 3; ++a) {
-      const double cube = std::floor((w[a] - plan_.lattice.origin[a]) / plan_.lattice.cell);
-      t[static_cast<std::size_t>(a)] =
-          static_cast<std::int32_t>(std::clamp(std::floor(cube / plan_.tile_cubes), 0.0, last(a)));
-    }
-    return t;
-  }
-  [[nodiscard]] double last(int a) const {
-    return std::floor((plan_.lattice.size[static_cast<std::size_t>(a)] - 1) / static_cast<double>(plan_.tile_cubes));
-  }
-
   Tile& put(const Index3& t, const Vec3& w, const PointRecord& record, const Index3& own) {
     Tile& tile = this->tile(t);
     tile.buffer.push_back(record);
@@ -478,6 +487,31 @@ class Binner {
 };
 
 void write_plan(const TilePlan& plan, const std::filesystem::path& dir);
+
+}  // namespace
+
+namespace {
+
+// Pass 3 (and 4, after exact measures): every point into its tiles' files.
+void bin_points(const PointPass& pass, const TilingOptions& options, TilePlan& plan,
+                const std::filesystem::path& work_dir) {
+  // (Each tile holds a buffer of 4096 records, 128 KiB, while binning.)
+  Binner binner(plan, work_dir);
+  // (Whether the cloud has colours, the reader says of every chunk alike.)
+  counted_pass(pass, options.progress, plan.input_points, [&](PointCloudView chunk, std::size_t first) {
+    plan.colors = options.reconstruction.mesh_colors && chunk.has_colors();
+    for (std::size_t i = 0; i < chunk.size(); ++i)
+      binner.add(chunk.positions[i], first + i, plan.colors ? &chunk.colors[i] : nullptr);
+  });
+  binner.finish();
+}
+
+// The files of a plan's tiles, for binning again under another plan.
+void remove_tiles(TilePlan& plan, const std::filesystem::path& work_dir) {
+  for (const TileInfo& info : plan.tiles)
+    for (const char* kind : {"points", "colors", "stats"}) std::filesystem::remove(tile_files::of_tile(work_dir, info.id, kind));
+  plan.tiles.clear();
+}
 
 }  // namespace
 
@@ -498,19 +532,24 @@ TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const s
           : static_cast<std::size_t>(0.25 * static_cast<double>(limit) /
                                      bytes_per_point(k, options.reconstruction.method == Method::refined));
   const Sample sample = sample_pass(pass, options.progress, plan, std::max<std::size_t>(budget, 1), options.seed);
-  measure_cloud(sample, options, plan);
+  choose(measure_sample(sample, options, plan), options, plan);
   plan.tile_cubes = choose_tile_cubes(sample, options, plan);
   plan.seconds_statistics = timer.lap();
-  // (Each tile holds a buffer of 4096 records, 128 KiB, while binning.)
-  Binner binner(plan, work_dir);
-  // (Whether the cloud has colours, the reader says of every chunk alike.)
-  counted_pass(pass, options.progress, plan.input_points, [&](PointCloudView chunk, std::size_t first) {
-    plan.colors = options.reconstruction.mesh_colors && chunk.has_colors();
-    for (std::size_t i = 0; i < chunk.size(); ++i)
-      binner.add(chunk.positions[i], first + i, plan.colors ? &chunk.colors[i] : nullptr);
-  });
-  binner.finish();
+  bin_points(pass, options, plan, work_dir);
   plan.seconds_binning = timer.lap();
+  if (sample.patch > 0.0) {
+    // The sample was part of the cloud: its measures made a first plan,
+    // whose tiles now measure the whole cloud exactly (tile_statistics.h);
+    // the points are binned again under the plan those measures make.
+    const tile_statistics::Measures exact = tile_statistics::measure_over_tiles(plan, work_dir, options.reconstruction);
+    remove_tiles(plan, work_dir);
+    choose(exact, options, plan);
+    plan.statistics_over_tiles = true;
+    plan.tile_cubes = choose_tile_cubes(sample, options, plan);
+    plan.seconds_statistics += timer.lap();
+    bin_points(pass, options, plan, work_dir);
+    plan.seconds_binning += timer.lap();
+  }
   write_plan(plan, work_dir);
   return plan;
 }

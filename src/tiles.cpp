@@ -30,32 +30,7 @@ using tile_files::PointRecord;
 
 namespace {
 
-// A tile's points as its file holds them, in input order.
-struct TilePoints {
-  std::vector<Vec3> positions;
-  std::vector<std::uint64_t> index;  // in the input
-  std::vector<Color> colors;         // (when the plan has colours)
-};
-
-TilePoints read_points(const std::filesystem::path& dir, const TilePlan& plan, const TileInfo& info) {
-  detail::BinaryReader in(tile_files::of_tile(dir, info.id, "points"), tile_files::points_magic);
-  const std::vector<PointRecord> records = in.get_rest<PointRecord>();
-  TilePoints t;
-  t.positions.reserve(records.size());
-  t.index.reserve(records.size());
-  for (const PointRecord& r : records) {
-    t.positions.emplace_back(r.x, r.y, r.z);
-    t.index.push_back(r.index);
-  }
-  if (plan.colors) {
-    const auto path = tile_files::of_tile(dir, info.id, "colors");
-    t.colors = detail::BinaryReader(path, tile_files::colors_magic).get_rest<Color>();
-    if (t.colors.size() != t.positions.size())
-      throw ParseError(path.string() + ": " + std::to_string(t.colors.size()) + " colours for " +
-                       std::to_string(t.positions.size()) + " points");
-  }
-  return t;
-}
+using tile_files::TilePoints;
 
 const TileInfo& tile_info(const TilePlan& plan, std::size_t tile) {
   if (tile >= plan.tiles.size())
@@ -75,7 +50,7 @@ TileInput load_tile(const std::filesystem::path& dir, std::size_t tile) {
   TileInput in;
   in.plan = read_tile_plan(dir);
   in.info = tile_info(in.plan, tile);
-  in.points = read_points(dir, in.plan, in.info);
+  in.points = tile_files::read_points(dir, in.plan, in.info);
   return in;
 }
 
@@ -718,5 +693,29 @@ TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, 
   run.seconds = timer.elapsed();
   return run;
 }
+
+namespace tile_files {
+
+TilePoints read_points(const std::filesystem::path& dir, const TilePlan& plan, const TileInfo& info) {
+  detail::BinaryReader in(of_tile(dir, info.id, "points"), points_magic);
+  const std::vector<PointRecord> records = in.get_rest<PointRecord>();
+  TilePoints t;
+  t.positions.reserve(records.size());
+  t.index.reserve(records.size());
+  for (const PointRecord& r : records) {
+    t.positions.emplace_back(r.x, r.y, r.z);
+    t.index.push_back(r.index);
+  }
+  if (plan.colors) {
+    const auto path = of_tile(dir, info.id, "colors");
+    t.colors = detail::BinaryReader(path, colors_magic).get_rest<Color>();
+    if (t.colors.size() != t.positions.size())
+      throw ParseError(path.string() + ": " + std::to_string(t.colors.size()) + " colours for " +
+                       std::to_string(t.positions.size()) + " points");
+  }
+  return t;
+}
+
+}  // namespace tile_files
 
 }  // namespace recon

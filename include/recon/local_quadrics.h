@@ -72,6 +72,9 @@ struct LocalQuadricOptions {
   double stray_radius = 20.0;
   /// Given: these medians instead of those of these samples (see above).
   std::optional<QuadricMedians> cloud;
+  /// Keep each sample's part in the medians (LocalQuadrics::fit_residual
+  /// and was_split), for a cloud measured in parts (tangent_planes.h).
+  bool keep_parts = false;
 };
 
 /// The second fundamental form at s_i, as the height of the surface above
@@ -96,6 +99,11 @@ struct LocalQuadrics {
   std::vector<std::uint8_t> near_crease;
   double noise = 0.0;           ///< median residual of the fits taken: the noise, without the curvature a plane misses
   QuadricMedians medians;       ///< the medians used (noise among them)
+  /// With keep_parts: per sample, its own fit's residual (before any is
+  /// borrowed; medians.fit_residual is the median of the finite ones), and
+  /// 1 where its neighbourhood was split into two sheets.
+  std::vector<float> fit_residual;
+  std::vector<std::uint8_t> was_split;
   std::size_t borrowed = 0;     ///< samples that took a neighbour's quadric (near creases)
   std::size_t split = 0;        ///< neighbourhoods split into two sheets
   std::size_t flat = 0;         ///< fits that fell back to a plane (samples too few, collinear, or no surface)

@@ -49,6 +49,8 @@
 #include "recon/kdtree.h"
 #include "recon/point_cloud.h"
 
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -85,6 +87,47 @@ struct CloudSpacing {
   double noise = 0.0;
 };
 
+// Measuring a cloud in parts. A tiled run (tiles.h) takes the cloud-wide
+// measures over its tiles, each holding a part of the samples, and must
+// find the values an in-memory run finds, exactly. So each measure is one
+// that parts can add up to: the medians are taken by rank over all the
+// parts' values; the irregularity from sums taken in fixed point (integer
+// sums do not depend on the order of the terms, so neither on the parts
+// nor on the thread count); and the samples whose wider neighbourhoods
+// tell noise from curvature are chosen by a hash of their position, not
+// by their place in a kd-tree.
+
+/// The sums behind the irregularity: each relative spacing (a sample's
+/// nearest-neighbour distance over its neighbourhood's mean) and its square,
+/// in fixed point (2^-40).
+struct SpacingSums {
+  __extension__ typedef unsigned __int128 Wide;  // (a GCC and Clang extension)
+  std::uint64_t count = 0;
+  Wide sum = 0, sum2 = 0;
+  void add(float relative);
+  void add(const SpacingSums& other);
+  /// Standard deviation over mean of the relative spacings (0 for none).
+  [[nodiscard]] double irregularity() const;
+};
+
+/// rho_i from gap_i, the neighbourhood radius and the cloud's irregularity
+/// (see the header).
+[[nodiscard]] float local_rho_of(float gap, float radius, double irregularity);
+
+/// Whether the sample at p is one of the about 2000 samples of a cloud of
+/// n that tell noise from curvature (all of them up to 2000).
+template <int D>
+[[nodiscard]] bool is_noise_probe(const Vec<D>& p, std::size_t n);
+
+struct TangentPlaneOptions;
+
+/// The k to run phase I again with, or 0 (see above): from the cloud's
+/// noise and rho, its distinct samples (n of them in all), and the median
+/// residual of the noise probes' neighbourhoods of 2k samples, asked for
+/// only when the rest calls for a raise.
+[[nodiscard]] int raised_k(const TangentPlaneOptions& options, double noise, double rho, std::size_t distinct,
+                           std::size_t n, const std::function<double()>& probe_median);
+
 struct TangentPlaneOptions {
   int k = 20;                          ///< neighbourhood size, the point itself included
   bool adapt_k = true;                 ///< raise k once for noisy data (see above)
@@ -94,6 +137,10 @@ struct TangentPlaneOptions {
   /// measured over these points (the local values still are); with rho
   /// estimated only.
   std::optional<CloudSpacing> cloud;
+  /// Keep each sample's part in the cloud-wide measures
+  /// (TangentPlanes::relative_spacing and raw_gap), for a cloud measured in
+  /// parts (see above).
+  bool keep_spacing_parts = false;
 };
 
 // Storage. Positions, origins and normals are double: coordinates of
@@ -115,6 +162,10 @@ struct TangentPlanes {
   std::vector<float> local_gap;     ///< gap_i (see above), or the given rho
   std::vector<float> radius;        ///< distance from x_i to the farthest point of N(x_i)
   NeighborLists neighbors;          ///< N(x_i), nearest first (x_i, or an earlier exact copy, first)
+  /// With keep_spacing_parts: x_i's nearest-neighbour distance over the
+  /// mean of its neighbourhood's (the irregularity's part), and gap_i before
+  /// a neighbourhood of copies takes the median gap (0 there).
+  std::vector<float> relative_spacing, raw_gap;
   double rho = 0.0;                 ///< median of local_rho, or the given rho
   double gap = 0.0;                 ///< median of local_gap, or the given rho
   double irregularity = 0.0;        ///< spread of the spacing: ~0.5 random, ~0.1 scanner grids
@@ -154,6 +205,12 @@ template <int D>
 /// this is how reconstruct() works. options.tree is not used.
 template <int D>
 [[nodiscard]] TangentPlanes<D> estimate_tangent_planes(KdTree<D>&& tree, const TangentPlaneOptions& options = {});
+
+/// The RMS distance to their plane of the `wider_k` samples nearest p: a
+/// noise probe's residual (see above).
+template <int D>
+[[nodiscard]] double probe_residual(const TangentPlanes<D>& planes, std::span<const Vec<D>> points, const Vec<D>& p,
+                                    int wider_k);
 
 /// The samples x_i, indexed like the planes (the kd-tree keeps its copy of
 /// them in its own order).

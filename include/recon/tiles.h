@@ -21,9 +21,13 @@
 //      and count; then the cloud-wide choices, made once as reconstruct()
 //      makes them (k raised for noise, the medians behind rho and delta,
 //      the cell, the lattice and the working offset), from phase I over
-//      the whole cloud when it fits within statistics_points, else over
-//      spatial patches of it that do; then bin the points into tile files
-//      (core + halo) on disk.
+//      the whole cloud when it fits within statistics_points; then bin the
+//      points into tile files (core + halo) on disk. A larger cloud is
+//      first measured on spatial patches of it that fit, which make a
+//      first plan; its tiles then measure the whole cloud, each its own
+//      samples, and the measures come out exactly reconstruct()'s
+//      (src/tile_statistics.h); the points are binned again under the
+//      plan they make.
 //   2. orient_tile, for every tile: phases I-II on its points; its planes
 //      are written, and the signs of its pieces' normals at the samples
 //      near its border.
@@ -108,9 +112,10 @@ struct TilingOptions {
   ReconstructionOptions reconstruction;
   double tile_size = 0.0;  ///< edge of a tile's core (a length); 0: the largest that fits max_memory
   /// Phase I for the cloud-wide measures runs on at most this many points
-  /// (the whole cloud when it has no more); 0: what fits in a quarter of max_memory.
+  /// at once: the whole cloud when it has no more, else over the tiles
+  /// (step 1 below); 0: what fits in a quarter of max_memory.
   std::size_t statistics_points = 0;
-  std::uint64_t seed = 1;  ///< picks the spatial patches of the statistics when the cloud is larger
+  std::uint64_t seed = 1;  ///< picks the spatial patches of the first plan when the cloud is larger
   /// Counts the points of the plan's passes over the input (progress.h):
   /// the first without a total, the next two with the cloud's count.
   ProgressCounter* progress = nullptr;
@@ -151,6 +156,13 @@ struct TilePlan {
   double radius_q = 0.0, rho_q = 0.0;  ///< 99.9th percentiles of the neighbourhood radius and of rho_i
   std::uint64_t input_points = 0;
   std::uint64_t statistics_points = 0;  ///< points phase I ran on for the cloud-wide measures
+  /// Whether phase I measured them over the tiles, each tile its own
+  /// samples (a cloud larger than TilingOptions::statistics_points), and
+  /// of those samples the ones whose neighbourhood may have reached past
+  /// their tile's points (0 when the measures are exact). Not kept in the
+  /// plan's file.
+  bool statistics_over_tiles = false;
+  std::uint64_t statistics_inexact = 0;
   std::vector<TileInfo> tiles;      ///< the non-empty tiles, in grid order
   double seconds_statistics = 0.0, seconds_binning = 0.0, seconds_bounds = 0.0;
 };
