@@ -10,8 +10,8 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -390,7 +390,12 @@ bool is_noise_probe(const Vec<D>& p, std::size_t n) {
   constexpr double probes = 2000.0;
   if (static_cast<double>(n) <= probes) return true;
   std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-  for (int a = 0; a < D; ++a) h = detail::mix64(h ^ std::bit_cast<std::uint64_t>(p[a]));
+  for (int a = 0; a < D; ++a) {
+    std::uint64_t bits = 0;  // (memcpy: Emscripten's libc++ has no std::bit_cast)
+    const double x = p[a];
+    std::memcpy(&bits, &x, sizeof bits);
+    h = detail::mix64(h ^ bits);
+  }
   return static_cast<double>(h) < probes / static_cast<double>(n) * 18446744073709551616.0;
 }
 

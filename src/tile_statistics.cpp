@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <numbers>
@@ -33,12 +33,16 @@ struct Values {
 // Floats in the order of their values, as unsigned keys (negatives below
 // positives; NaN above infinity).
 std::uint32_t order_key(float value) {
-  const auto bits = std::bit_cast<std::uint32_t>(value);
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &value, sizeof bits);
   return (bits & 0x80000000u) != 0 ? ~bits : bits | 0x80000000u;
 }
 
 float from_order_key(std::uint32_t key) {
-  return std::bit_cast<float>((key & 0x80000000u) != 0 ? key & 0x7fffffffu : ~key);
+  const std::uint32_t bits = (key & 0x80000000u) != 0 ? key & 0x7fffffffu : ~key;
+  float value = 0.0f;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
 }
 
 // Which value of a record counts (none: the record is left out).
