@@ -5,8 +5,10 @@ when a worker is killed in the middle of a tile; `python3 -m
 recon.distributed` as a program. Every wait is bounded
 (Dask's timeouts, the run's own, the subprocesses')."""
 
+import json
 import os
 import signal
+import stat
 import subprocess
 import sys
 import threading
@@ -16,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from recon import _recon
-from conftest import run_cli
+from conftest import run_cli, sphere
 
 distributed = pytest.importorskip("distributed", reason="Dask is not installed (python3-distributed; scripts/setup)")
 import recon.distributed  # noqa: E402 - needs Dask
@@ -191,3 +193,155 @@ def test_ctrl_c_removes_the_tiles(torus, tmp_path):
     assert program.returncode == 130, stderr
     assert stderr.endswith("recon.distributed: interrupted\n")
     assert list(tmp_path.iterdir()) == [], "neither the mesh nor the tiles' folder is left"
+
+
+# ---------------------------------------------------------------------------
+# The program's checks, made before any work: they refuse what would destroy
+# a file or overload the machine, in one line, without starting a cluster.
+
+def program(capsys, *args) -> tuple:
+    """`python3 -m recon.distributed ARGS` run here: its exit status and what it printed on stderr."""
+    try:
+        status = recon.distributed.main([str(a) for a in args])
+    except SystemExit as exit:  # argparse's
+        status = exit.code
+    return status, capsys.readouterr().err
+
+
+def one_line_error(status: int, stderr: str, expected: str) -> None:
+    assert status != 0
+    assert stderr.startswith("recon.distributed: error: ") and stderr.count("\n") == 1, stderr
+    assert expected in stderr, stderr
+
+
+@pytest.fixture
+def no_cluster(monkeypatch):
+    """Fails a run that gets as far as starting or reaching a cluster (so
+    that a check that is missing fails the test instead of starting 1000
+    workers or writing over the input)."""
+    def refused(*args, **options):
+        raise AssertionError("the run went on to start a cluster")
+    monkeypatch.setattr(recon.distributed, "_connected", refused)
+
+
+@pytest.fixture
+def small_cloud(tmp_path) -> Path:
+    path = tmp_path / "in.ply"
+    recon.write_points(path, sphere(200))
+    return path
+
+
+def test_an_output_that_is_the_input_is_refused(small_cloud, tmp_path, capsys, no_cluster):
+    before = small_cloud.read_bytes()
+    (tmp_path / "hard.ply").hardlink_to(small_cloud)
+    (tmp_path / "soft.ply").symlink_to(small_cloud)
+    for output in (small_cloud, tmp_path / "." / "in.ply", tmp_path / "hard.ply", tmp_path / "soft.ply"):
+        one_line_error(*program(capsys, small_cloud, "-o", output), "refusing to overwrite the input file")
+        with pytest.raises(ValueError, match="refusing to overwrite the input file"):
+            recon.distributed.run(small_cloud, output)
+    assert small_cloud.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["hard.ply", "in.ply", "soft.ply"], "no tiles' folder"
+
+
+def test_stats_naming_the_input_the_output_or_no_folder_is_refused_first(small_cloud, tmp_path, capsys, monkeypatch):
+    runs = []
+    monkeypatch.setattr(recon.distributed, "run", lambda *args, **options: runs.append(args))
+    output = tmp_path / "mesh.ply"
+    output.write_bytes(b"an earlier mesh")
+    cases = {small_cloud: "refusing to overwrite the input file",
+             output: "mesh.ply is named for two outputs",
+             tmp_path / "missing" / "s.json": "cannot write: folder '" + str(tmp_path / "missing") + "' does not exist",
+             tmp_path: "cannot write: it is a folder"}
+    for stats, message in cases.items():
+        one_line_error(*program(capsys, small_cloud, "-o", output, "--stats", stats), message)
+    assert runs == [], "refused before the run"
+    assert output.read_bytes() == b"an earlier mesh"
+    one_line_error(*program(capsys, small_cloud, "-o", tmp_path / "missing" / "m.ply"), "does not exist")
+
+
+FIGURES = {"plan": {"tiles": 3}, "seconds": {"total": 1.5}}
+
+
+@pytest.fixture
+def stats_run(monkeypatch):
+    """The program with a run that only returns FIGURES: its --stats writing alone."""
+    monkeypatch.setattr(recon.distributed, "run", lambda *args, **options: FIGURES)
+
+
+def write_stats(capsys, cloud: Path, stats: Path) -> None:
+    status, stderr = program(capsys, cloud, "-o", cloud.parent / "mesh.ply", "--stats", stats, "-q")
+    assert status == 0, stderr
+
+
+def test_stats_replace_a_file_whole(small_cloud, tmp_path, capsys, stats_run):
+    stats = tmp_path / "stats.json"
+    stats.write_text("the previous run's figures")
+    before = stats.stat().st_ino
+    write_stats(capsys, small_cloud, stats)
+    assert json.loads(stats.read_text()) == FIGURES
+    assert stats.stat().st_ino != before, "a finished file renamed into place, not the old one cut and rewritten"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply", "stats.json"], "no temporary file left"
+
+
+# The special outputs' behaviour is io::AtomicFile's (recon_module.cpp's
+# _write_text writes through it); io-outputs teaches it these cases.
+UNTIL_ATOMIC_FILE_LEARNS = pytest.mark.xfail(strict=True, reason="io::AtomicFile (branch io-outputs): remove at the merge")
+
+
+@UNTIL_ATOMIC_FILE_LEARNS
+def test_stats_keep_the_files_mode(small_cloud, tmp_path, capsys, stats_run):
+    stats = tmp_path / "stats.json"
+    stats.write_text("{}")
+    stats.chmod(0o600)
+    write_stats(capsys, small_cloud, stats)
+    assert stats.stat().st_mode & 0o777 == 0o600
+
+
+@UNTIL_ATOMIC_FILE_LEARNS
+def test_stats_go_through_a_symlink(small_cloud, tmp_path, capsys, stats_run):
+    target, link = tmp_path / "target.json", tmp_path / "link.json"
+    target.write_text("{}")
+    link.symlink_to(target)
+    write_stats(capsys, small_cloud, link)
+    assert link.is_symlink() and json.loads(target.read_text()) == FIGURES
+
+
+@UNTIL_ATOMIC_FILE_LEARNS
+def test_stats_stream_into_a_fifo(small_cloud, tmp_path, capsys, stats_run):
+    fifo = tmp_path / "stats.fifo"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)  # open first, so the writer's open does not wait
+    try:
+        write_stats(capsys, small_cloud, fifo)
+        received = os.read(reader, 1 << 16)
+    finally:
+        os.close(reader)
+    assert stat.S_ISFIFO(fifo.stat().st_mode), "the FIFO itself is not replaced"
+    assert json.loads(received) == FIGURES
+
+
+def test_workers_and_threads_are_bounded_by_the_machine(small_cloud, tmp_path, capsys, no_cluster):
+    bound = recon.distributed.PROCESSES_PER_CORE * len(os.sched_getaffinity(0))
+    output = tmp_path / "mesh.ply"
+    for option, value in (("--workers", 1000), ("--workers", 0), ("--threads-per-task", 100000),
+                          ("--threads-per-task", 0)):
+        name = option[2:].replace("-", "_")
+        one_line_error(*program(capsys, small_cloud, "-o", output, option, value),
+                       f"{name} must be between 1 and {bound} (4 per core")
+    with pytest.raises(ValueError, match=f"workers must be between 1 and {bound}"):
+        recon.distributed.run(small_cloud, output, workers=bound + 1)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply"], "nothing started, nothing written"
+
+
+def test_wrong_arguments_are_one_line(small_cloud, tmp_path, capsys, no_cluster):
+    output = tmp_path / "mesh.ply"
+    cases = {("--workers", "two"): "argument --workers: invalid int value: 'two'",
+             ("--scheduler", "tcp://127.0.0.1:8786", "--workers", "2"): "not allowed with argument",
+             ("--scheduler", "somewhere"): "scheduler: missing port number in address 'somewhere'",
+             ("--statistics-points", "-1"): "statistics_points must be zero or more",
+             ("--timeout", "nan"): "timeout must be a positive number of seconds",
+             ("--tile-size", "nan"): "tile_size must be zero or more",
+             ("--method", "poisson"): "invalid choice: 'poisson'"}
+    for extra, message in cases.items():
+        one_line_error(*program(capsys, small_cloud, "-o", output, *extra), message)
+    one_line_error(*program(capsys, small_cloud), "the following arguments are required: -o/--output")
