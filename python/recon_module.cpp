@@ -78,7 +78,9 @@ std::string shape_of(const py::array& a) {
 // `value` as a numpy array (a list becomes one, as numpy.asarray makes it).
 py::array array_of(py::handle value, const char* name) {
   py::array a = py::array::ensure(value);
-  if (!a) throw py::type_error(std::string(name) + " must be an array, got " + py::str(py::type::of(value)).cast<std::string>());
+  if (!a)
+    throw py::type_error(std::string(name) + " must be an array, got " +
+                         py::str(py::type::of(value)).cast<std::string>());
   return a;
 }
 

@@ -395,9 +395,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         _check_outputs(a.input, [os.path.abspath(a.output)] + ([a.stats] if a.stats else []))
         figures = run(a.input, a.output, scheduler=a.scheduler, workers=2 if a.workers is None else a.workers,
                       tile_size=a.tile_size, work_dir=a.work_dir, method=a.method, k=a.k, rho=a.rho, delta=a.delta,
-                      cell=a.cell,
-                      resolution=a.resolution, max_memory=a.max_memory, statistics_points=a.statistics_points,
-                      threads_per_task=a.threads_per_task, format=a.format,
+                      cell=a.cell, resolution=a.resolution, max_memory=a.max_memory,
+                      statistics_points=a.statistics_points, threads_per_task=a.threads_per_task, format=a.format,
                       columns=a.columns.split(",") if a.columns else None, skip_invalid=a.skip_invalid,
                       timeout=a.timeout)
         if a.stats:

@@ -348,7 +348,8 @@ def test_stats_replace_a_file_whole(small_cloud, tmp_path, capsys, stats_run):
 
 # The special outputs' behaviour is io::AtomicFile's (recon_module.cpp's
 # _write_text writes through it); io-outputs teaches it these cases.
-UNTIL_ATOMIC_FILE_LEARNS = pytest.mark.xfail(strict=True, reason="io::AtomicFile (branch io-outputs): remove at the merge")
+UNTIL_ATOMIC_FILE_LEARNS = pytest.mark.xfail(strict=True,
+                                              reason="io::AtomicFile (branch io-outputs): remove at the merge")
 
 
 @UNTIL_ATOMIC_FILE_LEARNS

@@ -81,12 +81,12 @@ WRONG_KINDS = {
     "complex vertices": (lambda: recon.Mesh(TRIANGLE + 1j, FACE), "vertices must hold real numbers; got dtype complex"),
     "complex points": (lambda: recon.reconstruct(sphere(100) + 0j), "points must hold real numbers; got dtype complex"),
     "text points": (lambda: recon.PointCloud([["a", "b", "c"]]), "points must hold real numbers; got dtype <U1"),
-    "object points": (lambda: recon.estimate_normals([[1.0, None, 2.0]]), "points must hold real numbers; got dtype object"),
+    "object points": (lambda: recon.estimate_normals([[1.0, None, 2.0]]), "points must hold real numbers; got dtype ob"),
     "bool normals": (lambda: recon.PointCloud(TRIANGLE, normals=TRIANGLE > 0), "normals must hold real numbers"),
-    "complex normals": (lambda: recon.write_points("/no-such-folder/never.ply", TRIANGLE, TRIANGLE + 0j), "normals must hold real"),
+    "complex normals": (lambda: recon.write_points("/no-such/n.ply", TRIANGLE, TRIANGLE + 0j), "normals must hold real"),
     "complex colours": (lambda: recon.PointCloud(TRIANGLE, colors=TRIANGLE + 0j), "colors must be integers 0-255 or"),
     "bool colours": (lambda: recon.Mesh(TRIANGLE, FACE, colors=TRIANGLE > 0), "colors must be integers 0-255 or"),
-    "float colours, compiled module": (lambda: recon._recon.PointCloud(TRIANGLE, None, TRIANGLE), "colors must be uint8"),
+    "float colours, _recon": (lambda: recon._recon.PointCloud(TRIANGLE, None, TRIANGLE), "colors must be uint8"),
     "no points": (lambda: recon.PointCloud(None), "points must hold real numbers; got dtype object"),
 }
 
