@@ -83,7 +83,7 @@ WRONG_KINDS = {
     "text points": (lambda: recon.PointCloud([["a", "b", "c"]]), "points must hold real numbers; got dtype <U1"),
     "object points": (lambda: recon.estimate_normals([[1, None, 2]]), "points must hold real numbers; got dtype obj"),
     "bool normals": (lambda: recon.PointCloud(TRIANGLE, normals=TRIANGLE > 0), "normals must hold real numbers"),
-    "complex normals": (lambda: recon.write_points("/nowhere/n.ply", TRIANGLE, TRIANGLE + 0j), "normals must hold real"),
+    "complex normals": (lambda: recon.write_points("/nowhere/n.ply", TRIANGLE, TRIANGLE + 0j), "normals must hold"),
     "complex colours": (lambda: recon.PointCloud(TRIANGLE, colors=TRIANGLE + 0j), "colors must be integers 0-255 or"),
     "bool colours": (lambda: recon.Mesh(TRIANGLE, FACE, colors=TRIANGLE > 0), "colors must be integers 0-255 or"),
     "float colours, _recon": (lambda: recon._recon.PointCloud(TRIANGLE, None, TRIANGLE), "colors must be uint8"),
