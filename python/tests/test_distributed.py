@@ -227,10 +227,14 @@ def run_module(*args, timeout: float = 2 * TIMEOUT) -> subprocess.CompletedProce
 
 def test_the_program(torus, reference, tmp_path):
     output = tmp_path / "mesh.ply"
-    finished = run_module(torus, "-o", output, "--workers", "2", "--tile-size", TILE_SIZE, "--timeout", TIMEOUT)
+    stats = tmp_path / "stats.json"
+    finished = run_module(torus, "-o", output, "--workers", "2", "--tile-size", TILE_SIZE, "--timeout", TIMEOUT,
+                          "--stats", stats)
     assert finished.returncode == 0, finished.stderr
     assert f"{reference['plan']['tiles']} tiles on 2 workers" in finished.stdout
     assert output.read_bytes() == reference["path"].read_bytes()
+    assert json.loads(stats.read_text())["mesh"]["triangles"] == reference["mesh"]["triangles"]
+    stats.unlink()
     missing = tmp_path / "missing.ply"
     finished = run_module(missing, "-o", tmp_path / "out.ply", "--workers", "2")
     assert finished.returncode == 1
