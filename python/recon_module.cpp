@@ -307,9 +307,10 @@ void check_range(std::optional<double> value, const char* name, bool zero_allowe
 }
 
 // The options `recon reconstruct` and `recon normals` share, checked as the
-// program checks them.
+// program checks them. Counts are taken as int64, so that a count beyond
+// int (k = 10**11) gets the range's message, not pybind11's list of overloads.
 struct PhaseParameters {
-  std::optional<int> k;
+  std::optional<std::int64_t> k;
   std::optional<double> rho;
   std::size_t max_memory = 0;
 
@@ -317,7 +318,7 @@ struct PhaseParameters {
     TangentPlaneOptions options;
     if (k) {
       if (*k < 3 || *k > 256) throw InvalidInputError("k must be between 3 and 256, got " + std::to_string(*k));
-      options.k = *k;
+      options.k = static_cast<int>(*k);
       options.adapt_k = false;
     }
     check_range(rho, "rho", false);
@@ -338,7 +339,7 @@ std::size_t memory_limit(const py::object& max_memory) {
 struct ReconstructParameters {
   PhaseParameters phases;
   std::optional<double> delta, cell;
-  std::optional<int> resolution;
+  std::optional<std::int64_t> resolution;
   std::string method = "refined";
   bool keep_fragments = false;
   std::optional<int> threads;
@@ -356,7 +357,7 @@ struct ReconstructParameters {
     if (cell && resolution) throw InvalidInputError("give cell or resolution, not both");
     o.distance.delta = delta;
     o.cell = cell;
-    o.resolution = resolution;
+    if (resolution) o.resolution = static_cast<int>(*resolution);
     o.refinement.keep_fragments = keep_fragments;
     o.use_input_normals = use_normals;
     o.max_memory = phases.max_memory;
@@ -367,9 +368,9 @@ struct ReconstructParameters {
 };
 
 // The parameters reconstruct() and the tiled plan share.
-ReconstructParameters reconstruct_parameters(std::optional<int> k, std::optional<double> rho,
+ReconstructParameters reconstruct_parameters(std::optional<std::int64_t> k, std::optional<double> rho,
                                              std::optional<double> delta, std::optional<double> cell,
-                                             std::optional<int> resolution, const std::string& method,
+                                             std::optional<std::int64_t> resolution, const std::string& method,
                                              const py::object& max_memory) {
   ReconstructParameters p;
   p.phases = PhaseParameters{k, rho, memory_limit(max_memory)};
@@ -624,7 +625,8 @@ void bind_files(py::module_& m) {
 
 void bind_runs(py::module_& m) {
   m.def("estimate_normals",
-        [](const py::object& points, std::optional<int> k, std::optional<double> rho, std::optional<int> threads,
+        [](const py::object& points, std::optional<std::int64_t> k, std::optional<double> rho,
+           std::optional<int> threads,
            const py::object& max_memory, const py::object& progress) {
           const CloudArrays in(points, py::none(), py::none());
           PhaseParameters p{k, rho, memory_limit(max_memory)};
@@ -634,9 +636,10 @@ void bind_runs(py::module_& m) {
         py::arg("max_memory") = py::none(), py::arg("progress") = py::none());
 
   m.def("reconstruct",
-        [](const py::object& points, const py::object& normals, const py::object& colors, std::optional<int> k,
+        [](const py::object& points, const py::object& normals, const py::object& colors,
+           std::optional<std::int64_t> k,
            std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
-           std::optional<int> resolution, const std::string& method, bool keep_fragments,
+           std::optional<std::int64_t> resolution, const std::string& method, bool keep_fragments,
            const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
            const py::object& progress) {
           const CloudArrays in(points, normals, colors);
@@ -664,8 +667,9 @@ void bind_runs(py::module_& m) {
 void bind_tiles(py::module_& m) {
   m.def("_tiles_plan",
         [](const std::filesystem::path& input, const std::filesystem::path& work_dir, const std::string& method,
-           std::optional<int> k, std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
-           std::optional<int> resolution, double tile_size, const py::object& max_memory,
+           std::optional<std::int64_t> k, std::optional<double> rho, std::optional<double> delta,
+           std::optional<double> cell, std::optional<std::int64_t> resolution, double tile_size,
+           const py::object& max_memory,
            std::size_t statistics_points, const std::optional<std::string>& format,
            const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
           const ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);

@@ -199,16 +199,21 @@ def _check_count(name: str, value: int, bound: Optional[int]) -> None:
         raise ValueError(f"{name} must be {limit}, got {value}")
 
 
-def _check_run(local: bool, workers: int, threads_per_task: Optional[int], statistics_points: int,
+def _check_run(local: bool, workers: int, threads_per_task: Optional[int], counts: Dict[str, Optional[int]],
                timeout: Optional[float]) -> None:
-    """The run's counts and limits, checked before any work (ValueError)."""
+    """The run's counts and limits, checked before any work (ValueError).
+    `counts` (k, resolution, ...) need only fit the compiled module's
+    64-bit integers here: the library checks their ranges and says them."""
     bound = PROCESSES_PER_CORE * len(os.sched_getaffinity(0)) if local else None
     if local:
         _check_count("workers", workers, bound)
     if threads_per_task is not None:  # on a cluster, the workers' library bounds it by their machine
         _check_count("threads_per_task", threads_per_task, bound)
-    if statistics_points < 0:
-        raise ValueError(f"statistics_points must be zero or more, got {statistics_points}")
+    for name, count in counts.items():
+        if count is not None and not -2**63 <= count < 2**63:
+            raise ValueError(f"{name} is far out of range, got {count}")
+    if counts["statistics_points"] < 0:
+        raise ValueError(f"statistics_points must be zero or more, got {counts['statistics_points']}")
     if timeout is not None and not timeout > 0:
         raise ValueError(f"timeout must be a positive number of seconds, got {timeout}")
 
@@ -302,7 +307,8 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     local = client is None and scheduler is None
     if scheduler is not None:
         _check_address(scheduler)
-    _check_run(local, workers, threads_per_task, statistics_points, timeout)
+    _check_run(local, workers, threads_per_task,
+               {"k": k, "resolution": resolution, "statistics_points": statistics_points}, timeout)
     if local and threads_per_task is None:
         threads_per_task = max(1, len(os.sched_getaffinity(0)) // workers)
     deadline = _Deadline(timeout)

@@ -407,6 +407,9 @@ def test_wrong_arguments_are_one_line(small_cloud, tmp_path, capsys, no_cluster)
              ("--scheduler", "tcp://127.0.0.1:8786", "--workers", "2"): "not allowed with argument",
              ("--scheduler", "somewhere"): "scheduler: missing port number in address 'somewhere'",
              ("--statistics-points", "-1"): "statistics_points must be zero or more",
+             ("--statistics-points", str(10**20)): "statistics_points is far out of range",
+             ("--k", str(10**11)): "k must be between 3 and 256, got 100000000000",
+             ("--resolution", str(10**30)): "resolution is far out of range",
              ("--timeout", "nan"): "timeout must be a positive number of seconds",
              ("--tile-size", "nan"): "tile_size must be zero or more",
              ("--method", "poisson"): "invalid choice: 'poisson'"}
