@@ -1,10 +1,10 @@
 """recon.distributed: the tiles as Dask tasks on a local cluster of two
-worker processes (loopback) give the in-memory run's triangles (recon.reconstruct,
-no tiles), and the mesh of the same tiled run made in this process (and by
-`recon reconstruct --tile-size`) byte for byte, also when a worker is killed
-in the middle of a tile; `python3 -m
-recon.distributed` as a program. Every wait is bounded
-(Dask's timeouts, the run's own, the subprocesses')."""
+worker processes (loopback) give the in-memory run's triangles
+(recon.reconstruct, no tiles), and the mesh of the same tiled run made in
+this process (and by `recon reconstruct --tile-size`) byte for byte, also
+when a worker is killed in the middle of a tile; `python3 -m
+recon.distributed` as a program, and its checks before any work. Every wait
+is bounded (Dask's timeouts, the run's own, the subprocesses')."""
 
 import json
 import os
