@@ -4,8 +4,12 @@
 // buffers:
 //
 //   points in:  a C-contiguous float64 n x 3 array is seen in place as
-//               std::span<const Vec3> (PointCloudView); other arrays
-//               (float32, strided) are converted once by numpy.
+//               std::span<const Vec3> (PointCloudView); other arrays of
+//               real numbers (float32, integers, strided) are converted
+//               once by numpy. An array of another kind (complex, bool,
+//               strings, objects; float face indices) is a TypeError
+//               naming the argument: numpy's cast would drop an imaginary
+//               part or truncate an index 1.7 to 1 without a word.
 //   arrays out: views of the vectors inside a Mesh or PointCloud object,
 //               which each array keeps alive (its `base`): no copy.
 //   while recon works the GIL is released; at each phase the run takes it
@@ -29,6 +33,7 @@
 #include "recon/errors.h"
 #include "recon/estimate_normals.h"
 #include "recon/interruption.h"
+#include "recon/io/atomic_file.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 #include "recon/parallel.h"
@@ -70,6 +75,62 @@ std::string shape_of(const py::array& a) {
   return text + (a.ndim() == 1 ? ",)" : ")");
 }
 
+// `value` as a numpy array (a list becomes one, as numpy.asarray makes it).
+py::array array_of(py::handle value, const char* name) {
+  py::array a = py::array::ensure(value);
+  if (!a)
+    throw py::type_error(std::string(name) + " must be an array, got " +
+                         py::str(py::type::of(value)).cast<std::string>());
+  return a;
+}
+
+std::string dtype_of(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
+
+// `a` converted by numpy to `Array`'s dtype and layout (no copy when it has them).
+template <class Array>
+Array converted(const py::array& a, const char* name) {
+  Array result = Array::ensure(a);
+  if (!result) throw py::type_error(std::string(name) + ": numpy cannot convert dtype " + dtype_of(a));
+  return result;
+}
+
+// `value` as float64, refusing what numpy would cast with a loss or a guess.
+// Throws TypeError unless its dtype is a real number (float, int, uint).
+DoubleArray real_array(py::handle value, const char* name) {
+  const py::array a = array_of(value, name);
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + " must hold real numbers; got dtype " + dtype_of(a));
+  return converted<DoubleArray>(a, name);
+}
+
+std::optional<DoubleArray> real_array_or_none(py::handle value, const char* name) {
+  if (value.is_none()) return std::nullopt;
+  return real_array(value, name);
+}
+
+using IndexArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+// `value` as int64 vertex indices. Throws TypeError unless its dtype is an
+// integer: a float index (1.7) is not a vertex, whatever numpy would make of it.
+IndexArray index_array(py::handle value, const char* name) {
+  const py::array a = array_of(value, name);
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + " must hold integer vertex indices; got dtype " + dtype_of(a));
+  return converted<IndexArray>(a, name);
+}
+
+// Colours as given to the compiled module: uint8 only (the package turns
+// floats in [0, 1] and other integers into uint8 after checking their range).
+std::optional<ByteArray> byte_array_or_none(py::handle value, const char* name) {
+  if (value.is_none()) return std::nullopt;
+  const py::array a = array_of(value, name);
+  if (a.dtype().kind() != 'u' || a.dtype().itemsize() != 1)
+    throw py::type_error(std::string(name) + " must be uint8 values 0-255; got dtype " + dtype_of(a));
+  return converted<ByteArray>(a, name);
+}
+
 // Checks that `a` is n x 3 (n = `rows` when given) and returns n.
 std::size_t rows_of(const py::array& a, const char* name, std::optional<std::size_t> rows) {
   if (a.ndim() != 2 || a.shape(1) != 3)
@@ -95,7 +156,13 @@ struct CloudArrays {
   PointCloud copies;  // only for misaligned input
   PointCloudView view;
 
-  CloudArrays(DoubleArray p, std::optional<DoubleArray> n, std::optional<ByteArray> c) : points(std::move(p)) {
+  // Throws TypeError for an array of the wrong kind, ValueError for a wrong shape.
+  CloudArrays(py::handle p, py::handle n, py::handle c) : points(real_array(p, "points")) {
+    view_arrays(real_array_or_none(n, "normals"), byte_array_or_none(c, "colors"));
+  }
+
+ private:
+  void view_arrays(std::optional<DoubleArray> n, std::optional<ByteArray> c) {
     const std::size_t count = rows_of(points, "points", std::nullopt);
     view.positions = vectors_of(points, count, copies.positions);
     if (n) {
@@ -164,8 +231,7 @@ struct PyMesh {
   py::dict stats;
 };
 
-Mesh mesh_from_arrays(const DoubleArray& vertices, const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& faces,
-                      const std::optional<ByteArray>& colors) {
+Mesh mesh_from_arrays(const DoubleArray& vertices, const IndexArray& faces, const std::optional<ByteArray>& colors) {
   Mesh mesh;
   const std::size_t n = rows_of(vertices, "vertices", std::nullopt);
   const auto* v = vertices.data();
@@ -241,9 +307,10 @@ void check_range(std::optional<double> value, const char* name, bool zero_allowe
 }
 
 // The options `recon reconstruct` and `recon normals` share, checked as the
-// program checks them.
+// program checks them. Counts are taken as int64, so that a count beyond
+// int (k = 10**11) gets the range's message, not pybind11's list of overloads.
 struct PhaseParameters {
-  std::optional<int> k;
+  std::optional<std::int64_t> k;
   std::optional<double> rho;
   std::size_t max_memory = 0;
 
@@ -251,7 +318,7 @@ struct PhaseParameters {
     TangentPlaneOptions options;
     if (k) {
       if (*k < 3 || *k > 256) throw InvalidInputError("k must be between 3 and 256, got " + std::to_string(*k));
-      options.k = *k;
+      options.k = static_cast<int>(*k);
       options.adapt_k = false;
     }
     check_range(rho, "rho", false);
@@ -272,7 +339,7 @@ std::size_t memory_limit(const py::object& max_memory) {
 struct ReconstructParameters {
   PhaseParameters phases;
   std::optional<double> delta, cell;
-  std::optional<int> resolution;
+  std::optional<std::int64_t> resolution;
   std::string method = "refined";
   bool keep_fragments = false;
   std::optional<int> threads;
@@ -290,7 +357,7 @@ struct ReconstructParameters {
     if (cell && resolution) throw InvalidInputError("give cell or resolution, not both");
     o.distance.delta = delta;
     o.cell = cell;
-    o.resolution = resolution;
+    if (resolution) o.resolution = static_cast<int>(*resolution);
     o.refinement.keep_fragments = keep_fragments;
     o.use_input_normals = use_normals;
     o.max_memory = phases.max_memory;
@@ -301,9 +368,9 @@ struct ReconstructParameters {
 };
 
 // The parameters reconstruct() and the tiled plan share.
-ReconstructParameters reconstruct_parameters(std::optional<int> k, std::optional<double> rho,
+ReconstructParameters reconstruct_parameters(std::optional<std::int64_t> k, std::optional<double> rho,
                                              std::optional<double> delta, std::optional<double> cell,
-                                             std::optional<int> resolution, const std::string& method,
+                                             std::optional<std::int64_t> resolution, const std::string& method,
                                              const py::object& max_memory) {
   ReconstructParameters p;
   p.phases = PhaseParameters{k, rho, memory_limit(max_memory)};
@@ -461,8 +528,8 @@ void translate(std::exception_ptr failure) {
 
 void bind_point_cloud(py::module_& m) {
   py::class_<PyPointCloud>(m, "PointCloud")
-      .def(py::init([](DoubleArray points, std::optional<DoubleArray> normals, std::optional<ByteArray> colors) {
-             const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
+      .def(py::init([](const py::object& points, const py::object& normals, const py::object& colors) {
+             const CloudArrays in(points, normals, colors);
              auto result = std::make_unique<PyPointCloud>();
              result->cloud = copy_of(in.view);
              return result;
@@ -485,10 +552,10 @@ void bind_point_cloud(py::module_& m) {
 
 void bind_mesh(py::module_& m) {
   py::class_<PyMesh>(m, "Mesh")
-      .def(py::init([](DoubleArray vertices, py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> faces,
-                       std::optional<ByteArray> colors) {
+      .def(py::init([](const py::object& vertices, const py::object& faces, const py::object& colors) {
              auto result = std::make_unique<PyMesh>();
-             result->mesh = mesh_from_arrays(vertices, faces, colors);
+             result->mesh = mesh_from_arrays(real_array(vertices, "vertices"), index_array(faces, "faces"),
+                                             byte_array_or_none(colors, "colors"));
              return result;
            }),
            py::arg("vertices"), py::arg("faces"), py::arg("colors") = py::none())
@@ -531,9 +598,9 @@ void bind_files(py::module_& m) {
         py::arg("skip_invalid") = false);
 
   m.def("write_points",
-        [](const std::filesystem::path& path, DoubleArray points, std::optional<DoubleArray> normals,
-           std::optional<ByteArray> colors, bool ascii) {
-          const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
+        [](const std::filesystem::path& path, const py::object& points, const py::object& normals,
+           const py::object& colors, bool ascii) {
+          const CloudArrays in(points, normals, colors);
           const PointCloud cloud = copy_of(in.view);  // the writers take a PointCloud: one copy, for the file
           io::WritePointsOptions options;
           options.ascii = ascii;
@@ -542,13 +609,26 @@ void bind_files(py::module_& m) {
         },
         py::arg("path"), py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none(),
         py::arg("ascii") = false);
+
+  // `text` into the file `path` the way the program writes every output
+  // (io::AtomicFile): whole or not at all, never half a file. For
+  // recon.distributed's --stats. Throws OSError when it cannot.
+  m.def("_write_text",
+        [](const std::filesystem::path& path, const std::string& text) {
+          py::gil_scoped_release no_gil;
+          io::AtomicFile file(path);
+          file.stream() << text;
+          file.commit();
+        },
+        py::arg("path"), py::arg("text"));
 }
 
 void bind_runs(py::module_& m) {
   m.def("estimate_normals",
-        [](DoubleArray points, std::optional<int> k, std::optional<double> rho, std::optional<int> threads,
+        [](const py::object& points, std::optional<std::int64_t> k, std::optional<double> rho,
+           std::optional<int> threads,
            const py::object& max_memory, const py::object& progress) {
-          const CloudArrays in(std::move(points), std::nullopt, std::nullopt);
+          const CloudArrays in(points, py::none(), py::none());
           PhaseParameters p{k, rho, memory_limit(max_memory)};
           return run_estimate_normals(in, p, threads, progress);
         },
@@ -556,12 +636,13 @@ void bind_runs(py::module_& m) {
         py::arg("max_memory") = py::none(), py::arg("progress") = py::none());
 
   m.def("reconstruct",
-        [](DoubleArray points, std::optional<DoubleArray> normals, std::optional<ByteArray> colors, std::optional<int> k,
+        [](const py::object& points, const py::object& normals, const py::object& colors,
+           std::optional<std::int64_t> k,
            std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
-           std::optional<int> resolution, const std::string& method, bool keep_fragments,
+           std::optional<std::int64_t> resolution, const std::string& method, bool keep_fragments,
            const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
            const py::object& progress) {
-          const CloudArrays in(std::move(points), std::move(normals), std::move(colors));
+          const CloudArrays in(points, normals, colors);
           ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
           p.keep_fragments = keep_fragments;
           p.threads = threads;
@@ -577,8 +658,8 @@ void bind_runs(py::module_& m) {
 
   // For the tests: the address of the data the library would read for
   // `points` (equal to the array's own when no copy was made).
-  m.def("_input_address", [](DoubleArray points) {
-    const CloudArrays in(std::move(points), std::nullopt, std::nullopt);
+  m.def("_input_address", [](const py::object& points) {
+    const CloudArrays in(points, py::none(), py::none());
     return reinterpret_cast<std::uintptr_t>(in.view.positions.data());
   });
 }
@@ -586,8 +667,9 @@ void bind_runs(py::module_& m) {
 void bind_tiles(py::module_& m) {
   m.def("_tiles_plan",
         [](const std::filesystem::path& input, const std::filesystem::path& work_dir, const std::string& method,
-           std::optional<int> k, std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
-           std::optional<int> resolution, double tile_size, const py::object& max_memory,
+           std::optional<std::int64_t> k, std::optional<double> rho, std::optional<double> delta,
+           std::optional<double> cell, std::optional<std::int64_t> resolution, double tile_size,
+           const py::object& max_memory,
            std::size_t statistics_points, const std::optional<std::string>& format,
            const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
           const ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);

@@ -16,8 +16,10 @@ of recon's own buffers, which they keep alive. recon releases the GIL while
 it works; Ctrl-C raises KeyboardInterrupt at the next step of the phase
 running (within about a second on a million points).
 
-Errors: ``ValueError`` for unusable data, parameters or a malformed file
-(the message is the one the program prints); ``ResourceLimitError`` (a
+Errors: ``TypeError`` for an array of the wrong kind, naming it (complex,
+bool or text coordinates; faces that are not integers: an index 1.7 is
+never truncated to 1); ``ValueError`` for unusable data, parameters or a
+malformed file (the message is the one the program prints); ``ResourceLimitError`` (a
 ``MemoryError``) when a run is estimated to need more memory than allowed;
 ``FileNotFoundError`` and other ``OSError`` subclasses for files.
 
@@ -51,8 +53,14 @@ PathLike = Union[str, "os.PathLike[str]"]
 Progress = Callable[[str], Any]
 
 
+def _rows(points: Any) -> Optional[int]:
+    """The rows of `points` when it has any (the array's checks say what is wrong otherwise)."""
+    return np.shape(points)[0] if np.ndim(points) >= 1 else None
+
+
 def _colors_as_bytes(colors: Any, rows: Optional[int] = None) -> Optional[np.ndarray]:
-    """Colours as an n x 3 uint8 array: 0-255 integers as they are, floats in [0, 1] times 255."""
+    """Colours as an n x 3 uint8 array: 0-255 integers as they are, floats
+    in [0, 1] times 255. TypeError for another kind (complex, bool, text)."""
     if colors is None:
         return None
     array = np.asarray(colors)
@@ -69,7 +77,7 @@ def _colors_as_bytes(colors: Any, rows: Optional[int] = None) -> Optional[np.nda
         if array.size and (array.min() < 0 or array.max() > 255):
             raise ValueError("colors given as integers must lie in 0-255")
         return array.astype(np.uint8)
-    raise ValueError(f"colors must be numbers, got dtype {array.dtype}")
+    raise TypeError(f"colors must be integers 0-255 or floats in [0, 1]; got dtype {array.dtype}")
 
 
 class _Wraps:
@@ -99,7 +107,7 @@ class PointCloud(_Wraps):
     __slots__ = ()
 
     def __init__(self, points: Any, normals: Any = None, colors: Any = None) -> None:
-        self._made = _recon.PointCloud(points, normals, _colors_as_bytes(colors, np.shape(points)[0]))
+        self._made = _recon.PointCloud(points, normals, _colors_as_bytes(colors, _rows(points)))
 
     points = _passed_on("points", "n x 3 float64")
     normals = _passed_on("normals", "n x 3 float64, or None")
@@ -135,7 +143,7 @@ class Mesh(_Wraps):
     __slots__ = ()
 
     def __init__(self, vertices: Any, faces: Any, colors: Any = None) -> None:
-        self._made = _recon.Mesh(vertices, faces, _colors_as_bytes(colors, np.shape(vertices)[0]))
+        self._made = _recon.Mesh(vertices, faces, _colors_as_bytes(colors, _rows(vertices)))
 
     vertices = _passed_on("vertices", "m x 3 float64")
     faces = _passed_on("faces", "f x 3 int32, counter-clockwise seen from outside")
@@ -192,8 +200,7 @@ def read_points(
 
 def write_points(path: PathLike, points: Any, normals: Any = None, colors: Any = None, *, ascii: bool = False) -> None:
     """Writes a cloud as PLY (binary, or ``ascii``) or XYZ text, atomically."""
-    _recon.write_points(os.fspath(path), points, normals, _colors_as_bytes(colors, np.asarray(points).shape[0]),
-                        ascii)
+    _recon.write_points(os.fspath(path), points, normals, _colors_as_bytes(colors, _rows(points)), ascii)
 
 
 def _cloud_arrays(points: Any, normals: Any, colors: Any) -> Tuple[Any, Any, Any]:
@@ -257,8 +264,7 @@ def reconstruct(
     report of every phase. ``progress(phase)`` is called as each phase
     starts. The result's ``stats`` holds what ``--stats`` records."""
     points, normals, colors = _cloud_arrays(points, normals, colors)
-    rows = np.asarray(points).shape[0] if np.ndim(points) == 2 else None
-    made = _recon.reconstruct(points, normals, _colors_as_bytes(colors, rows), k, rho, delta, cell, resolution,
+    made = _recon.reconstruct(points, normals, _colors_as_bytes(colors, _rows(points)), k, rho, delta, cell, resolution,
                               method, keep_fragments, max_memory, threads,
                               None if report is None else os.fspath(report), progress)
     return Mesh._of(made)

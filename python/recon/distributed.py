@@ -31,7 +31,7 @@ import sys
 import tempfile
 import time
 import uuid
-from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterator, List, NoReturn, Optional, Sequence, Union
 
 from . import _recon
 
@@ -157,6 +157,79 @@ def _worker_figures(client: Any, orientations: List[Dict[str, Any]], contours: L
     return workers
 
 
+def _same_file(a: str, b: str) -> bool:
+    """Whether `a` and `b` name one file, decided as the program decides
+    (app/commands.cpp): when both exist, by device and inode (so through
+    hard links and symlinks); otherwise by their resolved paths."""
+    if os.path.exists(a) and os.path.exists(b):
+        return os.path.samefile(a, b)
+    return os.path.realpath(a) == os.path.realpath(b)
+
+
+def _check_outputs(input: str, outputs: Sequence[str]) -> None:
+    """The program's checks of its outputs, made before any work so that a
+    run that cannot write its results fails at once and destroys nothing:
+    no output is the input or another output, and each one's folder exists.
+    Cost: a few stat calls. Throws ValueError (the input, or one file named
+    twice), FileNotFoundError (no such folder), IsADirectoryError."""
+    for i, output in enumerate(outputs):
+        if _same_file(input, output):
+            raise ValueError(f"refusing to overwrite the input file {input}; choose another output")
+        if any(_same_file(earlier, output) for earlier in outputs[:i]):
+            raise ValueError(f"{output} is named for two outputs; give each its own file")
+        folder = os.path.dirname(output) or "."
+        if not os.path.isdir(folder):
+            raise FileNotFoundError(f"{output}: cannot write: folder '{folder}' does not exist")
+        if os.path.isdir(output):
+            raise IsADirectoryError(f"{output}: cannot write: it is a folder")
+
+
+PROCESSES_PER_CORE = 4
+"""The bound on --workers and --threads-per-task on a local cluster, per
+core of this machine: past a few per core they only take turns, while each
+worker process costs its own memory (1000 workers once started 368
+processes and took 14 GB on 2 cores)."""
+
+
+def _check_count(name: str, value: int, bound: Optional[int]) -> None:
+    """ValueError unless 1 <= value (<= bound, when given), naming the bound."""
+    if value < 1 or (bound is not None and value > bound):
+        limit = (f"between 1 and {bound} ({PROCESSES_PER_CORE} per core; this machine gives "
+                 f"{bound // PROCESSES_PER_CORE} cores)" if bound is not None else "at least 1")
+        raise ValueError(f"{name} must be {limit}, got {value}")
+
+
+def _check_run(local: bool, workers: int, threads_per_task: Optional[int], counts: Dict[str, Optional[int]],
+               timeout: Optional[float]) -> None:
+    """The run's counts and limits, checked before any work (ValueError).
+    `counts` (k, resolution, ...) need only fit the compiled module's
+    64-bit integers here: the library checks their ranges and says them."""
+    bound = PROCESSES_PER_CORE * len(os.sched_getaffinity(0)) if local else None
+    if local:
+        _check_count("workers", workers, bound)
+    if threads_per_task is not None:  # on a cluster, the workers' library bounds it by their machine
+        _check_count("threads_per_task", threads_per_task, bound)
+    for name, count in counts.items():
+        if count is not None and not -2**63 <= count < 2**63:
+            raise ValueError(f"{name} is far out of range, got {count}")
+    if counts["statistics_points"] < 0:
+        raise ValueError(f"statistics_points must be zero or more, got {counts['statistics_points']}")
+    if timeout is not None and not timeout > 0:
+        raise ValueError(f"timeout must be a positive number of seconds, got {timeout}")
+
+
+def _check_address(scheduler: str) -> None:
+    """ValueError unless `scheduler` reads as a Dask address with a port.
+    Checked before Dask's Client sees it: a Client that fails on a bad
+    address hangs the interpreter's exit (Debian's Dask 2022.12)."""
+    from distributed.comm.addressing import get_address_host_port  # noqa: PLC0415 - Dask only for a run
+
+    try:
+        get_address_host_port(scheduler)
+    except ValueError as error:
+        raise ValueError(f"scheduler: {error} (give it as tcp://host:8786)") from None
+
+
 def _work_folder(work_dir: Optional[PathLike], output: str) -> str:
     """A fresh folder for the run's files inside `work_dir` (or beside the output)."""
     parent = os.path.abspath(os.fspath(work_dir) if work_dir is not None else os.path.dirname(output) or ".")
@@ -212,6 +285,12 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     done within ``timeout`` seconds of the start (TimeoutError, OSError). ``progress(step, done, total)`` is
     called as tiles finish ("orient", "contour").
 
+    Checked before any work, as the program checks them (ValueError, or
+    FileNotFoundError for a missing folder): ``output`` is not the input
+    (by inode: not through a hard link or symlink either) and its folder
+    exists; on a local cluster, ``workers`` and ``threads_per_task`` are
+    at most PROCESSES_PER_CORE per core of this machine.
+
     The figures: "plan" (tiles, points, tile_size, halo, per-tile points,
     ...), "orient" and "contour" (one dict per tile: its seconds, the
     worker that ran it, the threads it used, ...), "reconcile", "mesh"
@@ -222,11 +301,14 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     output = os.path.abspath(os.fspath(output))
     if not output.lower().endswith(".ply"):
         raise ValueError(f"{output}: a tiled run writes binary PLY; name the output .ply")
+    _check_outputs(os.fspath(input), [output])
     if client is not None and scheduler is not None:
         raise ValueError("give a client or a scheduler address, not both")
     local = client is None and scheduler is None
-    if local and workers < 1:
-        raise ValueError(f"workers must be at least 1, got {workers}")
+    if scheduler is not None:
+        _check_address(scheduler)
+    _check_run(local, workers, threads_per_task,
+               {"k": k, "resolution": resolution, "statistics_points": statistics_points}, timeout)
     if local and threads_per_task is None:
         threads_per_task = max(1, len(os.sched_getaffinity(0)) // workers)
     deadline = _Deadline(timeout)
@@ -252,8 +334,15 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
 # ---------------------------------------------------------------------------
 # The command line
 
+class _Arguments(argparse.ArgumentParser):
+    """argparse, with a wrong argument said in one line, as every other error."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"recon.distributed: error: {message}\n")
+
+
 def _arguments() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Arguments(
         prog="python3 -m recon.distributed",
         description="Reconstruct a cloud tile by tile, the tiles run as Dask tasks: on an existing cluster "
                     "(--scheduler) or on a local cluster of worker processes (--workers). The plan, the "
@@ -263,7 +352,7 @@ def _arguments() -> argparse.ArgumentParser:
     parser.add_argument("-o", "--output", required=True, help="mesh to write (binary .ply)")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--scheduler", metavar="ADDRESS", help="the Dask scheduler of a running cluster (tcp://host:8786)")
-    where.add_argument("--workers", type=int, default=2, metavar="N",
+    where.add_argument("--workers", type=int, metavar="N",
                        help="start a local cluster of N worker processes on 127.0.0.1 (default 2)")
     parser.add_argument("--tile-size", type=float, default=0.0, metavar="L",
                         help="edge of a tile's core, a length (default: the largest that fits --max-memory)")
@@ -290,7 +379,9 @@ def _arguments() -> argparse.ArgumentParser:
     parser.add_argument("--skip-invalid", action="store_true", help="skip points with a coordinate that is not finite")
     parser.add_argument("--timeout", type=float, metavar="SECONDS",
                         help="give up when the scheduler or the tiles have not answered this long after the start")
-    parser.add_argument("--stats", metavar="FILE", help="also write the run's figures as JSON to this file")
+    parser.add_argument("--stats", metavar="FILE",
+                        help="also write the run's figures as JSON to this file (as the program writes its "
+                             "outputs: whole or not at all)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return parser
 
@@ -307,15 +398,15 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     """`python3 -m recon.distributed ...`; returns the exit status."""
     a = _arguments().parse_args(argv)
     try:
-        figures = run(a.input, a.output, scheduler=a.scheduler, workers=a.workers, tile_size=a.tile_size,
-                      work_dir=a.work_dir, method=a.method, k=a.k, rho=a.rho, delta=a.delta, cell=a.cell,
-                      resolution=a.resolution, max_memory=a.max_memory, statistics_points=a.statistics_points,
-                      threads_per_task=a.threads_per_task, format=a.format,
+        _check_outputs(a.input, [os.path.abspath(a.output)] + ([a.stats] if a.stats else []))
+        figures = run(a.input, a.output, scheduler=a.scheduler, workers=2 if a.workers is None else a.workers,
+                      tile_size=a.tile_size, work_dir=a.work_dir, method=a.method, k=a.k, rho=a.rho, delta=a.delta,
+                      cell=a.cell, resolution=a.resolution, max_memory=a.max_memory,
+                      statistics_points=a.statistics_points, threads_per_task=a.threads_per_task, format=a.format,
                       columns=a.columns.split(",") if a.columns else None, skip_invalid=a.skip_invalid,
                       timeout=a.timeout)
         if a.stats:
-            with open(a.stats, "w", encoding="utf-8") as stats:
-                json.dump(figures, stats, indent=1)
+            _recon._write_text(a.stats, json.dumps(figures, indent=1))
     except (OSError, ValueError, MemoryError, TimeoutError) as error:
         print(f"recon.distributed: error: {error}", file=sys.stderr)
         return 1

@@ -1,22 +1,26 @@
 """recon.distributed: the tiles as Dask tasks on a local cluster of two
-worker processes (loopback) give the mesh of the same tiled run made in
-this process (and by `recon reconstruct --tile-size`), byte for byte, also
+worker processes (loopback) give the in-memory run's triangles
+(recon.reconstruct, no tiles), and the mesh of the same tiled run made in
+this process (and by `recon reconstruct --tile-size`) byte for byte, also
 when a worker is killed in the middle of a tile; `python3 -m
-recon.distributed` as a program. Every wait is bounded
-(Dask's timeouts, the run's own, the subprocesses')."""
+recon.distributed` as a program, and its checks before any work. Every wait
+is bounded (Dask's timeouts, the run's own, the subprocesses')."""
 
+import json
 import os
 import signal
+import stat
 import subprocess
 import sys
 import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from recon import _recon
-from conftest import run_cli
+from conftest import run_cli, sphere
 
 distributed = pytest.importorskip("distributed", reason="Dask is not installed (python3-distributed; scripts/setup)")
 import recon.distributed  # noqa: E402 - needs Dask
@@ -67,6 +71,66 @@ def reference(torus, tmp_path_factory) -> dict:
     return figures
 
 
+def read_ply_mesh(path: Path) -> tuple:
+    """The vertices (n x 3 float64) and triangles (f x 3) of a binary PLY mesh as recon writes it."""
+    data = path.read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii").splitlines()
+    assert "format binary_little_endian 1.0" in header
+    counts = {line.split()[1]: int(line.split()[2]) for line in header if line.startswith("element")}
+    vertex_properties = header[header.index(f"element vertex {counts['vertex']}") + 1:]
+    vertex_properties = vertex_properties[:next(i for i, line in enumerate(vertex_properties)
+                                                if not line.startswith("property"))]
+    types = {"double": "<f8", "float": "<f4", "uchar": "u1"}
+    vertex = np.dtype([(line.split()[2], types[line.split()[1]]) for line in vertex_properties])
+    face = np.dtype([("n", "u1"), ("v", "<i4", 3)])
+    vertices = np.frombuffer(data, vertex, counts["vertex"], end)
+    faces = np.frombuffer(data, face, counts["face"], end + vertex.itemsize * counts["vertex"])
+    assert np.all(faces["n"] == 3)
+    return np.column_stack([vertices["x"], vertices["y"], vertices["z"]]).astype(np.float64), faces["v"]
+
+
+def canonical_triangles(faces: np.ndarray) -> np.ndarray:
+    """Triangles rotated to start at their smallest index (which keeps their orientation), sorted."""
+    first = np.argmin(faces, axis=1)[:, None]
+    rotated = np.take_along_axis(faces, (first + np.arange(3)) % 3, axis=1)
+    return rotated[np.lexsort(rotated.T[::-1])]
+
+
+def assert_same_triangles(mesh: tuple, in_memory: "recon.Mesh", tolerance: float) -> None:
+    """As tests/mesh_compare.h's same_mesh: each vertex has its own vertex
+    of the in-memory mesh within `tolerance` (one to one), and the triangles
+    are the same, oriented the same way, in any order."""
+    vertices, faces = mesh
+    assert (len(vertices), len(faces)) == (len(in_memory.vertices), len(in_memory.faces))
+    def keys(v):
+        return map(tuple, np.rint(v / tolerance).astype(np.int64))
+    index = {key: i for i, key in enumerate(keys(in_memory.vertices))}
+    assert len(index) == len(in_memory.vertices)
+    to_memory = np.array([index.get(key, -1) for key in keys(vertices)])
+    assert np.all(to_memory >= 0), f"{np.count_nonzero(to_memory < 0)} vertices are not the in-memory mesh's"
+    assert len(set(to_memory.tolist())) == len(to_memory), "two vertices on one"
+    np.testing.assert_array_equal(canonical_triangles(to_memory[faces]), canonical_triangles(in_memory.faces))
+
+
+@pytest.fixture(scope="module")
+def in_memory(torus) -> "recon.Mesh":
+    """The in-memory run of the torus (recon.reconstruct, no tiles): what the
+    tiled mesh must be on clean data, as the README says. The tiled and
+    Dask meshes are compared with it, not only with each other (the same
+    tile code), so that a logic bug in the tiles shows."""
+    return recon.reconstruct(recon.read_points(torus).points, threads=2)
+
+
+def in_memory_tolerance(reference: dict) -> float:
+    return 1e-6 * reference["plan"]["cell"]
+
+
+def test_the_tiled_run_is_the_in_memory_run(reference, in_memory):
+    assert reference["plan"]["tiles"] >= 8 and reference["reconcile"]["objects"] == 1
+    assert_same_triangles(read_ply_mesh(reference["path"]), in_memory, in_memory_tolerance(reference))
+
+
 def test_the_steps_alone(reference, tmp_path):
     plan = reference["plan"]
     assert plan["tiles"] >= 8
@@ -89,9 +153,10 @@ def test_the_steps_alone(reference, tmp_path):
         _recon._tiles_count(str(tmp_path / "nowhere"))
 
 
-def test_a_dask_run_gives_the_single_process_mesh(torus, reference, tmp_path):
+def test_a_dask_run_gives_the_in_memory_mesh(torus, reference, in_memory, tmp_path):
     output = tmp_path / "mesh.ply"
     figures = recon.distributed.run(torus, output, workers=2, tile_size=TILE_SIZE, timeout=TIMEOUT)
+    assert_same_triangles(read_ply_mesh(output), in_memory, in_memory_tolerance(reference))
     assert output.read_bytes() == reference["path"].read_bytes()
     assert figures["plan"] == {**reference["plan"], "seconds": figures["plan"]["seconds"]}
     assert [o["pieces"] for o in figures["orient"]] == [o["pieces"] for o in reference["orient"]]
@@ -162,10 +227,14 @@ def run_module(*args, timeout: float = 2 * TIMEOUT) -> subprocess.CompletedProce
 
 def test_the_program(torus, reference, tmp_path):
     output = tmp_path / "mesh.ply"
-    finished = run_module(torus, "-o", output, "--workers", "2", "--tile-size", TILE_SIZE, "--timeout", TIMEOUT)
+    stats = tmp_path / "stats.json"
+    finished = run_module(torus, "-o", output, "--workers", "2", "--tile-size", TILE_SIZE, "--timeout", TIMEOUT,
+                          "--stats", stats)
     assert finished.returncode == 0, finished.stderr
     assert f"{reference['plan']['tiles']} tiles on 2 workers" in finished.stdout
     assert output.read_bytes() == reference["path"].read_bytes()
+    assert json.loads(stats.read_text())["mesh"]["triangles"] == reference["mesh"]["triangles"]
+    stats.unlink()
     missing = tmp_path / "missing.ply"
     finished = run_module(missing, "-o", tmp_path / "out.ply", "--workers", "2")
     assert finished.returncode == 1
@@ -191,3 +260,159 @@ def test_ctrl_c_removes_the_tiles(torus, tmp_path):
     assert program.returncode == 130, stderr
     assert stderr.endswith("recon.distributed: interrupted\n")
     assert list(tmp_path.iterdir()) == [], "neither the mesh nor the tiles' folder is left"
+
+
+# ---------------------------------------------------------------------------
+# The program's checks, made before any work: they refuse what would destroy
+# a file or overload the machine, in one line, without starting a cluster.
+
+def program(capsys, *args) -> tuple:
+    """`python3 -m recon.distributed ARGS` run here: its exit status and what it printed on stderr."""
+    try:
+        status = recon.distributed.main([str(a) for a in args])
+    except SystemExit as exit:  # argparse's
+        status = exit.code
+    return status, capsys.readouterr().err
+
+
+def one_line_error(status: int, stderr: str, expected: str) -> None:
+    assert status != 0
+    assert stderr.startswith("recon.distributed: error: ") and stderr.count("\n") == 1, stderr
+    assert expected in stderr, stderr
+
+
+@pytest.fixture
+def no_cluster(monkeypatch):
+    """Fails a run that gets as far as starting or reaching a cluster (so
+    that a check that is missing fails the test instead of starting 1000
+    workers or writing over the input)."""
+    def refused(*args, **options):
+        raise AssertionError("the run went on to start a cluster")
+    monkeypatch.setattr(recon.distributed, "_connected", refused)
+
+
+@pytest.fixture
+def small_cloud(tmp_path) -> Path:
+    path = tmp_path / "in.ply"
+    recon.write_points(path, sphere(200))
+    return path
+
+
+def test_an_output_that_is_the_input_is_refused(small_cloud, tmp_path, capsys, no_cluster):
+    before = small_cloud.read_bytes()
+    (tmp_path / "hard.ply").hardlink_to(small_cloud)
+    (tmp_path / "soft.ply").symlink_to(small_cloud)
+    for output in (small_cloud, tmp_path / "." / "in.ply", tmp_path / "hard.ply", tmp_path / "soft.ply"):
+        one_line_error(*program(capsys, small_cloud, "-o", output), "refusing to overwrite the input file")
+        with pytest.raises(ValueError, match="refusing to overwrite the input file"):
+            recon.distributed.run(small_cloud, output)
+    assert small_cloud.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["hard.ply", "in.ply", "soft.ply"], "no tiles' folder"
+
+
+def test_stats_naming_the_input_the_output_or_no_folder_is_refused_first(small_cloud, tmp_path, capsys, monkeypatch):
+    runs = []
+    monkeypatch.setattr(recon.distributed, "run", lambda *args, **options: runs.append(args))
+    output = tmp_path / "mesh.ply"
+    output.write_bytes(b"an earlier mesh")
+    cases = {small_cloud: "refusing to overwrite the input file",
+             output: "mesh.ply is named for two outputs",
+             tmp_path / "missing" / "s.json": "cannot write: folder '" + str(tmp_path / "missing") + "' does not exist",
+             tmp_path: "cannot write: it is a folder"}
+    for stats, message in cases.items():
+        one_line_error(*program(capsys, small_cloud, "-o", output, "--stats", stats), message)
+    assert runs == [], "refused before the run"
+    assert output.read_bytes() == b"an earlier mesh"
+    one_line_error(*program(capsys, small_cloud, "-o", tmp_path / "missing" / "m.ply"), "does not exist")
+
+
+FIGURES = {"plan": {"tiles": 3}, "seconds": {"total": 1.5}}
+
+
+@pytest.fixture
+def stats_run(monkeypatch):
+    """The program with a run that only returns FIGURES: its --stats writing alone."""
+    monkeypatch.setattr(recon.distributed, "run", lambda *args, **options: FIGURES)
+
+
+def write_stats(capsys, cloud: Path, stats: Path) -> None:
+    status, stderr = program(capsys, cloud, "-o", cloud.parent / "mesh.ply", "--stats", stats, "-q")
+    assert status == 0, stderr
+
+
+def test_stats_replace_a_file_whole(small_cloud, tmp_path, capsys, stats_run):
+    stats = tmp_path / "stats.json"
+    stats.write_text("the previous run's figures")
+    before = stats.stat().st_ino
+    write_stats(capsys, small_cloud, stats)
+    assert json.loads(stats.read_text()) == FIGURES
+    assert stats.stat().st_ino != before, "a finished file renamed into place, not the old one cut and rewritten"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply", "stats.json"], "no temporary file left"
+
+
+# The special outputs' behaviour is io::AtomicFile's (recon_module.cpp's
+# _write_text writes through it); io-outputs teaches it these cases.
+UNTIL_ATOMIC_FILE_LEARNS = pytest.mark.xfail(strict=True,
+                                              reason="io::AtomicFile (branch io-outputs): remove at the merge")
+
+
+@UNTIL_ATOMIC_FILE_LEARNS
+def test_stats_keep_the_files_mode(small_cloud, tmp_path, capsys, stats_run):
+    stats = tmp_path / "stats.json"
+    stats.write_text("{}")
+    stats.chmod(0o600)
+    write_stats(capsys, small_cloud, stats)
+    assert stats.stat().st_mode & 0o777 == 0o600
+
+
+@UNTIL_ATOMIC_FILE_LEARNS
+def test_stats_go_through_a_symlink(small_cloud, tmp_path, capsys, stats_run):
+    target, link = tmp_path / "target.json", tmp_path / "link.json"
+    target.write_text("{}")
+    link.symlink_to(target)
+    write_stats(capsys, small_cloud, link)
+    assert link.is_symlink() and json.loads(target.read_text()) == FIGURES
+
+
+@UNTIL_ATOMIC_FILE_LEARNS
+def test_stats_stream_into_a_fifo(small_cloud, tmp_path, capsys, stats_run):
+    fifo = tmp_path / "stats.fifo"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)  # open first, so the writer's open does not wait
+    try:
+        write_stats(capsys, small_cloud, fifo)
+        received = os.read(reader, 1 << 16)
+    finally:
+        os.close(reader)
+    assert stat.S_ISFIFO(fifo.stat().st_mode), "the FIFO itself is not replaced"
+    assert json.loads(received) == FIGURES
+
+
+def test_workers_and_threads_are_bounded_by_the_machine(small_cloud, tmp_path, capsys, no_cluster):
+    bound = recon.distributed.PROCESSES_PER_CORE * len(os.sched_getaffinity(0))
+    output = tmp_path / "mesh.ply"
+    for option, value in (("--workers", 1000), ("--workers", 0), ("--threads-per-task", 100000),
+                          ("--threads-per-task", 0)):
+        name = option[2:].replace("-", "_")
+        one_line_error(*program(capsys, small_cloud, "-o", output, option, value),
+                       f"{name} must be between 1 and {bound} (4 per core")
+    with pytest.raises(ValueError, match=f"workers must be between 1 and {bound}"):
+        recon.distributed.run(small_cloud, output, workers=bound + 1)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply"], "nothing started, nothing written"
+
+
+def test_wrong_arguments_are_one_line(small_cloud, tmp_path, capsys, no_cluster):
+    output = tmp_path / "mesh.ply"
+    cases = {("--workers", "two"): "argument --workers: invalid int value: 'two'",
+             ("--scheduler", "tcp://127.0.0.1:8786", "--workers", "2"): "not allowed with argument",
+             ("--scheduler", "somewhere"): "scheduler: missing port number in address 'somewhere'",
+             ("--statistics-points", "-1"): "statistics_points must be zero or more",
+             ("--statistics-points", str(10**20)): "statistics_points is far out of range",
+             ("--k", str(10**11)): "k must be between 3 and 256, got 100000000000",
+             ("--resolution", str(10**30)): "resolution is far out of range",
+             ("--timeout", "nan"): "timeout must be a positive number of seconds",
+             ("--tile-size", "nan"): "tile_size must be zero or more",
+             ("--method", "poisson"): "invalid choice: 'poisson'"}
+    for extra, message in cases.items():
+        one_line_error(*program(capsys, small_cloud, "-o", output, *extra), message)
+    one_line_error(*program(capsys, small_cloud), "the following arguments are required: -o/--output")

@@ -69,6 +69,42 @@ def test_bad_parameters_are_value_errors():
         recon.reconstruct(bad)
 
 
+TRIANGLE = np.eye(3)
+FACE = [[0, 1, 2]]
+
+# Every array the package takes, given an array of a kind numpy would cast
+# with a loss (a float index truncated, an imaginary part dropped) or a
+# guess (bools, text, objects as numbers): each a TypeError naming it.
+WRONG_KINDS = {
+    "float face indices": (lambda: recon.Mesh(TRIANGLE, [[0, 1.7, 2]]), "faces must hold integer vertex indices"),
+    "bool face indices": (lambda: recon.Mesh(TRIANGLE, np.ones((1, 3), bool)), "faces must hold integer"),
+    "complex vertices": (lambda: recon.Mesh(TRIANGLE + 1j, FACE), "vertices must hold real numbers; got dtype complex"),
+    "complex points": (lambda: recon.reconstruct(sphere(100) + 0j), "points must hold real numbers; got dtype complex"),
+    "text points": (lambda: recon.PointCloud([["a", "b", "c"]]), "points must hold real numbers; got dtype <U1"),
+    "object points": (lambda: recon.estimate_normals([[1, None, 2]]), "points must hold real numbers; got dtype obj"),
+    "bool normals": (lambda: recon.PointCloud(TRIANGLE, normals=TRIANGLE > 0), "normals must hold real numbers"),
+    "complex normals": (lambda: recon.write_points("/nowhere/n.ply", TRIANGLE, TRIANGLE + 0j), "normals must hold"),
+    "complex colours": (lambda: recon.PointCloud(TRIANGLE, colors=TRIANGLE + 0j), "colors must be integers 0-255 or"),
+    "bool colours": (lambda: recon.Mesh(TRIANGLE, FACE, colors=TRIANGLE > 0), "colors must be integers 0-255 or"),
+    "float colours, _recon": (lambda: recon._recon.PointCloud(TRIANGLE, None, TRIANGLE), "colors must be uint8"),
+    "no points": (lambda: recon.PointCloud(None), "points must hold real numbers; got dtype object"),
+}
+
+
+@pytest.mark.parametrize("case", WRONG_KINDS)
+def test_arrays_of_the_wrong_kind_are_type_errors(case):
+    call, message = WRONG_KINDS[case]
+    with pytest.raises(TypeError, match=message.replace("(", r"\(")):
+        call()
+
+
+def test_arrays_of_a_right_kind_are_converted():
+    for faces in ([[0, 1, 2]], np.array(FACE, np.uint16), np.array(FACE, np.int64)):
+        np.testing.assert_array_equal(recon.Mesh(TRIANGLE, faces).faces, FACE)
+    np.testing.assert_array_equal(recon.PointCloud(np.eye(3, dtype=np.int32)).points, TRIANGLE)
+    np.testing.assert_array_equal(recon.PointCloud(TRIANGLE.astype(np.float32)).points, TRIANGLE)
+
+
 def test_file_errors_carry_the_programs_message(tmp_path):
     bad = tmp_path / "bad.xyz"
     bad.write_text("1 2 3\n4 5 abc\n")
