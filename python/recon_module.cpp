@@ -476,7 +476,8 @@ py::dict plan_summary(const TilePlan& plan) {
     core_points.append(tile.core_points);
   }
   return py::dict("tiles"_a = plan.tiles.size(), "input_points"_a = plan.input_points,
-                  "statistics_points"_a = plan.statistics_points, "method"_a = method_name(plan.method),
+                  "statistics_points"_a = plan.statistics_points,
+                  "statistics_over_tiles"_a = plan.statistics_over_tiles, "method"_a = method_name(plan.method),
                   "k"_a = plan.k, "cell"_a = plan.lattice.cell, "tile_size"_a = plan.tile_cubes * plan.lattice.cell,
                   "halo"_a = plan.halo, "tile_points"_a = points, "tile_core_points"_a = core_points,
                   "seconds"_a = plan.seconds_bounds + plan.seconds_statistics + plan.seconds_binning);

@@ -276,8 +276,10 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     tile's run: a machine running several tiles at once needs that much for
     each). ``method``, ``k``, ``rho``, ``delta``, ``cell`` and
     ``resolution`` mean what recon.reconstruct's options mean;
-    ``statistics_points`` caps the points the cloud-wide measures are taken
-    on (0: what fits a quarter of ``max_memory``); ``format``, ``columns``
+    ``statistics_points`` caps the points one phase I takes the cloud-wide
+    measures on (0: what fits a quarter of ``max_memory``; a larger cloud
+    is measured over its tiles, in this process, and the measures are the
+    same); ``format``, ``columns``
     and ``skip_invalid`` are read_points'. ``threads_per_task`` is each
     task's thread count (default: the cores of the worker's machine shared
     among the worker's task slots; on a local cluster, this machine's cores
