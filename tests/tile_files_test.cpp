@@ -17,8 +17,10 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -404,6 +406,63 @@ TEST(TileWorkspaces, TheHandlerRemovesTheFolderWhileThreadsCommit) {
   EXPECT_EQ(left, 0) << "of 5 workspaces were left behind";
   fs::remove_all(parent);
 }
+
+// ---------------------------------------------------------------------------
+// The program: items 22 and 23c.
+
+#ifdef RECON_CLI_PATH
+std::string quoted(const fs::path& path) {
+  std::string out = "'";
+  for (const char c : path.string()) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// The input shortened while a tiled run reads it (SIGBUS: it is mapped):
+// the error names the input, as in memory, and the tiles' folder goes too.
+TEST(TiledProgram, AnInputShortenedWhileTiledLeavesNoTiles) {
+  const auto dir = scratch("sigbus");
+  fs::create_directories(dir / "tmp");
+  {
+    std::ofstream big(dir / "big.xyz");
+    std::string block;
+    for (int i = 0; i < 1000; ++i) block += std::to_string(i % 100) + " " + std::to_string(i % 37) + " 0.5\n";
+    for (int i = 0; i < 8000; ++i) big << block;  // about 80 MB
+  }
+  // Start recon, wait until its tiles' folder exists and the input is mapped, cut the input to one page.
+  const std::string command =
+      "cd " + quoted(dir) + " && { " + quoted(RECON_CLI_PATH) +
+      " reconstruct big.xyz -o out.ply --tile-size 10 --tmpdir tmp </dev/null >/dev/null 2>stderr.txt & pid=$!; " +
+      "while [ -e /proc/$pid ] && ! { ls tmp | grep -q recon-tiles- && grep -q big.xyz /proc/$pid/maps; } 2>/dev/null; " +
+      "do :; done; truncate -s 4096 big.xyz; wait $pid; exit $?; }";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(status != -1 && WIFEXITED(status)) << status;
+  const std::string message = bytes_of(dir / "stderr.txt");
+  EXPECT_EQ(WEXITSTATUS(status), 1) << message;
+  EXPECT_EQ(message, "recon: error: big.xyz: the file was shortened, or could not be read, while recon was reading it\n");
+  EXPECT_TRUE(fs::is_empty(dir / "tmp")) << "the tiles' folder was left behind";
+  EXPECT_FALSE(fs::exists(dir / "out.ply"));
+  fs::remove_all(dir);
+}
+
+TEST(TiledProgram, ATooLongTmpdirIsRefusedUpFront) {
+  const auto dir = scratch("long-tmpdir");
+  std::ofstream(dir / "in.xyz") << "0 0 0\n1 0 0\n0 1 0\n";
+  std::string tmpdir;  // (an existing folder, within PATH_MAX, too long for a workspace's path)
+  for (int level = 0; level < 16; ++level) tmpdir += (level > 0 ? "/" : "") + std::string(250, 'd');
+  fs::create_directories(dir / tmpdir);
+  const std::string command = "cd " + quoted(dir) + " && " + quoted(RECON_CLI_PATH) +
+                              " reconstruct in.xyz -o out.ply --tile-size 1 --tmpdir " + tmpdir +
+                              " </dev/null >/dev/null 2>stderr.txt";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(status != -1 && WIFEXITED(status)) << status;
+  const std::string message = bytes_of(dir / "stderr.txt");
+  EXPECT_EQ(WEXITSTATUS(status), 1) << message;
+  EXPECT_TRUE(message.starts_with("recon: error: dddd")) << message;
+  EXPECT_TRUE(has(message, "must have a path of at most")) << message;
+  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+  fs::remove_all(dir);
+}
+#endif
 
 }  // namespace
 }  // namespace recon
