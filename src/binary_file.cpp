@@ -82,7 +82,7 @@ void BinaryReader::check_checksum(std::uint64_t file_size) {
     throw damaged("its checksum covers " + std::to_string(stored.bytes) + " bytes, and " + std::to_string(body) +
                   " precede it (truncated or extended)");
   Checksum computed;
-  std::vector<char> buffer(std::size_t{1} << 20);
+  std::vector<char> buffer(std::size_t{1} << 16);
   in_.seekg(0);
   for (std::uint64_t done = 0; done < body;) {
     const auto part = static_cast<std::size_t>(std::min<std::uint64_t>(buffer.size(), body - done));
