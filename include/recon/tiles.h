@@ -50,7 +50,9 @@
 // directory: they can run in any order, in parallel, on other machines
 // sharing the directory (python -m recon.distributed runs them as Dask
 // tasks), and rerun after a failure: each output file appears whole or not
-// at all. Every step is deterministic, so the mesh does not depend on who
+// at all, and carries a checksum that every reader checks, as it checks
+// every index in it (tile_files.h): a damaged file is a ParseError naming
+// it, and the step's error names its tile. Every step is deterministic, so the mesh does not depend on who
 // ran which tile.
 //
 // What a tiled mesh is. On clouds that fit in memory it has the same
