@@ -184,10 +184,6 @@ void write_planes(const std::filesystem::path& path, const Reconstruction& r) {
   out.commit();
 }
 
-}  // namespace
-
-namespace {
-
 TileOrientation orient_one_tile(const std::filesystem::path& work_dir, std::size_t tile) {
   Timer timer;
   const auto& [plan, info, points] = load_tile(work_dir, tile);
