@@ -262,8 +262,14 @@ TEST(TileFiles, APieceOrientedTheOtherWayIsTurned) {
     const tile_files::Orientation o = tile_files::read_orientation(tile_files::of_tile(dir, plan.tiles[t].id, "orient"));
     for (const tile_files::PieceTop& p : o.tops) {
       if (p.index == UINT64_MAX) continue;
-      if (p.z > top) top = p.z, top_tile = t;
-      if (p.z < bottom && !o.border.empty()) bottom = p.z, turned_tile = t;
+      if (p.z > top) {
+        top = p.z;
+        top_tile = t;
+      }
+      if (p.z < bottom && !o.border.empty()) {
+        bottom = p.z;
+        turned_tile = t;
+      }
     }
   }
   ASSERT_NE(top_tile, turned_tile);
