@@ -84,12 +84,16 @@ void remove_workspace_files(const char* dir) noexcept {
 
 // The lock file is made under another name, locked, and only then renamed
 // to lock_name: a cleaner that finds lock_name in a live run's folder
-// always finds it locked. Returns the descriptor that holds the lock.
+// always finds it locked. Returns the descriptor that holds the lock. On a
+// file system without flock (some network and FUSE ones) the folder goes
+// unlocked: no cleaner can take its lock either, so none removes it.
+bool without_locks(int error) { return error == ENOLCK || error == EOPNOTSUPP || error == ENOSYS; }
+
 int lock_workspace(const std::filesystem::path& dir) {
   const std::filesystem::path fresh = dir / ".recon-tiles.lock-new", lock = dir / lock_name;
   const int fd = ::open(fresh.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) throw IoError(fresh.string() + ": cannot create the tiles' lock file: " + std::strerror(errno), errno);
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0 || ::rename(fresh.c_str(), lock.c_str()) != 0) {
+  if ((::flock(fd, LOCK_EX | LOCK_NB) != 0 && !without_locks(errno)) || ::rename(fresh.c_str(), lock.c_str()) != 0) {
     const int error = errno;
     ::close(fd);
     throw IoError(lock.string() + ": cannot lock the tiles' folder: " + std::strerror(error), error);
