@@ -52,6 +52,7 @@ extern "C" void on_bus_error(int signal_number) {
     return;
   }
   recon::io::remove_pending_temporaries();
+  recon::remove_tile_workspaces();
   auto say = [](const char* text) {
     std::size_t length = 0;
     while (text[length] != '\0') ++length;

@@ -665,6 +665,32 @@ void bind_runs(py::module_& m) {
   });
 }
 
+// A folder for recon.distributed's files, as the program makes its own
+// (TileWorkspace): made exclusively, locked for its life, the stale ones in
+// `parent` removed first; close() or the end of a with block removes it.
+struct PythonWorkspace {
+  std::optional<TileWorkspace> workspace;
+};
+
+void bind_tile_workspace(py::module_& m) {
+  py::class_<PythonWorkspace>(m, "_TileWorkspace")
+      .def(py::init([](const std::filesystem::path& parent) {
+             auto p = std::make_unique<PythonWorkspace>();
+             p->workspace.emplace(parent);
+             return p;
+           }),
+           py::arg("parent"))
+      .def_property_readonly("path",
+                             [](const PythonWorkspace& p) {
+                               if (!p.workspace) throw py::value_error("the tiles' workspace is closed");
+                               return p.workspace->path();
+                             })
+      .def("close", [](PythonWorkspace& p) { p.workspace.reset(); })
+      .def("__enter__", [](PythonWorkspace& p) -> PythonWorkspace& { return p; }, py::return_value_policy::reference)
+      .def("__exit__", [](PythonWorkspace& p, const py::args&) { p.workspace.reset(); });
+  m.def("_tiles_remove_stale_workspaces", &remove_stale_tile_workspaces, py::arg("parent"));
+}
+
 void bind_tiles(py::module_& m) {
   m.def("_tiles_plan",
         [](const std::filesystem::path& input, const std::filesystem::path& work_dir, const std::string& method,
@@ -702,6 +728,7 @@ void bind_tiles(py::module_& m) {
   m.def("_tiles_stitch", [](const std::filesystem::path& work_dir, const std::filesystem::path& output) {
     return mesh_summary(run_tile_step(std::nullopt, [&] { return stitch_tiles(work_dir, output); }));
   }, py::arg("work_dir"), py::arg("output"));
+  bind_tile_workspace(m);
 }
 
 }  // namespace

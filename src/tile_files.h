@@ -14,9 +14,13 @@ namespace recon::tile_files {
 
 inline std::filesystem::path plan(const std::filesystem::path& dir) { return dir / "plan.bin"; }
 inline std::filesystem::path flips(const std::filesystem::path& dir) { return dir / "flips.bin"; }
+/// "tile-<id>.<kind>", the id in at least six digits (tile-000042.mesh),
+/// into `out`. Async-signal-safe; `kind` is cut to fit.
+inline constexpr std::size_t tile_name_size = 48;
+void format_tile_name(char (&out)[tile_name_size], std::uint64_t id, const char* kind) noexcept;
 inline std::filesystem::path of_tile(const std::filesystem::path& dir, std::size_t tile, const char* kind) {
-  char name[64];
-  std::snprintf(name, sizeof name, "tile-%06zu.%s", tile, kind);
+  char name[tile_name_size];
+  format_tile_name(name, tile, kind);
   return dir / name;
 }
 
@@ -81,16 +85,53 @@ struct TileMesh {
   std::vector<AtomVote> votes;
 };
 void write_mesh(const std::filesystem::path& path, const TileMesh& mesh);
-/// Checks that every index names something (ParseError naming the file).
+
+// Every reader below checks the file's checksum first (binary_file.h), then
+// that every count matches and every index names something the file (or
+// the plan) has, and that coordinates are finite: ParseError naming the
+// file and the record otherwise. Cost: linear in the file.
 [[nodiscard]] TileMesh read_mesh(const std::filesystem::path& path);
 
-inline constexpr char plan_magic[9] = "RCNPLAN2";
-inline constexpr char points_magic[9] = "RCNPTS01";
-inline constexpr char colors_magic[9] = "RCNCOL01";
-inline constexpr char orient_magic[9] = "RCNORI01";
-inline constexpr char flips_magic[9] = "RCNFLIP2";
-inline constexpr char mesh_magic[9] = "RCNMESH2";
-inline constexpr char planes_magic[9] = "RCNPLNS2";
+/// What step 2 writes of a tile (tile-N.orient) and steps 3 and 4 read.
+struct Orientation {
+  std::vector<std::int8_t> sign;     ///< per tile point (file order): +1 or -1, its normal against phase I's
+  std::vector<std::uint32_t> piece;  ///< per tile point: its piece (< tops.size())
+  std::vector<PieceTop> tops;        ///< per piece
+  std::vector<BorderRecord> border;  ///< node: the piece (< tops.size())
+  std::uint64_t inexact = 0;
+};
+void write_orientation(const std::filesystem::path& path, const Orientation& o);
+[[nodiscard]] Orientation read_orientation(const std::filesystem::path& path);
+
+/// What step 3 writes (flips.bin) and step 4 reads: the pieces of all tiles
+/// numbered one after the other (tile t's from first_node[t]), each with
+/// its sign and its object (a piece).
+struct Flips {
+  std::vector<std::uint64_t> first_node;  ///< per tile, ascending, <= flip.size()
+  std::vector<std::int8_t> flip;          ///< per piece: +1 kept, -1 turned round
+  std::vector<std::uint32_t> object;      ///< per piece: the piece its object was walked from
+  /// Tile `tile`'s pieces: [first, end). Precondition: tile < first_node.size().
+  [[nodiscard]] std::pair<std::uint64_t, std::uint64_t> pieces_of(std::size_t tile) const;
+};
+void write_flips(const std::filesystem::path& dir, const Flips& flips);
+[[nodiscard]] Flips read_flips(const std::filesystem::path& dir);
+
+/// A tile's points (tile-N.points; coordinates finite) and colours.
+[[nodiscard]] std::vector<PointRecord> read_point_records(const std::filesystem::path& path);
+[[nodiscard]] std::vector<Color> read_colors(const std::filesystem::path& path);
+
+/// The plan (plan.bin). The reader checks what the steps index or divide
+/// by: the method, k, the lattice, each tile's place in the grid, its id.
+void write_plan(const TilePlan& plan, const std::filesystem::path& dir);
+[[nodiscard]] TilePlan read_plan_file(const std::filesystem::path& path);
+
+inline constexpr char plan_magic[9] = "RCNPLAN3";
+inline constexpr char points_magic[9] = "RCNPTS02";
+inline constexpr char colors_magic[9] = "RCNCOL02";
+inline constexpr char orient_magic[9] = "RCNORI02";
+inline constexpr char flips_magic[9] = "RCNFLIP3";
+inline constexpr char mesh_magic[9] = "RCNMESH3";
+inline constexpr char planes_magic[9] = "RCNPLNS3";
 
 /// A tile's points as its file holds them, in input order.
 struct TilePoints {

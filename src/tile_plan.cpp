@@ -10,10 +10,7 @@
 #include "tile_files.h"
 #include "tile_statistics.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -41,84 +38,6 @@ PointPass pass_over_file(const std::filesystem::path& path, const io::ReadPoints
     chunks.read = options;
     io::read_points_in_chunks(path, chunks, take);
   };
-}
-
-namespace {
-
-// The workspaces alive, for remove_tile_workspaces (a signal handler): fixed
-// buffers and lock-free flags only.
-struct Registered {
-  std::atomic<bool> used{false};
-  char path[4096] = {};
-};
-Registered workspaces[4];
-std::atomic<std::uint32_t> tile_ids_made{0};  // the most tile files any plan of this process named
-
-int register_workspace(const std::filesystem::path& path) {
-  const std::string text = path.string();
-  if (text.size() + 32 >= sizeof workspaces[0].path) return -1;
-  for (int slot = 0; slot < 4; ++slot) {
-    bool expected = false;
-    if (!workspaces[slot].used.load()) {
-      std::copy(text.begin(), text.end(), workspaces[slot].path);
-      workspaces[slot].path[text.size()] = '\0';
-      if (workspaces[slot].used.compare_exchange_strong(expected, true)) return slot;
-    }
-  }
-  return -1;
-}
-
-// dir + "/" + name into `out` (async-signal-safe).
-void join(const char* dir, const char* name, char* out, std::size_t size) {
-  std::size_t n = 0;
-  for (const char* c = dir; *c && n + 1 < size; ++c) out[n++] = *c;
-  if (n + 1 < size) out[n++] = '/';
-  for (const char* c = name; *c && n + 1 < size; ++c) out[n++] = *c;
-  out[n] = '\0';
-}
-
-void remove_workspace_files(const char* dir) {
-  char path[4200], name[40];
-  for (std::uint32_t id = 0; id < tile_ids_made.load(); ++id)
-    for (const char* kind : {"points", "colors", "orient", "planes", "mesh"}) {
-      const char prefix[] = "tile-";
-      std::size_t n = 0;
-      for (const char c : prefix)
-        if (c) name[n++] = c;
-      for (std::uint32_t d = 100000; d > 0; d /= 10) name[n++] = static_cast<char>('0' + (id / d) % 10);
-      name[n++] = '.';
-      for (const char* c = kind; *c; ++c) name[n++] = *c;
-      name[n] = '\0';
-      join(dir, name, path, sizeof path);
-      ::unlink(path);
-    }
-  for (const char* file : {"plan.bin", "flips.bin"}) {
-    join(dir, file, path, sizeof path);
-    ::unlink(path);
-  }
-  ::rmdir(dir);
-}
-
-}  // namespace
-
-void remove_tile_workspaces() noexcept {
-  for (Registered& w : workspaces)
-    if (w.used.load()) remove_workspace_files(w.path);
-}
-
-TileWorkspace::TileWorkspace(const std::filesystem::path& parent) {
-  static std::atomic<int> count{0};
-  path_ = parent / ("recon-tiles-" + std::to_string(::getpid()) + "-" + std::to_string(count++));
-  std::error_code error;
-  std::filesystem::create_directories(path_, error);
-  if (error) throw IoError(path_.string() + ": cannot create the directory for the tiles (" + error.message() + ")");
-  slot_ = register_workspace(path_);
-}
-
-TileWorkspace::~TileWorkspace() {
-  if (slot_ >= 0) workspaces[slot_].used.store(false);
-  std::error_code ignored;
-  std::filesystem::remove_all(path_, ignored);
 }
 
 namespace tile_files {
@@ -426,6 +345,7 @@ class Binner {
         continue;
       }
       t->flush(dir_);
+      t->seal(dir_);
       plan_.tiles.push_back({t->index, t->id, t->points, t->core});
     }
     tiles_.clear();
@@ -434,7 +354,8 @@ class Binner {
  private:
   // A tile's file is appended to a buffer at a time (a cloud may make more
   // tiles than a process may hold files open); it counts only once the plan,
-  // written last, names it.
+  // written last, names it. Its checksum (binary_file.h) runs along and is
+  // appended last (seal).
   // Colours, when the cloud has them, go to a file of their own beside
   // the points (tile-N.colors), one per point in the same order.
   struct Tile {
@@ -443,18 +364,39 @@ class Binner {
     std::vector<PointRecord> buffer;
     std::vector<Color> colors;
     std::uint64_t points = 0, core = 0, near = 0;
+    detail::Checksum points_sum, colors_sum;
+    bool has_colors = false;
     void flush(const std::filesystem::path& dir) {
       const bool first = points == buffer.size();
-      append(tile_files::of_tile(dir, id, "points"), first ? tile_files::points_magic : nullptr, buffer);
-      if (!colors.empty()) append(tile_files::of_tile(dir, id, "colors"), first ? tile_files::colors_magic : nullptr, colors);
+      append(tile_files::of_tile(dir, id, "points"), first ? tile_files::points_magic : nullptr, points_sum,
+             buffer.data(), buffer.size() * sizeof(PointRecord));
+      if (!colors.empty()) {
+        append(tile_files::of_tile(dir, id, "colors"), first ? tile_files::colors_magic : nullptr, colors_sum,
+               colors.data(), colors.size() * sizeof(Color));
+        has_colors = true;
+      }
       buffer.clear();
       colors.clear();
     }
-    template <class T>
-    static void append(const std::filesystem::path& path, const char* magic, const std::vector<T>& records) {
+    void seal(const std::filesystem::path& dir) {
+      append_trailer(tile_files::of_tile(dir, id, "points"), points_sum);
+      if (has_colors) append_trailer(tile_files::of_tile(dir, id, "colors"), colors_sum);
+    }
+    static void append(const std::filesystem::path& path, const char* magic, detail::Checksum& sum, const void* data,
+                       std::size_t bytes) {
       std::ofstream out(path, std::ios::binary | std::ios::app);
-      if (magic) out.write(magic, 8);
-      out.write(reinterpret_cast<const char*>(records.data()), static_cast<std::streamsize>(records.size() * sizeof(T)));
+      if (magic) {
+        out.write(magic, 8);
+        sum.add(magic, 8);
+      }
+      out.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
+      sum.add(data, bytes);
+      if (!out.flush()) throw IoError(path.string() + ": cannot write the tile (disk full?)");
+    }
+    static void append_trailer(const std::filesystem::path& path, const detail::Checksum& sum) {
+      const detail::ChecksumTrailer trailer = sum.trailer();
+      std::ofstream out(path, std::ios::binary | std::ios::app);
+      out.write(reinterpret_cast<const char*>(&trailer), sizeof trailer);
       if (!out.flush()) throw IoError(path.string() + ": cannot write the tile (disk full?)");
     }
   };
@@ -465,9 +407,6 @@ class Binner {
     if (added) {
       tile.index = t;
       tile.id = static_cast<std::uint32_t>(tiles_.size() - 1);
-      std::uint32_t made = tile_ids_made.load();
-      while (made <= tile.id && !tile_ids_made.compare_exchange_weak(made, tile.id + 1)) {
-      }
     }
     return tile;
   }
@@ -485,8 +424,6 @@ class Binner {
   std::filesystem::path dir_;
   std::unordered_map<std::uint64_t, Tile> tiles_;
 };
-
-void write_plan(const TilePlan& plan, const std::filesystem::path& dir);
 
 }  // namespace
 
@@ -550,107 +487,7 @@ TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const s
     bin_points(pass, options, plan, work_dir);
     plan.seconds_binning += timer.lap();
   }
-  write_plan(plan, work_dir);
-  return plan;
-}
-
-}  // namespace recon
-
-namespace recon {
-namespace {
-
-void put_vec(detail::BinaryWriter& out, const Vec3& v) {
-  for (int a = 0; a < 3; ++a) out.put(v[a]);
-}
-Vec3 get_vec(detail::BinaryReader& in) {
-  Vec3 v;
-  for (int a = 0; a < 3; ++a) v[a] = in.get<double>();
-  return v;
-}
-template <class T>
-void put_optional(detail::BinaryWriter& out, const std::optional<T>& value) {
-  out.put(static_cast<std::uint8_t>(value.has_value()));
-  out.put(value.value_or(T{}));
-}
-template <class T>
-std::optional<T> get_optional(detail::BinaryReader& in) {
-  const bool has = in.get<std::uint8_t>() != 0;
-  const T value = in.get<T>();
-  return has ? std::optional<T>(value) : std::nullopt;
-}
-
-void write_plan(const TilePlan& plan, const std::filesystem::path& dir) {
-  detail::BinaryWriter out(tile_files::plan(dir), tile_files::plan_magic);
-  out.put(static_cast<std::int32_t>(plan.method));
-  out.put(plan.k);
-  out.put(plan.spacing);
-  out.put(static_cast<std::uint8_t>(plan.has_quadric_medians));
-  out.put(plan.quadric_medians);
-  put_optional(out, plan.rho);
-  put_optional(out, plan.delta);
-  out.put(plan.vote_rounds);
-  out.put(plan.gap_factor);
-  out.put(plan.min_component_points);
-  put_vec(out, plan.offset);
-  put_vec(out, plan.box.min);
-  put_vec(out, plan.box.max);
-  put_vec(out, plan.lattice.origin);
-  out.put(plan.lattice.cell);
-  out.put(plan.lattice.size);
-  for (const double v : {plan.halo, plan.exact_margin, plan.radius_q, plan.rho_q, plan.seconds_statistics,
-                         plan.seconds_binning, plan.seconds_bounds})
-    out.put(v);
-  out.put(plan.tile_cubes);
-  out.put(plan.walk_margin);
-  out.put(plan.ring);
-  for (const double v : {plan.refinement.crease_angle_degrees, plan.refinement.chord_balance,
-                         plan.refinement.fragment_fraction, plan.refinement.max_move})
-    out.put(v);
-  out.put(static_cast<std::uint8_t>(plan.refinement.keep_fragments));
-  out.put(static_cast<std::uint8_t>(plan.colors));
-  out.put(plan.color_blend.k);
-  out.put(plan.input_points);
-  out.put(plan.statistics_points);
-  out.put_vector<TileInfo>(plan.tiles);
-  out.commit();
-}
-
-}  // namespace
-
-TilePlan read_tile_plan(const std::filesystem::path& work_dir) {
-  detail::BinaryReader in(tile_files::plan(work_dir), tile_files::plan_magic);
-  TilePlan plan;
-  plan.method = static_cast<Method>(in.get<std::int32_t>());
-  plan.k = in.get<int>();
-  plan.spacing = in.get<CloudSpacing>();
-  plan.has_quadric_medians = in.get<std::uint8_t>() != 0;
-  plan.quadric_medians = in.get<QuadricMedians>();
-  plan.rho = get_optional<double>(in);
-  plan.delta = get_optional<double>(in);
-  plan.vote_rounds = in.get<int>();
-  plan.gap_factor = in.get<double>();
-  plan.min_component_points = in.get<int>();
-  plan.offset = get_vec(in);
-  plan.box.min = get_vec(in);
-  plan.box.max = get_vec(in);
-  plan.lattice.origin = get_vec(in);
-  plan.lattice.cell = in.get<double>();
-  plan.lattice.size = in.get<Lattice<3>::Index>();
-  for (double* v : {&plan.halo, &plan.exact_margin, &plan.radius_q, &plan.rho_q, &plan.seconds_statistics,
-                    &plan.seconds_binning, &plan.seconds_bounds})
-    *v = in.get<double>();
-  plan.tile_cubes = in.get<std::int32_t>();
-  plan.walk_margin = in.get<std::int32_t>();
-  plan.ring = in.get<std::int32_t>();
-  for (double* v : {&plan.refinement.crease_angle_degrees, &plan.refinement.chord_balance,
-                    &plan.refinement.fragment_fraction, &plan.refinement.max_move})
-    *v = in.get<double>();
-  plan.refinement.keep_fragments = in.get<std::uint8_t>() != 0;
-  plan.colors = in.get<std::uint8_t>() != 0;
-  plan.color_blend.k = in.get<int>();
-  plan.input_points = in.get<std::uint64_t>();
-  plan.statistics_points = in.get<std::uint64_t>();
-  plan.tiles = in.get_vector<TileInfo>();
+  tile_files::write_plan(plan, work_dir);
   return plan;
 }
 

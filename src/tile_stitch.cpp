@@ -25,42 +25,6 @@
 
 namespace recon {
 
-namespace tile_files {
-
-void write_mesh(const std::filesystem::path& path, const TileMesh& mesh) {
-  detail::BinaryWriter out(path, mesh_magic);
-  out.put_vector<MeshVertex>(mesh.vertices);
-  out.put_vector<MeshTriangle>(mesh.triangles);
-  out.put_vector<std::uint8_t>(mesh.peel_open);
-  out.put_vector<std::uint64_t>(mesh.atom_triangles);
-  out.put_vector<AtomVote>(mesh.votes);
-  out.commit();
-}
-
-TileMesh read_mesh(const std::filesystem::path& path) {
-  detail::BinaryReader in(path, mesh_magic);
-  TileMesh m;
-  m.vertices = in.get_vector<MeshVertex>();
-  m.triangles = in.get_vector<MeshTriangle>();
-  m.peel_open = in.get_vector<std::uint8_t>();
-  m.atom_triangles = in.get_vector<std::uint64_t>();
-  m.votes = in.get_vector<AtomVote>();
-  const auto bad = [&](const char* what) { return ParseError(path.string() + ": " + what); };
-  const std::size_t atoms = m.atom_triangles.size();
-  for (const MeshVertex& v : m.vertices)
-    if ((v.atom != none && v.atom >= atoms) || v.axis[0] > 3 || v.axis[1] > 3)
-      throw bad("a vertex names an atom or an edge it cannot have");
-  for (const MeshTriangle& t : m.triangles)
-    if (t.v[0] >= m.vertices.size() || t.v[1] >= m.vertices.size() || t.v[2] >= m.vertices.size() ||
-        (t.peel != none && t.peel >= m.peel_open.size()))
-      throw bad("a triangle names a vertex it does not have");
-  for (const AtomVote& v : m.votes)
-    if (v.atom >= atoms) throw bad("a vote names an atom it does not have");
-  return m;
-}
-
-}  // namespace tile_files
-
 namespace {
 
 using tile_files::MeshTriangle;

@@ -25,6 +25,7 @@ using tile_files::BorderRecord;
 using tile_files::outside_core;
 using tile_files::CoreBox;
 using tile_files::MeshVertex;
+using tile_files::Orientation;
 using tile_files::PieceTop;
 using tile_files::PointRecord;
 
@@ -68,37 +69,27 @@ std::optional<Reconstruction> tile_phase_1(const TilePlan& plan, const TilePoint
   }
 }
 
+// Runs a step of tile `tile`; a recon error from it (a damaged file, a
+// limit) comes out with the same type, its message naming the step and
+// the tile: from a Dask task that message is all the user sees.
+template <class Step>
+auto naming_tile(const char* step, std::size_t tile, const Step& run) -> decltype(run()) {
+  const std::string where = std::string(step) + " tile " + std::to_string(tile) + ": ";
+  try {
+    return run();
+  } catch (const ParseError& e) {
+    throw ParseError(where + e.what());
+  } catch (const IoError& e) {
+    throw IoError(where + e.what(), e.error_code());
+  } catch (const ResourceLimitError& e) {
+    throw ResourceLimitError(where + e.what());
+  } catch (const InvalidInputError& e) {
+    throw InvalidInputError(where + e.what());
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Step 2.
-
-struct Orientation {
-  std::vector<std::int8_t> sign;     // per tile point (file order): its normal against phase I's
-  std::vector<std::uint32_t> piece;  // per tile point: its piece
-  std::vector<PieceTop> tops;        // per piece
-  std::vector<BorderRecord> border;
-  std::uint64_t inexact = 0;
-};
-
-void write_orientation(const std::filesystem::path& path, const Orientation& o) {
-  detail::BinaryWriter out(path, tile_files::orient_magic);
-  out.put_vector<std::int8_t>(o.sign);
-  out.put_vector<std::uint32_t>(o.piece);
-  out.put_vector<PieceTop>(o.tops);
-  out.put_vector<BorderRecord>(o.border);
-  out.put(o.inexact);
-  out.commit();
-}
-
-Orientation read_orientation(const std::filesystem::path& path) {
-  detail::BinaryReader in(path, tile_files::orient_magic);
-  Orientation o;
-  o.sign = in.get_vector<std::int8_t>();
-  o.piece = in.get_vector<std::uint32_t>();
-  o.tops = in.get_vector<PieceTop>();
-  o.border = in.get_vector<BorderRecord>();
-  o.inexact = in.get<std::uint64_t>();
-  return o;
-}
 
 // What the reconciliation needs of one oriented sample j (spatial order).
 void note_sample(const TilePlan& plan, const CoreBox& core, const Reconstruction& r, const TilePoints& points,
@@ -169,9 +160,7 @@ void write_planes(const std::filesystem::path& path, const Reconstruction& r) {
   out.commit();
 }
 
-}  // namespace
-
-TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t tile) {
+TileOrientation orient_one_tile(const std::filesystem::path& work_dir, std::size_t tile) {
   Timer timer;
   const auto& [plan, info, points] = load_tile(work_dir, tile);
   std::optional<Reconstruction> r = tile_phase_1(plan, points);
@@ -180,7 +169,7 @@ TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t t
     o = orient_points(plan, tile_files::core_of(plan, tile), *r, points);
     write_planes(tile_files::of_tile(work_dir, info.id, "planes"), *r);
   }
-  write_orientation(tile_files::of_tile(work_dir, info.id, "orient"), o);
+  tile_files::write_orientation(tile_files::of_tile(work_dir, info.id, "orient"), o);
   TileOrientation result;
   result.points = points.positions.size();
   result.pieces = o.tops.size();
@@ -188,6 +177,12 @@ TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t t
   result.inexact_samples = o.inexact;
   result.seconds = timer.elapsed();
   return result;
+}
+
+}  // namespace
+
+TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t tile) {
+  return naming_tile("orienting", tile, [&] { return orient_one_tile(work_dir, tile); });
 }
 
 // ---------------------------------------------------------------------------
@@ -212,8 +207,10 @@ SignGraph sign_graph(const std::filesystem::path& dir, const TilePlan& plan) {
   SignGraph g;
   std::vector<BorderRecord> border;
   for (const TileInfo& info : plan.tiles) {
-    Orientation o = read_orientation(tile_files::of_tile(dir, info.id, "orient"));
+    Orientation o = tile_files::read_orientation(tile_files::of_tile(dir, info.id, "orient"));
     g.first_node.push_back(g.tops.size());
+    if (o.tops.size() >= tile_files::none - g.tops.size())
+      throw ResourceLimitError("the tiles hold more than 2^32 pieces between them; use larger tiles");
     for (BorderRecord& b : o.border) b.node += static_cast<std::uint32_t>(g.tops.size());
     g.tops.insert(g.tops.end(), o.tops.begin(), o.tops.end());
     border.insert(border.end(), o.border.begin(), o.border.end());
@@ -300,11 +297,7 @@ TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
   result.turned = static_cast<std::size_t>(std::count(flip.begin(), flip.end(), std::int8_t{-1}));
   for (const auto& [nodes, agreement] : g.edges)
     result.disagreeing += flip[nodes.first] == flip[nodes.second] ? agreement.disagree : agreement.agree;
-  detail::BinaryWriter out(tile_files::flips(work_dir), tile_files::flips_magic);
-  out.put_vector<std::uint64_t>(g.first_node);
-  out.put_vector<std::int8_t>(flip);
-  out.put_vector<std::uint32_t>(signs.object);
-  out.commit();
+  tile_files::write_flips(work_dir, {g.first_node, flip, signs.object});
   result.seconds = timer.elapsed();
   return result;
 }
@@ -333,12 +326,15 @@ TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan
   const std::vector<float> curvature = in.get_vector<float>();
   s.planes.local_gap = in.get_vector<float>();
   s.planes.rho = in.get<double>();
+  in.finish();
   const std::size_t n = s.order.size();
   WorkingTree w = working_tree(points.positions, TangentPlaneOptions{}.tree, plan.offset);
   if (w.order != s.order || coordinates.size() != 6 * n || s.planes.local_rho.size() != n ||
       (!s.near_crease.empty() && s.near_crease.size() != n) ||
       curvature.size() != (plan.method == Method::refined ? 3 * n : 0) || s.planes.local_gap.size() != n)
     throw ParseError(path.string() + ": these planes are not those of the tile's points");
+  for (const double c : coordinates)
+    if (!std::isfinite(c)) throw ParseError(path.string() + ": a plane's origin or normal is not finite");
   s.planes.point_tree = std::move(w.tree);
   for (std::size_t j = 0; j < n; ++j) {
     s.planes.origins.emplace_back(coordinates[3 * j], coordinates[3 * j + 1], coordinates[3 * j + 2]);
@@ -358,21 +354,21 @@ struct Reconciled {
 
 Reconciled reconciled_planes(const std::filesystem::path& dir, const Orientation& o, std::size_t tile,
                              const TileSurface& s) {
-  detail::BinaryReader in(tile_files::flips(dir), tile_files::flips_magic);
-  const std::vector<std::uint64_t> first_node = in.get_vector<std::uint64_t>();
-  const std::vector<std::int8_t> flip = in.get_vector<std::int8_t>();
-  const std::vector<std::uint32_t> object = in.get_vector<std::uint32_t>();
-  if (o.sign.size() != s.order.size() || tile >= first_node.size() || object.size() != flip.size())
+  const tile_files::Flips flips = tile_files::read_flips(dir);
+  if (o.sign.size() != s.order.size())
     throw ParseError(dir.string() + ": the orientation of tile " + std::to_string(tile) + " does not match its points");
+  if (tile >= flips.first_node.size() || flips.pieces_of(tile).second - flips.pieces_of(tile).first != o.tops.size())
+    throw ParseError(tile_files::flips(dir).string() + ": its pieces of tile " + std::to_string(tile) +
+                     " are not those of the tile's orientation");
+  const std::uint64_t first = flips.pieces_of(tile).first;
   Reconciled r;
   r.normals.resize(s.order.size());
   r.object.resize(s.order.size());
   for (std::size_t j = 0; j < s.order.size(); ++j) {
-    const std::uint32_t t = s.order[j];
-    const std::uint64_t node = first_node[tile] + o.piece[t];
-    if (node >= flip.size()) throw ParseError(tile_files::flips(dir).string() + ": too few pieces");
-    r.normals[j] = s.planes.normals[j] * static_cast<double>(o.sign[t] * flip[node]);
-    r.object[j] = object[node];
+    const std::uint32_t t = s.order[j];  // (< o.piece.size(): read_surface checked the order)
+    const std::uint64_t node = first + o.piece[t];  // (o.piece[t] < o.tops.size(): read_orientation checked)
+    r.normals[j] = s.planes.normals[j] * static_cast<double>(o.sign[t] * flips.flip[node]);
+    r.object[j] = flips.object[node];
   }
   return r;
 }
@@ -592,12 +588,10 @@ tile_files::TileMesh own_mesh(const TilePlan& plan, std::size_t tile, const Tile
   return out;
 }
 
-}  // namespace
-
-TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile) {
+TileContour contour_one_tile(const std::filesystem::path& work_dir, std::size_t tile) {
   Timer timer;
   const auto& [plan, info, points] = load_tile(work_dir, tile);
-  const Orientation orientation = read_orientation(tile_files::of_tile(work_dir, info.id, "orient"));
+  const Orientation orientation = tile_files::read_orientation(tile_files::of_tile(work_dir, info.id, "orient"));
   tile_files::TileMesh mesh;
   TileContour result;
   if (!orientation.sign.empty()) {  // (none when the tile makes no plane: then no planes file either)
@@ -614,6 +608,12 @@ TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile
   result.triangles = mesh.triangles.size();
   result.seconds = timer.elapsed();
   return result;
+}
+
+}  // namespace
+
+TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile) {
+  return naming_tile("contouring", tile, [&] { return contour_one_tile(work_dir, tile); });
 }
 
 namespace {
@@ -697,8 +697,7 @@ TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, 
 namespace tile_files {
 
 TilePoints read_points(const std::filesystem::path& dir, const TilePlan& plan, const TileInfo& info) {
-  detail::BinaryReader in(of_tile(dir, info.id, "points"), points_magic);
-  const std::vector<PointRecord> records = in.get_rest<PointRecord>();
+  const std::vector<PointRecord> records = read_point_records(of_tile(dir, info.id, "points"));
   TilePoints t;
   t.positions.reserve(records.size());
   t.index.reserve(records.size());
@@ -708,7 +707,7 @@ TilePoints read_points(const std::filesystem::path& dir, const TilePlan& plan, c
   }
   if (plan.colors) {
     const auto path = of_tile(dir, info.id, "colors");
-    t.colors = detail::BinaryReader(path, colors_magic).get_rest<Color>();
+    t.colors = read_colors(path);
     if (t.colors.size() != t.positions.size())
       throw ParseError(path.string() + ": " + std::to_string(t.colors.size()) + " colours for " +
                        std::to_string(t.positions.size()) + " points");

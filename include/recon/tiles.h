@@ -54,7 +54,9 @@
 // directory: they can run in any order, in parallel, on other machines
 // sharing the directory (python -m recon.distributed runs them as Dask
 // tasks), and rerun after a failure: each output file appears whole or not
-// at all. Every step is deterministic, so the mesh does not depend on who
+// at all, and carries a checksum that every reader checks, as it checks
+// every index in it (tile_files.h): a damaged file is a ParseError naming
+// it, and the step's error names its tile. Every step is deterministic, so the mesh does not depend on who
 // ran which tile.
 //
 // What a tiled mesh is. On clouds that fit in memory it has the same
@@ -240,9 +242,16 @@ TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, 
 /// never held whole for the formats that stream (PLY, XYZ/CSV, LAS).
 [[nodiscard]] PointPass pass_over_file(const std::filesystem::path& path, const io::ReadPointsOptions& options = {});
 
-/// A directory for a tiled run's files: `parent`/recon-tiles-<pid>-<n>,
-/// created now and removed with everything in it when destroyed (also when
-/// unwinding from an error or an interruption).
+/// A directory for a tiled run's files: `parent`/recon-tiles-XXXXXX, made
+/// now by mkdtemp (so never another run's, even one with the same process
+/// id in another container), locked for its life (flock on the file
+/// recon-tiles.lock inside it), and removed with everything in it when
+/// destroyed (also when unwinding from an error or an interruption). First
+/// removes the stale workspaces in `parent` (remove_stale_tile_workspaces).
+/// Throws InvalidInputError when `parent`'s path is longer than
+/// max_workspace_path allows (a signal handler must be able to clean it),
+/// IoError when the folder or its lock cannot be made.
+inline constexpr std::size_t max_workspace_path = 4000;  ///< characters of a workspace's path
 class TileWorkspace {
  public:
   explicit TileWorkspace(const std::filesystem::path& parent);
@@ -253,13 +262,21 @@ class TileWorkspace {
 
  private:
   std::filesystem::path path_;
-  int slot_ = -1;
+  int slot_ = -1;  // in the registry remove_tile_workspaces reads
+  int lock_ = -1;  // the descriptor holding the folder's lock
 };
 
-/// Removes the files and folders of every TileWorkspace alive, as far as
-/// they were made by this process's plans (the temporaries of files being
-/// written go with io::remove_pending_temporaries). Async-signal-safe: for
-/// the SIGINT handler of a program about to end.
+/// Removes the workspaces in `parent` that no live run holds: folders (not
+/// links) named recon-tiles-*, holding a recon-tiles.lock whose lock is
+/// free, as a run killed by SIGKILL leaves them. Never touches anything
+/// else (a folder without the lock file, another program's). Returns how
+/// many it removed; errors (a parent it cannot read) are ignored. Cost: a
+/// listing of `parent` and an open and flock per workspace found.
+std::size_t remove_stale_tile_workspaces(const std::filesystem::path& parent) noexcept;
+
+/// Removes every file of every TileWorkspace alive, and the folders, also
+/// while other threads are still committing files into them. Async-signal-safe:
+/// for the handlers of SIGINT, SIGTERM, SIGBUS of a program about to end.
 void remove_tile_workspaces() noexcept;
 
 }  // namespace recon
