@@ -9,12 +9,14 @@
 #include "recon/mesh.h"
 #include "recon/reconstruct.h"
 #include "recon/shapes.h"
+#include "recon/tiles.h"
 
 #include <Eigen/Geometry>  // cross
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -153,6 +155,22 @@ TEST(FarClusters, AClusterTooWideForOneLatticeIsRefusedSayingSo) {
   EXPECT_CONTAINS(message, "a cluster of 1000 points (of 2 separated by empty gaps wider than");
   EXPECT_CONTAINS(message, "is too wide for one lattice: the lattice would need");
   EXPECT_CONTAINS(message, "use a larger --cell");
+}
+
+// A tiled run lays one lattice over the whole cloud: far-apart clusters too
+// wide for it are refused, saying that an in-memory run meshes them.
+TEST(FarClusters, ATiledRunRefusesThemSayingWhereTheyRun) {
+  const auto dir = std::filesystem::path(::testing::TempDir()) / "recon-far-clusters-tiled";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  TilingOptions options;
+  options.tile_size = 1.0;
+  const PointCloud cloud = spheres({Vec3::Zero(), Vec3(1e9, 0.0, 0.0)}, 1000);
+  const std::string message =
+      io::testing::message_of<ResourceLimitError>([&] { (void)plan_tiles(pass_over(cloud), options, dir); });
+  EXPECT_CONTAINS(message, "a tiled run lays one lattice over the whole cloud, and the lattice would need");
+  EXPECT_CONTAINS(message, "or reconstruct it in memory (not tiled), which meshes far-apart clusters");
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
