@@ -136,6 +136,24 @@ TEST(FarClusters, EachClusterIsMeshedAsIfAlone) {
   EXPECT_EQ(analyze_topology(whole.mesh()).components, 3u);
 }
 
+// Samples closer than the phases' reach stay one cluster, whatever their
+// own gaps: a flat patch sampled in rows 0.05 apart (wider apart than a
+// cell of 0.03), beside a sphere 1e9 away, is one open patch, not strips meshed on
+// lattices of their own that overlap.
+TEST(FarClusters, RowsCloserThanTheReachAreOneCluster) {
+  PointCloud cloud = spheres({Vec3(1e9, 0.0, 0.0)}, 1500);
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) cloud.positions.emplace_back(0.05 * i, 0.05 * j, 0.0);
+  ReconstructionOptions options;
+  options.cell = 0.03;
+  const Reconstruction r = reconstruct(cloud, options);
+  ASSERT_EQ(r.clusters.size(), 2u);
+  const MeshTopology t = analyze_topology(r.mesh());
+  EXPECT_EQ(t.components, 2u);
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+  EXPECT_EQ(t.boundary_loops, 1u) << "the patch's";
+}
+
 // Two spheres a kilometre apart fit one lattice: nothing is split.
 TEST(FarClusters, OneLatticeThatFitsIsNotSplit) {
   const Reconstruction r = reconstruct(spheres({Vec3::Zero(), Vec3(1000.0, 0.0, 0.0)}, 1500));
