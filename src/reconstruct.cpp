@@ -441,6 +441,12 @@ std::vector<Cluster> clusters_on_lattices(const Reconstruction& r, double cell) 
   return clusters;
 }
 
+// Whether any sample of `cluster` draws a surface (one isolated sample
+// draws none: its rho_i is 0, tangent_planes.h).
+bool draws(const TangentPlanes<3>& planes, const Cluster& cluster) {
+  return std::any_of(cluster.begin(), cluster.end(), [&](std::uint32_t i) { return planes.local_rho[i] > 0.0f; });
+}
+
 // Appends `part`'s mesh and statistics to `all` (the same cell).
 void append_contour(MarchingCubesResult& all, MarchingCubesResult&& part) {
   const auto first = static_cast<std::uint32_t>(all.mesh.vertices.size());
@@ -469,6 +475,7 @@ void phase_4_by_cluster(Reconstruction& r, const Run& run, const SignedDistance<
   r.contour = {};
   r.contour.cell = cell;
   for (const Cluster& cluster : clusters) {
+    if (!draws(r.planes, cluster)) continue;  // stray samples, far from all else: no surface, no lattice
     std::vector<Vec3> seeds;
     seeds.reserve(cluster.size());
     for (const std::uint32_t i : cluster) seeds.push_back(r.points()[i]);

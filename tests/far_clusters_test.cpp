@@ -106,6 +106,19 @@ TEST(FarClusters, TwoSpheresABillionApartAreTwoClosedSpheresInHoppe92) {
   expect_two_spheres_a_billion_apart(Method::hoppe92, 0.04);
 }
 
+// Stray samples far from everything (isolated: they draw no surface) are
+// clusters of their own that get no lattice.
+TEST(FarClusters, FarStraysGetNoLattice) {
+  PointCloud cloud = spheres({Vec3::Zero(), Vec3(1e9, 0.0, 0.0)}, 1500);
+  cloud.positions.emplace_back(0.0, 1e9, 0.0);
+  cloud.positions.emplace_back(0.0, 0.0, -1e9);
+  const Reconstruction r = reconstruct(cloud);
+  EXPECT_EQ(r.planes.isolated, 2u);
+  ASSERT_EQ(r.clusters.size(), 2u);
+  EXPECT_EQ(r.clusters[0].points + r.clusters[1].points, 3000u);
+  EXPECT_EQ(analyze_topology(r.mesh()).components, 2u);
+}
+
 // Three spheres a million apart along x and z (two levels of splitting):
 // each cluster's mesh, phase IV's and the final one, is that of the cluster
 // reconstructed alone with the whole cloud's choices, to 1e-9 of the cell.

@@ -134,11 +134,12 @@ struct Reconstruction {
   /// residuals and counts stay here.
   std::optional<LocalQuadrics> quadrics;
   MarchingCubesResult contour;                 ///< phase IV's mesh (input coordinates) and the lattice statistics
-  /// Empty when one lattice covers the cloud (the usual case). Otherwise the
-  /// far-apart clusters, one lattice each, in the order their meshes follow
-  /// one another in `contour`; `contour` then sums their statistics, and
-  /// its origin and size, which no single lattice has, are zero, and it
-  /// keeps no corners (their indices are each lattice's own).
+  /// Empty when one lattice covers the cloud (the usual case). Otherwise
+  /// the far-apart clusters that draw a surface, one lattice each, in the
+  /// order their meshes follow one another in `contour`; `contour` then
+  /// sums their statistics, and its origin and size, which no single
+  /// lattice has, are zero, and it keeps no corners (their indices are each
+  /// lattice's own).
   std::vector<ClusterLattice> clusters;
   std::optional<Refinement> refinement;        ///< phase V's mesh (input coordinates), refined only
   /// The result: phase V's mesh when there is one, phase IV's otherwise.
@@ -170,7 +171,9 @@ struct Reconstruction {
 /// slab along an axis (recursively) wider than twice the farthest reach of
 /// any phase (the widest neighbourhood of a sample that draws, f's reach
 /// past a plane, phase V's, a lattice's margin): no phase links two of them.
-/// Each cluster is contoured (phase IV) on a lattice over its own samples,
+/// Each cluster is contoured (phase IV) on a lattice over its own samples
+/// (a cluster of isolated samples only, stray points, draws nothing and is
+/// skipped),
 /// as a run over that cluster alone with the same choices would be; phase V
 /// refines the meshes, concatenated in the clusters' order
 /// (Reconstruction::clusters). Cost: a sort of the samples per axis and
