@@ -2,6 +2,7 @@
 
 #include "recon/detail/first_wave.h"
 #include "recon/errors.h"
+#include "recon/lattice.h"
 #include "recon/memory_budget.h"
 #include "recon/parallel.h"
 #include "recon/resource_usage.h"
@@ -270,14 +271,23 @@ OrientationOptions orientation_options(const Reconstruction& r, const Reconstruc
 
 namespace {
 
-// Phase II, with phase III's first wave beside it (detail/first_wave.h).
+// Phase II, with phase III's first wave beside it (detail/first_wave.h)
+// when there is one lattice (`wave` not null); without, phase III's tree
+// over the plane origins after it.
 void phase_2(Reconstruction& r, const Run& run, double cell, const SignedDistanceOptions& distance,
-             detail::FirstWave& wave, double& seconds_wave) {
+             detail::FirstWave* wave, double& seconds_wave) {
   run.starting("orientation", 3 * r.order.size());
   const OrientationOptions orientation = orientation_options(r, run.options);
   RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
   r.planes.neighbors = {};  // the graph's source, no longer needed
-  detail::orient_with_first_wave(r, std::move(graph), cell, orientation, distance, wave, seconds_wave);
+  if (wave != nullptr) {
+    detail::orient_with_first_wave(r, std::move(graph), cell, orientation, distance, *wave, seconds_wave);
+  } else {
+    r.oriented = orient_normals<3>(r.planes, std::move(graph), orientation);
+    Timer timer;
+    r.origin_tree = r.planes.point_tree.refit(r.planes.origins);
+    seconds_wave = timer.lap();
+  }
   if (r.quadrics) r.quadrics->guide = {};
   if (!run.options.keep_graph) {
     r.oriented->graph.graph = {};
@@ -318,8 +328,9 @@ void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
 void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell) {
   run.starting("refinement", r.contour.mesh.vertices.size());
   // The triangles in their cubes' order, not the walk's: the same order as
-  // a tile's (tiles.h), so that phase V makes the same choices there.
-  sort_by_cube(r.contour);
+  // a tile's (tiles.h), so that phase V makes the same choices there. (Far-
+  // apart clusters: each cluster's were sorted on its own lattice.)
+  if (r.clusters.empty()) sort_by_cube(r.contour);
   r.refinement = refine_mesh(r.contour.mesh, refinement_input_of(r, f), refinement_options(run.options.refinement, cell));
 }
 
@@ -341,6 +352,140 @@ void move_back_to_input_coordinates(Reconstruction& r) {
     for (Vec3& v : r.refinement->mesh.vertices) v += r.offset;
 }
 
+// ---------------------------------------------------------------------------
+// Far-apart clusters, each on a lattice of its own (see reconstruct.h).
+
+// A cluster: sample indices (spatial order), ascending.
+using Cluster = std::vector<std::uint32_t>;
+
+// How far from its samples any phase reaches: the widest neighbourhood of a
+// sample that draws (phases I and II; an isolated sample draws nothing),
+// f's reach past a plane and phase V's (RefinementInput::reach rho_i +
+// delta, refinement.h), and a lattice's margin, each with a cube to spare.
+double reach_of_phases(const Reconstruction& r, double cell) {
+  float widest = 0.0f, rho = 0.0f;
+  for (std::size_t j = 0; j < r.planes.local_rho.size(); ++j) {
+    if (!(r.planes.local_rho[j] > 0.0f)) continue;
+    widest = std::max(widest, r.planes.radius[j]);
+    rho = std::max(rho, r.planes.local_rho[j]);
+  }
+  const double field = std::max(1.5, RefinementInput{}.reach) * static_cast<double>(rho) + r.delta;
+  return std::max({static_cast<double>(widest), field, lattice_margin * cell}) + cell;
+}
+
+// Splits `group` at every empty slab along `axis` wider than `gap`, into
+// `parts` (each ascending); false when there is none.
+bool split_at_gaps(std::span<const Vec3> points, Cluster group, int axis, double gap, std::vector<Cluster>& parts) {
+  std::sort(group.begin(), group.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return points[a][axis] < points[b][axis] || (points[a][axis] == points[b][axis] && a < b);
+  });
+  std::size_t begin = 0;
+  for (std::size_t i = 1; i <= group.size(); ++i) {
+    if (i < group.size() && !(points[group[i]][axis] - points[group[i - 1]][axis] > gap)) continue;
+    if (begin == 0 && i == group.size()) return false;  // no gap: one part
+    Cluster part(group.begin() + static_cast<std::ptrdiff_t>(begin), group.begin() + static_cast<std::ptrdiff_t>(i));
+    std::sort(part.begin(), part.end());
+    parts.push_back(std::move(part));
+    begin = i;
+  }
+  return true;
+}
+
+// The samples split at every empty axis slab wider than `gap`, again within
+// each part until none has one; ordered by their first sample.
+std::vector<Cluster> far_apart_clusters(std::span<const Vec3> points, double gap) {
+  Cluster all(points.size());
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  std::vector<Cluster> pending{std::move(all)}, clusters;
+  while (!pending.empty()) {
+    Cluster group = std::move(pending.back());
+    pending.pop_back();
+    std::vector<Cluster> parts;
+    int axis = 0;
+    while (axis < 3 && !split_at_gaps(points, group, axis, gap, parts)) ++axis;
+    if (axis == 3) {
+      clusters.push_back(std::move(group));
+    } else {
+      for (Cluster& part : parts) pending.push_back(std::move(part));
+    }
+  }
+  std::sort(clusters.begin(), clusters.end(), [](const Cluster& a, const Cluster& b) { return a.front() < b.front(); });
+  return clusters;
+}
+
+// The clusters of a cloud too wide for one lattice; ResourceLimitError when
+// one of them is too wide for one too.
+std::vector<Cluster> clusters_on_lattices(const Reconstruction& r, double cell) {
+  const std::span<const Vec3> points = r.points();
+  const double gap = 2.0 * reach_of_phases(r, cell);
+  std::vector<Cluster> clusters = far_apart_clusters(points, gap);
+  for (const Cluster& cluster : clusters) {
+    Box<3> box;
+    for (const std::uint32_t i : cluster) box.extend(points[i]);
+    if (lattice_fits<3>(box, cell)) continue;
+    std::ostringstream what;
+    what.precision(3);
+    if (clusters.size() == 1) {
+      what << "the cloud is too wide for one lattice, and no empty gap wider than " << gap
+           << " (twice the phases' reach) splits it into clusters to mesh on lattices of their own: ";
+    } else {
+      what << "a cluster of " << cluster.size() << " points (of " << clusters.size()
+           << " separated by empty gaps wider than " << gap << ") is too wide for one lattice: ";
+    }
+    try {
+      (void)make_lattice<3>(box, cell);
+    } catch (const ResourceLimitError& e) {
+      throw ResourceLimitError(what.str() + e.what());
+    }
+  }
+  return clusters;
+}
+
+// Whether any sample of `cluster` draws a surface (one isolated sample
+// draws none: its rho_i is 0, tangent_planes.h).
+bool draws(const TangentPlanes<3>& planes, const Cluster& cluster) {
+  return std::any_of(cluster.begin(), cluster.end(), [&](std::uint32_t i) { return planes.local_rho[i] > 0.0f; });
+}
+
+// Appends `part`'s mesh and statistics to `all` (the same cell).
+void append_contour(MarchingCubesResult& all, MarchingCubesResult&& part) {
+  const auto first = static_cast<std::uint32_t>(all.mesh.vertices.size());
+  all.mesh.vertices.insert(all.mesh.vertices.end(), part.mesh.vertices.begin(), part.mesh.vertices.end());
+  for (const auto& t : part.mesh.triangles) all.mesh.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+  all.seed_cubes += part.seed_cubes;
+  all.visited_cubes += part.visited_cubes;
+  all.undefined_cubes += part.undefined_cubes;
+  all.evaluated_corners += part.evaluated_corners;
+  all.undefined_corners += part.undefined_corners;
+  all.seconds += part.seconds;
+  all.seconds_field += part.seconds_field;
+}
+
+// Phase IV on a cloud too wide for one lattice: each cluster from its own
+// samples on a lattice over them (in the refined method its triangles in
+// their cubes' order, as phase V wants them), into r.contour and r.clusters.
+void phase_4_by_cluster(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell) {
+  const std::vector<Cluster> clusters = clusters_on_lattices(r, cell);
+  const double cubes =
+      run.options.progress ? expected_visited_cubes(r.order.size(), surface_spacing(r.planes), cell) : 0.0;
+  run.starting("contouring", static_cast<std::uint64_t>(cubes));
+  MarchingCubesOptions mc;
+  mc.cell = cell;
+  mc.max_cubes = max_cubes_within(run.limit, r.order.size());
+  r.contour = {};
+  r.contour.cell = cell;
+  for (const Cluster& cluster : clusters) {
+    if (!draws(r.planes, cluster)) continue;  // stray samples, far from all else: no surface, no lattice
+    std::vector<Vec3> seeds;
+    seeds.reserve(cluster.size());
+    for (const std::uint32_t i : cluster) seeds.push_back(r.points()[i]);
+    MarchingCubesResult part = marching_cubes(std::cref(f), seeds, mc);
+    if (run.refined()) sort_by_cube(part);
+    r.clusters.push_back({cluster.size(), part.origin, part.size, part.mesh.triangles.size()});
+    append_contour(r.contour, std::move(part));
+  }
+}
+
 }  // namespace
 
 Reconstruction reconstruct_phase_1(PointCloudView cloud, const ReconstructionOptions& options) {
@@ -356,6 +501,8 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   Reconstruction r = phase_1(cloud, run, release);
   const double cell = lattice_cell(r.points(), r.planes, options);
   check_memory_after_phase_1(r, run, cell);
+  // Else far-apart clusters, a lattice each (see reconstruct.h).
+  const bool one_lattice = lattice_fits<3>(bounding_box<3>(r.points()), cell);
 
   const SignedDistanceOptions distance = signed_distance_options(options.method, options.distance, r.quadrics);
   detail::FirstWave wave;  // phase III's values at the first wave's corners, computed beside phase II
@@ -363,10 +510,14 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   if (options.use_input_normals) {
     use_input_normals(r);
   } else {
-    phase_2(r, run, cell, distance, wave, seconds_wave);
+    phase_2(r, run, cell, distance, one_lattice ? &wave : nullptr, seconds_wave);
   }
   const SignedDistance<3> f = phase_3(r, run, distance, seconds_wave);
-  phase_4(r, run, f, cell, wave);
+  if (one_lattice) {
+    phase_4(r, run, f, cell, wave);
+  } else {
+    phase_4_by_cluster(r, run, f, cell);
+  }
   if (run.refined()) phase_5(r, run, f, cell);
   if (options.mesh_colors && !r.colors.empty()) color_mesh(r, run);
   move_back_to_input_coordinates(r);

@@ -15,6 +15,7 @@
 #include <memory>
 #include <numbers>
 #include <fstream>
+#include <string>
 #include <unordered_map>
 
 namespace recon {
@@ -104,6 +105,19 @@ namespace {
 constexpr std::int32_t walk_ring = 2;
 constexpr std::int32_t refine_ring = 3;
 constexpr std::int32_t plain_ring = 1;
+
+// The one lattice a tiled run lays over the whole cloud. Its tiles share it,
+// so far-apart clusters cannot have a lattice each as in memory
+// (reconstruct.h): too wide a cloud is refused, saying where it can run.
+Lattice<3> tiles_lattice(const Box<3>& box, double cell) {
+  try {
+    return make_lattice<3>(box, cell);
+  } catch (const ResourceLimitError& e) {
+    throw ResourceLimitError(std::string("a tiled run lays one lattice over the whole cloud, and ") + e.what() +
+                             "; or reconstruct it in memory (not tiled), which meshes far-apart clusters on "
+                             "lattices of their own");
+  }
+}
 
 // ---------------------------------------------------------------------------
 // Pass 1: the count and the bounding box (input coordinates).
@@ -247,7 +261,7 @@ void choose(const tile_statistics::Measures& m, const TilingOptions& options, Ti
   const double fallback = o.method == Method::hoppe92 ? rho : rho / std::numbers::sqrt2;
   const double cell = chosen_cell(
       o.cell, o.resolution, [&] { return plan.box.extent().maxCoeff(); }, fallback);
-  plan.lattice = make_lattice<3>(plan.box, cell);
+  plan.lattice = tiles_lattice(plan.box, cell);
   const double delta = o.distance.delta ? *o.distance.delta : 2.0 * m.spacing.noise;
   // (Distances to a core are taken on the axes: a ball of radius R around
   // a point within d of the core lies within d + R of it.)

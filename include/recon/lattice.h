@@ -97,6 +97,13 @@ template <int D>
 template <int D>
 [[nodiscard]] Lattice<D> make_lattice(const Box<D>& box, double cell);
 
+/// Whether make_lattice(box, cell) would fit (box not empty): false where it
+/// would throw ResourceLimitError. Costs D divisions; throws
+/// InvalidInputError for a cell that is not a positive length. (reconstruct()
+/// asks before laying one lattice over a cloud of far-apart clusters.)
+template <int D>
+[[nodiscard]] bool lattice_fits(const Box<D>& box, double cell);
+
 /// Throws InvalidInputError unless `cell` is a positive, finite length.
 void check_lattice_cell(double cell);
 

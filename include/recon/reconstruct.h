@@ -21,6 +21,8 @@
 #include "recon/tangent_planes.h"
 #include "recon/vertex_colors.h"
 
+#include <array>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string_view>
@@ -81,6 +83,15 @@ struct ReconstructionOptions {
 [[nodiscard]] Method method_from_name(std::string_view name);
 [[nodiscard]] const char* method_name(Method method);
 
+/// One of the far-apart clusters of a cloud too wide for one lattice (see
+/// reconstruct()): its samples and the lattice its surface was contoured on.
+struct ClusterLattice {
+  std::size_t points = 0;              ///< samples in the cluster
+  Vec3 origin = Vec3::Zero();          ///< its lattice's corner (0, 0, 0), relative to Reconstruction::offset
+  std::array<std::int32_t, 3> size{};  ///< its lattice's cubes along each axis
+  std::size_t triangles = 0;           ///< its triangles in phase IV's mesh (the clusters' follow one another)
+};
+
 /// Per-point results (planes, normals, graph vertices) are indexed in
 /// spatial order, the leaf order of phase I's kd-tree: entry j is input
 /// point order[j], at position points()[j]. Nothing is copied twice: the
@@ -123,6 +134,13 @@ struct Reconstruction {
   /// residuals and counts stay here.
   std::optional<LocalQuadrics> quadrics;
   MarchingCubesResult contour;                 ///< phase IV's mesh (input coordinates) and the lattice statistics
+  /// Empty when one lattice covers the cloud (the usual case). Otherwise
+  /// the far-apart clusters that draw a surface, one lattice each, in the
+  /// order their meshes follow one another in `contour`; `contour` then
+  /// sums their statistics, and its origin and size, which no single
+  /// lattice has, are zero, and it keeps no corners (their indices are each
+  /// lattice's own).
+  std::vector<ClusterLattice> clusters;
   std::optional<Refinement> refinement;        ///< phase V's mesh (input coordinates), refined only
   /// The result: phase V's mesh when there is one, phase IV's otherwise.
   [[nodiscard]] const Mesh& mesh() const { return refinement ? refinement->mesh : contour.mesh; }
@@ -143,8 +161,29 @@ struct Reconstruction {
 /// same bit for bit (detail/first_wave.h). Before phases I-II and before
 /// the lattice, the memory they will hold is estimated (memory_budget.h)
 /// and ResourceLimitError thrown when it exceeds max_memory.
+///
+/// Far-apart clusters. One lattice over the whole cloud needs at most
+/// Lattice<3>::max_cells_per_axis cubes along an axis (2^21 - 2: its keys
+/// have 21 bits an axis). When the cloud's bounding box needs more (two
+/// objects 1e9 apart at a cell of 0.01), phases I-III still run over the
+/// whole cloud as always (so k, rho, delta, the cell and the medians are the
+/// whole cloud's), and then the cloud is split into clusters at every empty
+/// slab along an axis (recursively) wider than twice the farthest reach of
+/// any phase (the widest neighbourhood of a sample that draws, f's reach
+/// past a plane, phase V's, a lattice's margin): no phase links two of them.
+/// Each cluster is contoured (phase IV) on a lattice over its own samples
+/// (a cluster of isolated samples only, stray points, draws nothing and is
+/// skipped),
+/// as a run over that cluster alone with the same choices would be; phase V
+/// refines the meshes, concatenated in the clusters' order
+/// (Reconstruction::clusters). Cost: a sort of the samples per axis and
+/// level of splitting; nothing when one lattice fits, and then the result is
+/// the same, bit for bit, as before this existed. Phase II's first wave is
+/// not computed beside it then (it lays one lattice).
+///
 /// Throws what the phases throw (InvalidInputError for unusable data or
-/// parameters, ResourceLimitError for a lattice too large), and
+/// parameters, ResourceLimitError for a lattice too large: when one of the
+/// clusters alone is too wide for one lattice, the message says so), and
 /// InvalidInputError when use_input_normals is set but the cloud has none,
 /// or the cloud's colours are not one per point.
 [[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
