@@ -26,9 +26,7 @@ import contextlib
 import json
 import os
 import resource
-import shutil
 import sys
-import tempfile
 import time
 import uuid
 from typing import Any, Callable, Dict, Iterator, List, NoReturn, Optional, Sequence, Union
@@ -230,12 +228,16 @@ def _check_address(scheduler: str) -> None:
         raise ValueError(f"scheduler: {error} (give it as tcp://host:8786)") from None
 
 
-def _work_folder(work_dir: Optional[PathLike], output: str) -> str:
-    """A fresh folder for the run's files inside `work_dir` (or beside the output)."""
+def _work_folder(work_dir: Optional[PathLike], output: str) -> Any:
+    """A fresh folder for the run's files inside `work_dir` (or beside the
+    output), the program's own (include/recon/tiles.h, TileWorkspace): made
+    by mkdtemp and locked for the run, so that two runs never share one, and
+    removed when closed; stale ones there (their lock free: a run killed
+    with SIGKILL) are removed first."""
     parent = os.path.abspath(os.fspath(work_dir) if work_dir is not None else os.path.dirname(output) or ".")
     if not os.path.isdir(parent):
         raise FileNotFoundError(f"{parent}: no such directory for the tiles' files")
-    return tempfile.mkdtemp(prefix="recon-tiles-", dir=parent)
+    return _recon._TileWorkspace(parent)
 
 
 def _tile_steps(dask: Any, folder: str, output: str, tiles: int, threads: Optional[int], deadline: _Deadline,
@@ -316,7 +318,8 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     deadline = _Deadline(timeout)
     seconds: Dict[str, float] = {}
     started = time.perf_counter()
-    folder = _work_folder(work_dir, output)
+    workspace = _work_folder(work_dir, output)
+    folder = os.fspath(workspace.path)
     try:
         plan = _recon._tiles_plan(os.fspath(input), folder, method, k, rho, delta, cell, resolution, tile_size,
                                   max_memory, statistics_points, format, list(columns) if columns else None,
@@ -327,7 +330,7 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
             seconds["connect"] = time.perf_counter() - lap
             figures = _tile_steps(dask, folder, output, plan["tiles"], threads_per_task, deadline, progress, seconds)
     finally:
-        shutil.rmtree(folder, ignore_errors=True)
+        workspace.close()
     seconds["total"] = time.perf_counter() - started
     return {"plan": plan, **figures, "seconds": seconds, "threads_per_task": threads_per_task,
             "client_peak_rss_mib": _peak_memory()["peak_rss_mib"]}

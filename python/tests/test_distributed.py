@@ -155,6 +155,10 @@ def test_the_steps_alone(reference, tmp_path):
 
 def test_a_dask_run_gives_the_in_memory_mesh(torus, reference, in_memory, tmp_path):
     output = tmp_path / "mesh.ply"
+    stale = tmp_path / "recon-tiles-killed"  # a run killed by SIGKILL left it: its lock is free
+    stale.mkdir()
+    (stale / "recon-tiles.lock").touch()
+    (stale / "tile-000000.points").write_bytes(b"x")
     figures = recon.distributed.run(torus, output, workers=2, tile_size=TILE_SIZE, timeout=TIMEOUT)
     assert_same_triangles(read_ply_mesh(output), in_memory, in_memory_tolerance(reference))
     assert output.read_bytes() == reference["path"].read_bytes()
@@ -163,7 +167,7 @@ def test_a_dask_run_gives_the_in_memory_mesh(torus, reference, in_memory, tmp_pa
     assert len(figures["workers"]) == 2 and figures["threads_per_task"] == max(1, len(os.sched_getaffinity(0)) // 2)
     assert sum(w["tasks"] for w in figures["workers"].values()) == 2 * figures["plan"]["tiles"]
     assert all(w["tasks"] > 0 for w in figures["workers"].values()), "both workers ran tiles"
-    assert [p.name for p in tmp_path.iterdir()] == ["mesh.ply"], "the tiles' folder is removed"
+    assert [p.name for p in tmp_path.iterdir()] == ["mesh.ply"], "the tiles' folder is removed, and the stale one"
 
 
 def running_tasks(dask_worker):
