@@ -29,15 +29,16 @@ plan = tiles["tiled"]
 def faces(s):
     mesh = s["mesh"]
     return mesh.get("triangles", mesh.get("faces"))
-print(f"| run | k | rho | cell | triangles | seconds | peak MiB |")
-print(f"|---|---|---|---|---|---|---|")
-p1 = memory["phases"]["tangent_planes"] if "phases" in memory else {}
-print(f"| in memory, {n:,} points | {memory.get('k', p1.get('k', '-'))} | {memory.get('rho', p1.get('rho', '-'))} | "
-      f"{memory.get('cell', '-')} | {faces(memory):,} | {memory.get('seconds_total', memory.get('seconds', 0)):.1f} | "
-      f"{memory['memory']['peak_mib_total']:.0f} |")
-print(f"| tiles, --max-memory {limit} ({plan['tiles']} tiles; measured over the tiles: "
-      f"{plan.get('statistics_over_tiles')}, inexact {plan.get('statistics_inexact')}) | {plan['k']} | {plan['rho']} | "
-      f"{plan['cell']} | {faces(tiles):,} | {tiles.get('seconds_total', tiles.get('seconds', 0)):.1f} | "
-      f"{tiles['memory']['peak_mib_total']:.0f} |")
+print("| run | k | rho | cell | vertices | triangles | seconds (of which the plan) | peak MiB |")
+print("|---|---|---|---|---|---|---|---|")
+p1, p4 = memory["tangent_planes"], memory["contouring"]
+def row(label, k, rho, cell, s, plan_seconds):
+    mesh = s["mesh"]
+    print(f"| {label} | {k} | {rho:.6g} | {cell:.6g} | {mesh['vertices']:,} | {faces(s):,} | "
+          f"{s['seconds_total']:.1f} ({plan_seconds}) | {s['memory']['peak_mib_total']:.0f} |")
+row(f"in memory, {n:,} points", p1["k"], p1["rho"], p4["cell"], memory, "-")
+row(f"tiles, --max-memory {limit}: {plan['tiles']} tiles, measures over the tiles: "
+    f"{plan.get('statistics_over_tiles')}, inexact samples: {plan.get('statistics_inexact')}",
+    plan["k"], plan["rho"], plan["cell"], tiles, f"{plan['seconds_plan']:.1f}")
 PY
 rm -f "$scratch/memory.ply" "$scratch/tiles.ply"
