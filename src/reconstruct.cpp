@@ -314,6 +314,36 @@ void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
                            : marching_cubes(std::cref(f), r.points(), mc);
 }
 
+// Where the contour is empty: what the lattice saw, and what to change.
+// An empty mesh is never the surface of a cloud that passed phases I-III
+// (they refuse too few, coincident and collinear points), so it is an
+// error, not a result: the caller would otherwise write a file of nothing.
+// The usual cause is a cell about as large as the cloud (a given --cell, or
+// a given rho, of which the default cell is a fraction): its few cubes see
+// f of one sign at every corner.
+void refuse_an_empty_contour(const Reconstruction& r, const ReconstructionOptions& options, double cell) {
+  if (!r.contour.mesh.triangles.empty()) return;
+  const double longest = bounding_box<3>(r.points()).extent().maxCoeff();
+  std::ostringstream why;
+  why.precision(3);
+  why << "no surface found: the signed distance changes sign in none of the " << r.contour.visited_cubes
+      << " lattice cubes visited (cell " << cell << ", rho " << r.planes.rho << ", delta " << r.delta
+      << "; the cloud's longest side is " << longest << ")";
+  if (cell >= 0.5 * longest) {
+    why << ": the cell is not smaller than half the cloud, so its cubes are too coarse to see a surface; use a cell "
+           "under about "
+        << 0.25 * longest;
+    if (options.cell)
+      why << " (--cell)";
+    else if (options.resolution)
+      why << " (a larger --resolution)";
+    else
+      why << " (the cell is rho" << (options.method == Method::hoppe92 ? "" : " / sqrt 2")
+          << " by default: a smaller --rho, or --cell)";
+  }
+  throw InvalidInputError(why.str());
+}
+
 // Phase V (refined): the mesh moved onto the fits, creases sharpened.
 void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell) {
   run.starting("refinement", r.contour.mesh.vertices.size());
@@ -367,6 +397,7 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   }
   const SignedDistance<3> f = phase_3(r, run, distance, seconds_wave);
   phase_4(r, run, f, cell, wave);
+  refuse_an_empty_contour(r, options, cell);
   if (run.refined()) phase_5(r, run, f, cell);
   if (options.mesh_colors && !r.colors.empty()) color_mesh(r, run);
   move_back_to_input_coordinates(r);

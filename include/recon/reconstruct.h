@@ -146,7 +146,10 @@ struct Reconstruction {
 /// Throws what the phases throw (InvalidInputError for unusable data or
 /// parameters, ResourceLimitError for a lattice too large), and
 /// InvalidInputError when use_input_normals is set but the cloud has none,
-/// or the cloud's colours are not one per point.
+/// or the cloud's colours are not one per point, and when phase IV finds no
+/// surface (an empty contour; the message gives the cell, rho, delta and
+/// the cloud's size, and says to lower the cell when it is as large as the
+/// cloud) rather than return an empty mesh.
 [[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
 /// The same on a cloud held elsewhere (numpy arrays, a memory map): read in
 /// place, never copied; phase I's kd-tree makes the one working copy of the
