@@ -39,6 +39,17 @@ double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes
       options.cell, options.resolution, [&] { return bounding_box<3>(points).extent().maxCoeff(); }, fallback);
 }
 
+void refuse_no_surface(const std::string& figures, double cell, double longest_side, const std::string& smaller_cell) {
+  std::ostringstream why;
+  why.precision(3);
+  why << "no surface found: " << figures << "; the cloud's longest side is " << longest_side;
+  if (cell >= 0.5 * longest_side)
+    why << ": the cell is not smaller than half the cloud, so its cubes are too coarse to see a surface; use a cell "
+           "under about "
+        << 0.25 * longest_side << " (" << smaller_cell << ")";
+  throw InvalidInputError(why.str());
+}
+
 Method method_from_name(std::string_view name) {
   if (name == "refined") return Method::refined;
   if (name == "hoppe92") return Method::hoppe92;
@@ -324,24 +335,17 @@ void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
 void refuse_an_empty_contour(const Reconstruction& r, const ReconstructionOptions& options, double cell) {
   if (!r.contour.mesh.triangles.empty()) return;
   const double longest = bounding_box<3>(r.points()).extent().maxCoeff();
-  std::ostringstream why;
-  why.precision(3);
-  why << "no surface found: the signed distance changes sign in none of the " << r.contour.visited_cubes
-      << " lattice cubes visited (cell " << cell << ", rho " << r.planes.rho << ", delta " << r.delta
-      << "; the cloud's longest side is " << longest << ")";
-  if (cell >= 0.5 * longest) {
-    why << ": the cell is not smaller than half the cloud, so its cubes are too coarse to see a surface; use a cell "
-           "under about "
-        << 0.25 * longest;
-    if (options.cell)
-      why << " (--cell)";
-    else if (options.resolution)
-      why << " (a larger --resolution)";
-    else
-      why << " (the cell is rho" << (options.method == Method::hoppe92 ? "" : " / sqrt 2")
-          << " by default: a smaller --rho, or --cell)";
-  }
-  throw InvalidInputError(why.str());
+  std::ostringstream figures;
+  figures.precision(3);
+  figures << "the signed distance changes sign in none of the " << r.contour.visited_cubes
+          << " lattice cubes visited (cell " << cell << ", rho " << r.planes.rho << ", delta " << r.delta << ")";
+  std::string smaller_cell = "--cell";
+  if (!options.cell && options.resolution)
+    smaller_cell = "a larger --resolution";
+  else if (!options.cell)
+    smaller_cell = std::string("the cell is rho") + (options.method == Method::hoppe92 ? "" : " / sqrt 2") +
+                   " by default: a smaller --rho, or --cell";
+  refuse_no_surface(figures.str(), cell, longest, smaller_cell);
 }
 
 // Phase V (refined): the mesh moved onto the fits, creases sharpened.

@@ -1497,6 +1497,8 @@ TEST_F(CliLimits, NoSurfaceFoundIsAnErrorAndWritesNothing) {
                       {"no surface found", "rho 1e+06", "a smaller --rho"}));
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--method", "hoppe92", "--rho", "1e6"}),
                       {"no surface found", "cell 1e+06", "the cell is rho by default"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--cell", "10", "--tile-size", "1"}),
+                      {"no surface found: no tile's contour holds a triangle (cell 10; tiles: 1)", "(--cell"}));
   EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
 }
 

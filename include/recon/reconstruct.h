@@ -163,6 +163,14 @@ struct Reconstruction {
 [[nodiscard]] Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
                                               const std::function<void()>& release);
 
+/// Throws InvalidInputError "no surface found: FIGURES", and when the cell is
+/// not smaller than half the cloud's longest side, why and the cell to use
+/// (`smaller_cell`: which option gives it). For a contour with no triangle,
+/// in memory and in tiles: an empty mesh is never the answer to a cloud
+/// that passed phases I-III, and writing one would hide the cause.
+[[noreturn]] void refuse_no_surface(const std::string& figures, double cell, double longest_side,
+                                    const std::string& smaller_cell);
+
 /// Phase I alone, as reconstruct() runs it: the planes, and in the refined
 /// method the second-order fits (with a raised k undone where they find
 /// two sheets); r.order, r.offset and r.planes (neighbour lists kept), and
