@@ -1476,9 +1476,9 @@ TEST_F(CliLimits, NumericOptionsRefuseNanInfinityNegativeAndOutOfRange) {
 }
 
 // A tile size past the cloud is one tile (the count of cubes overflowed an
-// int and gave the smallest tiles).
+// int and gave the smallest tiles: 4 on this terrain).
 TEST_F(CliLimits, HugeTileSizeIsOneTile) {
-  ASSERT_NO_FATAL_FAILURE(generate("sphere", 5000, "s.ply"));
+  ASSERT_NO_FATAL_FAILURE(generate("terrain", 8000, "s.ply"));
   for (const std::string size : {"1e10", "1e30", "1e300"}) {
     const RunResult run = recon({"--quiet", "reconstruct", "s.ply", "-o", "m.ply", "--tile-size", size, "--stats",
                                  "m.json"});
