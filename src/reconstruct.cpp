@@ -2,6 +2,8 @@
 
 #include "recon/detail/first_wave.h"
 #include "recon/errors.h"
+#include "recon/lattice.h"
+#include "recon/point_cloud.h"  // max_coordinate
 #include "recon/memory_budget.h"
 #include "recon/parallel.h"
 #include "recon/resource_usage.h"
@@ -209,7 +211,22 @@ Reconstruction take_the_cloud(PointCloudView cloud, const ReconstructionOptions&
   return r;
 }
 
+// A length option beyond any cloud's extent (coordinates are refused past
+// +-max_coordinate) means nothing, and its square overflows in the phases.
+void check_length_option(const char* name, const std::optional<double>& value) {
+  constexpr double longest = 4.0 * max_coordinate;
+  if (!value || *value <= longest) return;  // (NaN, 0 and negatives: each phase's own check)
+  std::ostringstream message;
+  message.precision(3);
+  message << name << " of " << *value << " is longer than any cloud can be (at most " << longest
+          << ": coordinates are refused beyond +-" << max_coordinate << ")";
+  throw InvalidInputError(message.str());
+}
+
 void check_cloud(PointCloudView cloud, const ReconstructionOptions& options) {
+  check_length_option("rho", options.planes.rho);
+  check_length_option("a cell", options.cell);
+  check_length_option("delta", options.distance.delta);
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
   if (cloud.has_colors() && cloud.colors.size() != cloud.size())
@@ -246,6 +263,9 @@ Reconstruction phase_1(PointCloudView cloud, const Run& run, const std::function
 // Refuse a lattice (or a phase II raised k) that would not fit, before
 // building anything large.
 void check_memory_after_phase_1(const Reconstruction& r, const Run& run, double cell) {
+  // (A cell too small for the lattice's axes is refused first: the estimate
+  // below would overflow on it.)
+  static_cast<void>(make_lattice<3>(bounding_box<3>(r.points()), cell));
   const double cubes = estimate_visited_cubes(r.order.size(), surface_spacing(r.planes), cell);
   std::ostringstream what;
   what.precision(3);

@@ -1475,6 +1475,44 @@ TEST_F(CliLimits, NumericOptionsRefuseNanInfinityNegativeAndOutOfRange) {
   EXPECT_EQ(entries(), std::vector<std::string>{"s.xyz"});
 }
 
+/// No run of 20 digits or more in `text`.
+bool has_no_long_number(const std::string& text) {
+  std::size_t digits = 0;
+  for (const char c : text) {
+    digits = std::isdigit(static_cast<unsigned char>(c)) ? digits + 1 : 0;
+    if (digits >= 20) return false;
+  }
+  return true;
+}
+
+// Lengths past any cloud (coordinates stop at +-1e15), or so small that the
+// lattice cannot hold the cloud, are refused with short figures; they
+// overflowed in the phases (SIGFPE under --trap-fp) or printed a 300-digit
+// count of cubes.
+TEST_F(CliLimits, HugeAndTinyLengthsAreRefusedWithoutOverflow) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 2000, "s.ply"));
+  struct Case {
+    std::vector<std::string> args;
+    std::string part;
+  };
+  const std::vector<Case> cases = {
+      {{"--rho", "1e300"}, "rho of 1e+300 is longer than any cloud can be (at most 4e+15"},
+      {{"--cell", "1e300"}, "a cell of 1e+300 is longer than any cloud can be"},
+      {{"--delta", "1e300"}, "delta of 1e+300 is longer than any cloud can be"},
+      {{"--cell", "1e-300"}, "the lattice would need 2e+300 cubes along axis x (at most 2097150)"},
+      {{"--rho", "1e-300"}, "cubes along axis x (at most 2097150)"},
+      {{"--rho", "1e-300", "--tile-size", "1"}, "cubes along axis x (at most 2097150)"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args = {"reconstruct", "s.ply", "-o", "m.ply"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const RunResult run = recon(args);
+    EXPECT_TRUE(refused(run, {c.part}));
+    EXPECT_TRUE(has_no_long_number(run.err)) << describe(run);
+  }
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
 // A tile size past the cloud is one tile (the count of cubes overflowed an
 // int and gave the smallest tiles: 4 on this terrain).
 TEST_F(CliLimits, HugeTileSizeIsOneTile) {
