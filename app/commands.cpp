@@ -2,6 +2,7 @@
 #include "command_parts.h"
 
 #include "curves.h"
+#include "number_options.h"
 #include "progress.h"
 #include "tiled.h"
 #include "run_reports.h"
@@ -127,7 +128,7 @@ void add_phase_options(CLI::App& app, PhaseOptions& p) {
   app.add_option("--rho", p.rho,
                  "Sampling density: every point of the surface is within this distance of a sample (default: "
                  "estimated per point)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_length());
   app.add_option_function<std::string>(
          "--max-memory",
          [&p](const std::string& text) {
@@ -242,9 +243,9 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
                "Keep small mesh components next to larger ones drawn from the same data (refined)");
   add_phase_options(app, o->phases);
   app.add_option("--delta", o->delta, "Noise level, a length (default: estimated from the tangent-plane fits)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_length());
   auto* cell = app.add_option("--cell", o->cell, "Lattice cube side, a length (default: rho)")
-                   ->check(CLI::PositiveNumber);
+                   ->check(positive_length());
   app.add_option("--resolution", o->resolution, "Lattice cubes along the longest side of the bounding box")
       ->check(CLI::Range(1, 1 << 20))
       ->excludes(cell);
@@ -255,7 +256,7 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   app.add_option("--tile-size", o->tile_size,
                  "Work in tiles with cores of this edge (a length), streaming the input and the mesh; without it, "
                  "tiles are used when the cloud needs more memory than --max-memory")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_length());
   app.add_option("--tmpdir", o->tmpdir, "Folder for the tiles of a tiled run (default: the output's folder)")
       ->check(CLI::ExistingDirectory);
   return [o, &global] {
@@ -422,7 +423,7 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::Range(1, 1 << 30));
   app.add_option("--seed", o->seed, "Random seed")->default_val(o->seed);
   app.add_option("--noise", o->noise, "Gaussian noise, as a fraction of the bounding-box diagonal")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(finite_within(0.0, 1.0));
   app.add_flag("--with-normals", o->with_normals, "Also write the true outward normals");
   CLI::Option* truth = app.add_option(
       "--truth", o->truth,

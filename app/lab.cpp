@@ -3,6 +3,7 @@
 
 #include "command_parts.h"
 #include "commands.h"
+#include "number_options.h"
 #include "progress.h"
 
 #include "recon/lab.h"
@@ -27,15 +28,15 @@ void add_limits(CLI::App& app, LabOptions& lab) {
   app.add_option("--max-complete", lab.max_points_complete,
                  "Run the complete graph (n^2 / 2 distances) up to this many points")
       ->default_val(lab.max_points_complete)
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_up_to(1e12));
   app.add_option("--max-brute-force", lab.max_points_brute_force,
                  "Run the brute-force search (n^2 distances) up to this many points")
       ->default_val(lab.max_points_brute_force)
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_up_to(1e12));
   app.add_option("--max-list-heap", lab.max_points_list_heap,
                  "Run Prim on the list heap (a scan per pop) up to this many points")
       ->default_val(lab.max_points_list_heap)
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_up_to(1e12));
   // A test hook, left out of --help: spoil one run's result, so that the
   // agreement checks must stop the lab (tests/cli_test.cpp).
   app.add_option("--test-spoil", lab.spoil, "Spoil this run's result (tests)")->group("");

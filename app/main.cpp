@@ -3,6 +3,7 @@
 // line on stderr and an exit code; the work is in the library.
 
 #include "commands.h"
+#include "number_options.h"
 
 #include "recon/errors.h"
 #include "recon/fp_traps.h"
@@ -14,6 +15,7 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <new>
 
@@ -111,8 +113,9 @@ int main(int argc, char** argv) {
   app.fallthrough();  // --quiet and --threads may also follow the subcommand
   recon::cli::GlobalOptions global;
   app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
+  // (At most recon::max_thread_count(); the library refuses more, naming the bound.)
   app.add_option("--threads", global.threads, "Threads for the parallel phases (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(recon::cli::whole_number_up_to(std::numeric_limits<int>::max()));
   // A debugging aid, left out of --help: stop with SIGFPE at the first
   // invalid operation, division by zero or overflow (see recon/fp_traps.h).
   bool trap_fp = false;

@@ -7,9 +7,9 @@
 // For each N (default 100000 and 1000000), samples the shape (fixed seed),
 // then runs reconstruct() with all cores (and with one, given --one-thread),
 // timing each phase from the result's own seconds_* fields and taking each
-// phase's peak memory: VmHWM of the whole process, reset as the phase starts
-// (recon/resource_usage.h), so a phase's figure includes everything still
-// held from the phases before it.
+// phase's peak memory: the resident size of the whole process, sampled
+// while the phase runs (recon/resource_usage.h's StepPeaks), so a phase's
+// figure includes everything still held from the phases before it.
 //
 // Accuracy is the Chamfer distance between the mesh and the true surface,
 // in % of the bounding-box diagonal:
@@ -214,13 +214,13 @@ int main(int argc, char** argv) {
 
   try {
     const auto shape = recon::make_shape(shape_name);
-    const bool reset_works = recon::reset_peak_resident();
+    const bool measurable = recon::resident_bytes().has_value();
     recon::set_thread_count(0);
     const int all = recon::thread_count();
     std::printf("%s, seed %llu, %d threads available; peak memory %s\n\n", shape_name.c_str(),
                 static_cast<unsigned long long>(seed), all,
-                reset_works ? "reset as each phase starts (whole process: includes what earlier phases hold)"
-                            : "could NOT be reset: it is the peak since the program started");
+                measurable ? "sampled as each phase runs (whole process: includes what earlier phases hold)"
+                           : "unknown here (no /proc)");
     print_header();
     for (const std::size_t n : sizes) {
       const recon::PointCloud cloud = shape->sample(n, seed);

@@ -47,8 +47,8 @@ Lattice<D> make_lattice(const Box<D>& box, double cell) {
   for (int a = 0; a < D; ++a) {
     const double cells = cells_along<D>(box, cell, a);
     if (!(cells <= Lattice<D>::max_cells_per_axis)) {
-      char count[400];
-      std::snprintf(count, sizeof count, "%.0f", cells);
+      char count[32];
+      std::snprintf(count, sizeof count, "%.3g", cells);  // (never 300 digits)
       throw ResourceLimitError(std::string("the lattice would need ") + count + (D == 3 ? " cubes" : " squares") +
                                " along axis " + "xyz"[a] + " (at most " +
                                std::to_string(Lattice<D>::max_cells_per_axis) + "): use a larger --cell" +

@@ -80,4 +80,16 @@ void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit,
                "lower --k or thin the cloud");
 }
 
+void check_statistics_sample(std::size_t drawn, std::size_t allowed, std::size_t cloud_points, int k,
+                             std::size_t limit) {
+  const auto needed = static_cast<std::size_t>(std::max(k, 0)) + 1;
+  if (drawn >= needed || drawn >= cloud_points) return;
+  throw ResourceLimitError("the memory limit is too small for the cloud-wide statistics of a tiled run: the " +
+                           megabytes_or_gigabytes(static_cast<double>(limit)) +
+                           " allowed (--max-memory) hold a sample of " + std::to_string(allowed) + " of the " +
+                           std::to_string(cloud_points) + " points, drawn as whole patches of the cloud: " +
+                           std::to_string(drawn) + " drawn, and phase I needs at least " + std::to_string(needed) +
+                           " (k + 1 with k = " + std::to_string(k) + "); raise --max-memory");
+}
+
 }  // namespace recon

@@ -3,6 +3,7 @@
 #include "recon/detail/first_wave.h"
 #include "recon/errors.h"
 #include "recon/lattice.h"
+#include "recon/point_cloud.h"  // max_coordinate
 #include "recon/memory_budget.h"
 #include "recon/parallel.h"
 #include "recon/resource_usage.h"
@@ -38,6 +39,17 @@ double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes
   const double fallback = options.method == Method::hoppe92 ? planes.rho : planes.rho / std::numbers::sqrt2;
   return chosen_cell(
       options.cell, options.resolution, [&] { return bounding_box<3>(points).extent().maxCoeff(); }, fallback);
+}
+
+void refuse_no_surface(const std::string& figures, double cell, double longest_side, const std::string& smaller_cell) {
+  std::ostringstream why;
+  why.precision(3);
+  why << "no surface found: " << figures << "; the cloud's longest side is " << longest_side;
+  if (cell >= 0.5 * longest_side)
+    why << ": the cell is not smaller than half the cloud, so its cubes are too coarse to see a surface; use a cell "
+           "under about "
+        << 0.25 * longest_side << " (" << smaller_cell << ")";
+  throw InvalidInputError(why.str());
 }
 
 Method method_from_name(std::string_view name) {
@@ -199,7 +211,22 @@ Reconstruction take_the_cloud(PointCloudView cloud, const ReconstructionOptions&
   return r;
 }
 
+// A length option beyond any cloud's extent (coordinates are refused past
+// +-max_coordinate) means nothing, and its square overflows in the phases.
+void check_length_option(const char* name, const std::optional<double>& value) {
+  constexpr double longest = 4.0 * max_coordinate;
+  if (!value || *value <= longest) return;  // (NaN, 0 and negatives: each phase's own check)
+  std::ostringstream message;
+  message.precision(3);
+  message << name << " of " << *value << " is longer than any cloud can be (at most " << longest
+          << ": coordinates are refused beyond +-" << max_coordinate << ")";
+  throw InvalidInputError(message.str());
+}
+
 void check_cloud(PointCloudView cloud, const ReconstructionOptions& options) {
+  check_length_option("rho", options.planes.rho);
+  check_length_option("a cell", options.cell);
+  check_length_option("delta", options.distance.delta);
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
   if (cloud.has_colors() && cloud.colors.size() != cloud.size())
@@ -236,6 +263,13 @@ Reconstruction phase_1(PointCloudView cloud, const Run& run, const std::function
 // Refuse a lattice (or a phase II raised k) that would not fit, before
 // building anything large.
 void check_memory_after_phase_1(const Reconstruction& r, const Run& run, double cell) {
+  // (A cell so small that a sample's share of the surface spans more cubes
+  // than a lattice axis holds is refused first, with the lattice's own
+  // message: the estimate below would overflow on it. A cloud merely wider
+  // than one lattice is split into far-apart clusters in phase IV, each on a
+  // lattice of its own, and each checked there.)
+  if (!(surface_spacing(r.planes) / cell <= Lattice<3>::max_cells_per_axis))
+    static_cast<void>(make_lattice<3>(bounding_box<3>(r.points()), cell));
   const double cubes = estimate_visited_cubes(r.order.size(), surface_spacing(r.planes), cell);
   std::ostringstream what;
   what.precision(3);
@@ -322,6 +356,29 @@ void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   mc.keep_corners = run.options.keep_corners;
   r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc)
                            : marching_cubes(std::cref(f), r.points(), mc);
+}
+
+// Where the contour is empty: what the lattice saw, and what to change.
+// An empty mesh is never the surface of a cloud that passed phases I-III
+// (they refuse too few, coincident and collinear points), so it is an
+// error, not a result: the caller would otherwise write a file of nothing.
+// The usual cause is a cell about as large as the cloud (a given --cell, or
+// a given rho, of which the default cell is a fraction): its few cubes see
+// f of one sign at every corner.
+void refuse_an_empty_contour(const Reconstruction& r, const ReconstructionOptions& options, double cell) {
+  if (!r.contour.mesh.triangles.empty()) return;
+  const double longest = bounding_box<3>(r.points()).extent().maxCoeff();
+  std::ostringstream figures;
+  figures.precision(3);
+  figures << "the signed distance changes sign in none of the " << r.contour.visited_cubes
+          << " lattice cubes visited (cell " << cell << ", rho " << r.planes.rho << ", delta " << r.delta << ")";
+  std::string smaller_cell = "--cell";
+  if (!options.cell && options.resolution)
+    smaller_cell = "a larger --resolution";
+  else if (!options.cell)
+    smaller_cell = std::string("the cell is rho") + (options.method == Method::hoppe92 ? "" : " / sqrt 2") +
+                   " by default: a smaller --rho, or --cell";
+  refuse_no_surface(figures.str(), cell, longest, smaller_cell);
 }
 
 // Phase V (refined): the mesh moved onto the fits, creases sharpened.
@@ -518,6 +575,7 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   } else {
     phase_4_by_cluster(r, run, f, cell);
   }
+  refuse_an_empty_contour(r, options, cell);
   if (run.refined()) phase_5(r, run, f, cell);
   if (options.mesh_colors && !r.colors.empty()) color_mesh(r, run);
   move_back_to_input_coordinates(r);

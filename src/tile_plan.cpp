@@ -303,9 +303,13 @@ std::size_t densest_tile(const Sample& s, const TilePlan& plan, std::int32_t cub
 std::int32_t choose_tile_cubes(const Sample& s, const TilingOptions& options, const TilePlan& plan) {
   const auto least = std::max(2 * plan.walk_margin + 2,
                               static_cast<std::int32_t>(std::ceil(2.0 * plan.halo / plan.lattice.cell)));
-  if (options.tile_size > 0.0) {
-    if (!std::isfinite(options.tile_size)) throw InvalidInputError("the tile size must be a positive length");
-    return std::max(least, static_cast<std::int32_t>(std::ceil(options.tile_size / plan.lattice.cell)));
+  if (options.tile_size != 0.0) {
+    if (!std::isfinite(options.tile_size) || !(options.tile_size > 0.0))
+      throw InvalidInputError("the tile size must be a finite positive length");
+    // (A core wider than the lattice is one tile: compared as a double, the
+    // count of cubes cannot overflow the int.)
+    const double whole = *std::max_element(plan.lattice.size.begin(), plan.lattice.size.end());
+    return std::max(least, static_cast<std::int32_t>(std::min(std::ceil(options.tile_size / plan.lattice.cell), whole)));
   }
   const std::size_t limit = memory_limit_or_default(options.reconstruction.max_memory);
   const double fits = 0.5 * static_cast<double>(limit) / bytes_per_point(plan.k, plan.method == Method::refined);
@@ -483,6 +487,7 @@ TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const s
           : static_cast<std::size_t>(0.25 * static_cast<double>(limit) /
                                      bytes_per_point(k, options.reconstruction.method == Method::refined));
   const Sample sample = sample_pass(pass, options.progress, plan, std::max<std::size_t>(budget, 1), options.seed);
+  if (options.statistics_points == 0) check_statistics_sample(sample.cloud.size(), budget, plan.input_points, k, limit);
   choose(measure_sample(sample, options, plan), options, plan);
   plan.tile_cubes = choose_tile_cubes(sample, options, plan);
   plan.seconds_statistics = timer.lap();

@@ -16,11 +16,13 @@
 
 #include "recon/errors.h"
 #include "recon/io/mesh_stream.h"
+#include "recon/reconstruct.h"  // refuse_no_surface
 #include "recon/timer.h"
 #include "recon/union_find.h"
 #include "tile_files.h"
 
 #include <map>
+#include <sstream>
 #include <unordered_map>
 
 namespace recon {
@@ -221,6 +223,13 @@ StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::file
   for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) stitch.write(mesh_of(tile), tile, out, result);
   result.vertices = out.vertex_count();
   result.triangles = out.triangle_count();
+  if (result.triangles == 0) {  // (the output is not written: `out` removes its temporaries)
+    std::ostringstream figures;
+    figures.precision(3);
+    figures << "no tile's contour holds a triangle (cell " << plan.lattice.cell << "; tiles: " << plan.tiles.size()
+            << ")";
+    refuse_no_surface(figures.str(), plan.lattice.cell, plan.box.extent().maxCoeff(), "--cell, or a smaller --rho");
+  }
   out.finish();
   result.seconds = timer.elapsed();
   return result;

@@ -1411,5 +1411,153 @@ TEST_F(CliTiles, InterruptRemovesTheTiles) {
   EXPECT_EQ(entries(), std::vector<std::string>{"t.ply"});
 }
 
+// ---------------------------------------------------------------- limits (issue 28)
+// Numbers, bounds and the messages about them: every numeric option refuses
+// NaN, infinities, negatives and the out-of-range in one readable line; a
+// huge tile size is one tile; a run that finds no surface is an error that
+// says why; a thread count past the machine is refused before any thread
+// starts; a memory limit too small for a tiled run's statistics says so.
+
+using CliLimits = CliTest;
+
+/// An option refused while the command line is read: exit status 2, one
+/// line naming the option and `part`, and no number of 20 digits or more
+/// (CLI11's own checks printed the largest double, 310 digits, as a bound).
+::testing::AssertionResult option_refused(const RunResult& run, std::string_view option, std::string_view part) {
+  if (run.exit_code != 2) return ::testing::AssertionFailure() << "expected exit status 2" << describe(run);
+  if (count_lines(run.err) != 1 || !run.err.starts_with("recon: error: " + std::string(option) + ": "))
+    return ::testing::AssertionFailure() << "expected one line naming " << option << describe(run);
+  if (run.err.find(part) == std::string::npos)
+    return ::testing::AssertionFailure() << "the message lacks '" << part << "'" << describe(run);
+  std::size_t digits = 0;
+  for (const char c : run.err) {
+    digits = std::isdigit(static_cast<unsigned char>(c)) ? digits + 1 : 0;
+    if (digits >= 20) return ::testing::AssertionFailure() << "a number of 20 digits or more" << describe(run);
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST_F(CliLimits, NumericOptionsRefuseNanInfinityNegativeAndOutOfRange) {
+  write_file(at("s.xyz"), "0 0 0\n1 0 0\n0 1 0\n");  // never read: the options are refused first
+  struct Case {
+    std::vector<std::string> args;
+    std::string option, expected;
+  };
+  const std::string length = "expected a finite length greater than 0, found '";
+  const std::vector<Case> cases = {
+      {{"--tile-size", "nan"}, "--tile-size", length + "nan'"},
+      {{"--tile-size", "0"}, "--tile-size", length + "0'"},
+      {{"--tile-size", "-1"}, "--tile-size", length + "-1'"},
+      {{"--tile-size", "inf"}, "--tile-size", length + "inf'"},
+      {{"--tile-size", "1e999"}, "--tile-size", length + "1e999'"},
+      {{"--cell", "nan"}, "--cell", length + "nan'"},
+      {{"--cell", "inf"}, "--cell", length + "inf'"},
+      {{"--cell", "0"}, "--cell", length + "0'"},
+      {{"--rho", "nan"}, "--rho", length + "nan'"},
+      {{"--rho", "-inf"}, "--rho", length + "-inf'"},
+      {{"--rho", "0"}, "--rho", length + "0'"},
+      {{"--delta", "inf"}, "--delta", "expected a finite length of 0 or more, found 'inf'"},
+      {{"--delta", "nan"}, "--delta", "expected a finite length of 0 or more, found 'nan'"},
+      {{"--delta", "-1"}, "--delta", "expected a finite length of 0 or more, found '-1'"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args = {"reconstruct", "s.xyz", "-o", "m.ply"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    EXPECT_TRUE(option_refused(recon(args), c.option, c.expected));
+  }
+  EXPECT_TRUE(option_refused(recon({"--threads", "-1", "info", "s.xyz"}), "--threads",
+                             "expected a whole number from 0 to 2147483647, found '-1'"));
+  EXPECT_TRUE(option_refused(recon({"--threads", "nan", "info", "s.xyz"}), "--threads", "found 'nan'"));
+  EXPECT_TRUE(option_refused(recon({"generate", "sphere", "-o", "g.xyz", "--noise", "nan"}), "--noise",
+                             "expected a number from 0 to 1, found 'nan'"));
+  EXPECT_TRUE(option_refused(recon({"lab", "s.xyz", "--max-complete", "-1"}), "--max-complete",
+                             "expected a whole number from 0 to 1000000000000, found '-1'"));
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.xyz"});
+}
+
+/// No run of 20 digits or more in `text`.
+bool has_no_long_number(const std::string& text) {
+  std::size_t digits = 0;
+  for (const char c : text) {
+    digits = std::isdigit(static_cast<unsigned char>(c)) ? digits + 1 : 0;
+    if (digits >= 20) return false;
+  }
+  return true;
+}
+
+// Lengths past any cloud (coordinates stop at +-1e15), or so small that the
+// lattice cannot hold the cloud, are refused with short figures; they
+// overflowed in the phases (SIGFPE under --trap-fp) or printed a 300-digit
+// count of cubes.
+TEST_F(CliLimits, HugeAndTinyLengthsAreRefusedWithoutOverflow) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 2000, "s.ply"));
+  struct Case {
+    std::vector<std::string> args;
+    std::string part;
+  };
+  const std::vector<Case> cases = {
+      {{"--rho", "1e300"}, "rho of 1e+300 is longer than any cloud can be (at most 4e+15"},
+      {{"--cell", "1e300"}, "a cell of 1e+300 is longer than any cloud can be"},
+      {{"--delta", "1e300"}, "delta of 1e+300 is longer than any cloud can be"},
+      {{"--cell", "1e-300"}, "the lattice would need 2e+300 cubes along axis x (at most 2097150)"},
+      {{"--rho", "1e-300"}, "cubes along axis x (at most 2097150)"},
+      {{"--rho", "1e-300", "--tile-size", "1"}, "cubes along axis x (at most 2097150)"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args = {"reconstruct", "s.ply", "-o", "m.ply"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const RunResult run = recon(args);
+    EXPECT_TRUE(refused(run, {c.part}));
+    EXPECT_TRUE(has_no_long_number(run.err)) << describe(run);
+  }
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+// A tile size past the cloud is one tile (the count of cubes overflowed an
+// int and gave the smallest tiles: 4 on this terrain).
+TEST_F(CliLimits, HugeTileSizeIsOneTile) {
+  ASSERT_NO_FATAL_FAILURE(generate("terrain", 8000, "s.ply"));
+  for (const std::string size : {"1e10", "1e30", "1e300"}) {
+    const RunResult run = recon({"--quiet", "reconstruct", "s.ply", "-o", "m.ply", "--tile-size", size, "--stats",
+                                 "m.json"});
+    ASSERT_TRUE(succeeded(run)) << describe(run);
+    EXPECT_EQ(stat_count(read_bytes(at("m.json")), "tiled", "tiles"), 1) << "--tile-size " << size;
+  }
+}
+
+// A lattice cell as large as the cloud (given, or from a given rho) finds
+// no surface: an error saying so, with the figures, and no file written.
+TEST_F(CliLimits, NoSurfaceFoundIsAnErrorAndWritesNothing) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 2000, "s.ply"));  // a unit sphere: longest side 2
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--cell", "10"}),
+                      {"no surface found", "cell 10,", "longest side is 2", "use a cell under about 0.5 (--cell)"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--rho", "1e6"}),
+                      {"no surface found", "rho 1e+06", "a smaller --rho"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--method", "hoppe92", "--rho", "1e6"}),
+                      {"no surface found", "cell 1e+06", "the cell is rho by default"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--cell", "10", "--tile-size", "1"}),
+                      {"no surface found: no tile's contour holds a triangle (cell 10; tiles: 1)", "(--cell"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+// Tens of thousands of threads crashed inside the OpenMP runtime.
+TEST_F(CliLimits, ThreadsPastTheMachineAreRefused) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 300, "s.ply"));
+  EXPECT_TRUE(refused(recon({"--threads", "70000", "reconstruct", "s.ply", "-o", "m.ply"}),
+                      {"a thread count of 70000", "at most", "a core"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+// 1 MB lets a tiled run measure the cloud on about 260 points, drawn as whole
+// patches of the cloud: none of 300000 here. The message said "only 0
+// points; k = 20 needs at least 21".
+TEST_F(CliLimits, MemoryLimitTooSmallForTheStatisticsSaysSo) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 300000, "s.ply"));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--max-memory", "1M"}),
+                      {"the memory limit is too small for the cloud-wide statistics", "1 MB allowed",
+                       "of the 300000 points", "0 drawn", "needs at least 21", "raise --max-memory"}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
 }  // namespace
 }  // namespace recon

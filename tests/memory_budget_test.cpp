@@ -54,5 +54,23 @@ TEST(MemoryBudget, NoLimitMeansTheDefault) {
   EXPECT_EQ(memory_limit_or_default(12345), 12345u);
 }
 
+// A tiled run's statistics sample drawn within --max-memory: too few points
+// for phase I is the memory limit's fault, and the message says so with the
+// figures (it said "only 0 points; k = 20 needs at least 21").
+TEST(MemoryBudget, StatisticsSampleTooSmallForPhaseOneBlamesTheLimit) {
+  EXPECT_NO_THROW(check_statistics_sample(21, 265, 300'000, 20, 1'000'000));  // k + 1 drawn
+  EXPECT_NO_THROW(check_statistics_sample(10, 265, 10, 20, 1'000'000));  // the whole cloud: phase I says lower k
+  try {
+    check_statistics_sample(0, 2127, 300'000, 20, 8'000'000);
+    FAIL() << "not refused";
+  } catch (const ResourceLimitError& e) {
+    const std::string message = e.what();
+    for (const char* part : {"the memory limit is too small for the cloud-wide statistics of a tiled run",
+                             "the 8 MB allowed (--max-memory) hold a sample of 2127 of the 300000 points",
+                             "0 drawn, and phase I needs at least 21 (k + 1 with k = 20); raise --max-memory"})
+      EXPECT_NE(message.find(part), std::string::npos) << message;
+  }
+}
+
 }  // namespace
 }  // namespace recon

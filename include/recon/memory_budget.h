@@ -50,4 +50,14 @@ void check_memory(double bytes, std::size_t limit, std::string_view what, std::s
 /// check_memory for phases I-II of `points` points at k.
 void check_memory_planes_and_graph(std::size_t points, int k, std::size_t limit, bool second_order_fits = false);
 
+/// A tiled run measures the cloud (rho, delta, k: tiles.h) on a sample
+/// drawn within a quarter of its memory limit, as whole patches of the
+/// cloud. Throws ResourceLimitError "the memory limit is too small for the
+/// cloud-wide statistics ..." naming the limit, the points it allows
+/// (`allowed`), the points drawn and the k + 1 phase I needs, when fewer
+/// than k + 1 were drawn from a cloud of more (`cloud_points`); a cloud of
+/// k points or fewer is refused by phase I itself, which says to lower k.
+void check_statistics_sample(std::size_t drawn, std::size_t allowed, std::size_t cloud_points, int k,
+                             std::size_t limit);
+
 }  // namespace recon

@@ -185,7 +185,10 @@ struct Reconstruction {
 /// parameters, ResourceLimitError for a lattice too large: when one of the
 /// clusters alone is too wide for one lattice, the message says so), and
 /// InvalidInputError when use_input_normals is set but the cloud has none,
-/// or the cloud's colours are not one per point.
+/// or the cloud's colours are not one per point, and when phase IV finds no
+/// surface (an empty contour; the message gives the cell, rho, delta and
+/// the cloud's size, and says to lower the cell when it is as large as the
+/// cloud) rather than return an empty mesh.
 [[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
 /// The same on a cloud held elsewhere (numpy arrays, a memory map): read in
 /// place, never copied; phase I's kd-tree makes the one working copy of the
@@ -198,6 +201,14 @@ struct Reconstruction {
 /// from `cloud` (the caller may free it then).
 [[nodiscard]] Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
                                               const std::function<void()>& release);
+
+/// Throws InvalidInputError "no surface found: FIGURES", and when the cell is
+/// not smaller than half the cloud's longest side, why and the cell to use
+/// (`smaller_cell`: which option gives it). For a contour with no triangle,
+/// in memory and in tiles: an empty mesh is never the answer to a cloud
+/// that passed phases I-III, and writing one would hide the cause.
+[[noreturn]] void refuse_no_surface(const std::string& figures, double cell, double longest_side,
+                                    const std::string& smaller_cell);
 
 /// Phase I alone, as reconstruct() runs it: the planes, and in the refined
 /// method the second-order fits (with a raised k undone where they find

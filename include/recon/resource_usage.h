@@ -2,12 +2,14 @@
 // How much memory the process holds, for the per-phase figures of --stats
 // and the benchmarks. Linux only (/proc); elsewhere the figures are absent.
 //
-// The peak is VmHWM, the high-water mark of the resident set of the whole
-// process. Resetting it (writing 5 to /proc/self/clear_refs, Linux 4.0 and
-// later) sets it back to the current resident size, so a peak read after a
-// phase and a reset before it is the peak reached during that phase.
+// The whole run's peak is VmHWM, the kernel's high-water mark of the
+// resident set (the figure getrusage's ru_maxrss and /usr/bin/time report).
+// recon never resets it: a reset (writing 5 to /proc/self/clear_refs) would
+// make those tools report the last phase's peak instead of the run's. A
+// step's own peak is sampled instead (StepPeaks).
 
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -17,9 +19,11 @@ namespace recon {
 
 /// Resident memory now, in bytes.
 [[nodiscard]] std::optional<std::size_t> resident_bytes();
-/// Peak resident memory since the process started or the last reset, in bytes.
+/// Peak resident memory since the process started (or the last reset), in bytes.
 [[nodiscard]] std::optional<std::size_t> peak_resident_bytes();
 /// Sets the peak back to the current resident size; false where refused.
+/// For tests and benchmarks that measure one call in a process of their
+/// own; the library and the program never call it (see above).
 bool reset_peak_resident();
 /// Physical memory of the machine, in bytes (0 if unknown).
 [[nodiscard]] std::size_t physical_memory_bytes();
@@ -30,16 +34,38 @@ bool reset_peak_resident();
 [[nodiscard]] std::size_t default_memory_limit();
 
 /// The peak of each step of a run: start(step) ends the step before (taking
-/// its peak) and resets the peak for the new one; finish() ends the last.
+/// its peak) and begins the new one; finish() ends the last.
+///
+/// While a step runs, a thread of its own reads the resident size every
+/// `sample_interval_ms` and keeps the largest. A step during which the
+/// process's high-water mark rose has that mark as its peak, exactly; for
+/// the others the samples are the figure, which can miss a spike shorter
+/// than the interval. The largest of the steps' peaks is the whole run's
+/// peak whenever the steps cover the run. Cost: one read of
+/// /proc/self/statm per interval (microseconds); the thread wakes at once
+/// to stop, so finish() and the destructor return within a read.
+/// Not itself thread-safe: start and finish are called from one thread.
 class StepPeaks {
  public:
+  static constexpr int sample_interval_ms = 5;
+
+  StepPeaks();
+  ~StepPeaks();  // stops the sampling thread
+  StepPeaks(StepPeaks&&) noexcept;
+  StepPeaks& operator=(StepPeaks&&) noexcept;
+
   void start(std::string step);
+  /// Ends the last step and stops the thread.
   void finish();
   /// (step, peak in MiB), in order; a step is left out where /proc cannot say.
   [[nodiscard]] const std::vector<std::pair<std::string, double>>& peaks() const { return peaks_; }
 
  private:
+  class Sampler;  // the thread and the largest size it has read
+  void end_step();
+  std::unique_ptr<Sampler> sampler_;
   std::string step_;
+  std::optional<std::size_t> high_water_at_start_;
   std::vector<std::pair<std::string, double>> peaks_;
 };
 
