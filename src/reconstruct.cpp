@@ -345,8 +345,8 @@ SignedDistance<3> phase_3(Reconstruction& r, const Run& run, const SignedDistanc
   return f;
 }
 
-// Phase IV, from the first wave when phase II computed one.
-void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell, detail::FirstWave& wave) {
+// Phase IV's start: the count for the progress display, and the walk's options.
+MarchingCubesOptions start_contouring(const Reconstruction& r, const Run& run, double cell) {
   const double cubes =
       run.options.progress ? expected_visited_cubes(r.order.size(), surface_spacing(r.planes), cell) : 0.0;
   run.starting("contouring", static_cast<std::uint64_t>(cubes));
@@ -354,6 +354,12 @@ void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   mc.cell = cell;
   mc.max_cubes = max_cubes_within(run.limit, r.order.size());
   mc.keep_corners = run.options.keep_corners;
+  return mc;
+}
+
+// Phase IV, from the first wave when phase II computed one.
+void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell, detail::FirstWave& wave) {
+  const MarchingCubesOptions mc = start_contouring(r, run, cell);
   r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc)
                            : marching_cubes(std::cref(f), r.points(), mc);
 }
@@ -523,12 +529,8 @@ void append_contour(MarchingCubesResult& all, MarchingCubesResult&& part) {
 // their cubes' order, as phase V wants them), into r.contour and r.clusters.
 void phase_4_by_cluster(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell) {
   const std::vector<Cluster> clusters = clusters_on_lattices(r, cell);
-  const double cubes =
-      run.options.progress ? expected_visited_cubes(r.order.size(), surface_spacing(r.planes), cell) : 0.0;
-  run.starting("contouring", static_cast<std::uint64_t>(cubes));
-  MarchingCubesOptions mc;
-  mc.cell = cell;
-  mc.max_cubes = max_cubes_within(run.limit, r.order.size());
+  MarchingCubesOptions mc = start_contouring(r, run, cell);
+  mc.keep_corners = false;  // (the corners of several lattices: see reconstruct.h)
   r.contour = {};
   r.contour.cell = cell;
   for (const Cluster& cluster : clusters) {
