@@ -127,8 +127,9 @@ void reconstruct_curves(const ReconstructCommandOptions& o, bool quiet, std::opt
     throw InvalidInputError("--use-normals: 2D inputs carry no normals; run without the option to estimate them");
   // Options the 2D readers do not apply are refused rather than ignored.
   if (!o.in.columns.empty())
-    throw InvalidInputError("--columns names 3D columns; 2D points are read as two columns, x y, or from a 3D "
-                            "file with a constant coordinate: drop --columns");
+    throw InvalidInputError(
+        "--columns names 3D columns; 2D points are read as two columns, x y, or from a 3D "
+        "file with a constant coordinate: drop --columns");
   if (o.in.skip_invalid)
     throw InvalidInputError("--skip-invalid is not applied to 2D points; drop it and mend the input");
 

@@ -909,8 +909,7 @@ TEST_F(CliErrors, UseNormalsSaysTheReaderDroppedThem) {
                        "the first at line 7; recon estimates its own); run without the option"}));
   // LAZ is named with the tools that decompress it.
   write_file(at("scan.laz"), "LASF");
-  EXPECT_TRUE(
-      refused(recon({"info", "scan.laz"}), {"scan.laz: LAZ (compressed LAS) is not read", "laszip -i IN"}));
+  EXPECT_TRUE(refused(recon({"info", "scan.laz"}), {"scan.laz: LAZ (compressed LAS) is not read", "laszip -i IN"}));
   EXPECT_EQ(entries(), (std::vector<std::string>{"n.pcd", "scan.laz"}));
 }
 
@@ -1414,7 +1413,6 @@ TEST_F(CliTiles, InterruptRemovesTheTiles) {
   EXPECT_EQ(entries(), std::vector<std::string>{"t.ply"});
 }
 
-
 // ---------------------------------------------------------------- streams and special outputs (issue 28)
 
 /// Runs a shell line in the work folder, where RECON stands for the program;
@@ -1465,9 +1463,10 @@ TEST_F(CliStreams, ReconstructReadsAFifoOnce) {
   // From a FIFO the second open waited forever for a writer that was gone.
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 1000, "s.xyz"));
   ASSERT_EQ(::mkfifo(at("in.xyz").c_str(), 0600), 0);
-  const RunResult run = shell("cat s.xyz > in.xyz & RECON --quiet reconstruct in.xyz -o m.ply; status=$?; wait; "
-                              "exit $status",
-                              20);
+  const RunResult run = shell(
+      "cat s.xyz > in.xyz & RECON --quiet reconstruct in.xyz -o m.ply; status=$?; wait; "
+      "exit $status",
+      20);
   ASSERT_EQ(run.exit_code, 0) << describe(run);
   EXPECT_GT(io::read_mesh(at("m.ply")).triangles.size(), 100U);
   // A tiled run reads its input in passes: a stream is refused, not read as empty.
@@ -1484,15 +1483,17 @@ TEST_F(CliStreams, OutputsThroughLinksAndFifosNeverReplaceThem) {
   fs::create_symlink("real/m.ply", at("m.ply"));      // dangling: its target is created
   fs::create_symlink("real/st.json", at("st.json"));  // an existing private file
   ASSERT_EQ(::mkfifo(at("report.fifo").c_str(), 0600), 0);
-  const RunResult run = shell("cat report.fifo > copy.html & RECON --quiet reconstruct s.xyz -o m.ply --stats st.json "
-                              "--report report.fifo; status=$?; wait; exit $status");
+  const RunResult run = shell(
+      "cat report.fifo > copy.html & RECON --quiet reconstruct s.xyz -o m.ply --stats st.json "
+      "--report report.fifo; status=$?; wait; exit $status");
   EXPECT_EQ(run.exit_code, 0) << describe(run);
   const std::string report = read_bytes(at("copy.html"));
   EXPECT_TRUE(fs::is_symlink(at("m.ply")));
   EXPECT_TRUE(fs::is_symlink(at("st.json")));
   EXPECT_GT(io::read_mesh(at("real/m.ply")).triangles.size(), 50U);
   EXPECT_EQ(stat_count(read_bytes(at("real/st.json")), "input", "points"), 500);
-  EXPECT_EQ(fs::status(at("real/st.json")).permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_EQ(fs::status(at("real/st.json")).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
   EXPECT_EQ(fs::status(at("report.fifo")).type(), fs::file_type::fifo);
   EXPECT_NE(report.find("<html"), std::string::npos) << report.substr(0, 200);
   EXPECT_EQ(entries(), (std::vector<std::string>{"copy.html", "m.ply", "real", "report.fifo", "s.xyz", "st.json"}));
@@ -1504,8 +1505,8 @@ TEST_F(CliStreams, ColumnsAreRefusedWhereTheyWouldBeIgnored) {
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--columns", "z,y,x"}),
                       {"--columns applies to delimited text"}));
   write_file(at("circle.txt"), circle_xy_text(Vec2(0.0, 0.0), 1.0, 100, 1));
-  EXPECT_TRUE(refused(recon({"reconstruct", "circle.txt", "-o", "c.obj", "--columns", "x,y"}),
-                      {"--columns names 3D columns"}));
+  EXPECT_TRUE(
+      refused(recon({"reconstruct", "circle.txt", "-o", "c.obj", "--columns", "x,y"}), {"--columns names 3D columns"}));
   EXPECT_EQ(entries(), (std::vector<std::string>{"circle.txt", "s.ply"}));
 }
 

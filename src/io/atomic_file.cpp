@@ -61,19 +61,21 @@ std::filesystem::path follow_links(const std::filesystem::path& target, bool& th
     std::error_code ec;
     if (!std::filesystem::is_symlink(std::filesystem::symlink_status(at, ec))) return at;
     if (hops == max_links)
-      throw IoError(target.string() + ": cannot write: more than " + std::to_string(max_links) +
-                    " symbolic links in a chain", ELOOP);
+      throw IoError(
+          target.string() + ": cannot write: more than " + std::to_string(max_links) + " symbolic links in a chain",
+          ELOOP);
     const std::filesystem::path link = std::filesystem::read_symlink(at, ec);
-    if (ec) throw IoError(target.string() + ": cannot write: cannot read the link " + at.string() + ": " + ec.message());
+    if (ec)
+      throw IoError(target.string() + ": cannot write: cannot read the link " + at.string() + ": " + ec.message());
     if (std::filesystem::absolute(at, ec).string().starts_with("/proc/")) through_descriptor = true;
     at = link.is_absolute() ? link : at.parent_path() / link;
   }
 }
 
 [[noreturn]] void refuse(const std::filesystem::path& target, const char* what, int error) {
-  throw IoError(target.string() + ": cannot write: it is " + what +
-                    "; recon writes regular files, FIFOs and character devices",
-                error);
+  throw IoError(
+      target.string() + ": cannot write: it is " + what + "; recon writes regular files, FIFOs and character devices",
+      error);
 }
 
 void sync_path(const std::filesystem::path& path, int flags, const std::filesystem::path& target) {
@@ -113,7 +115,8 @@ void remove_pending_temporaries() noexcept {
     if (p.active.load()) ::unlink(p.path);
 }
 
-AtomicFile::AtomicFile(std::filesystem::path target, Use use) : target_(std::move(target)), scratch_(use == Use::scratch) {
+AtomicFile::AtomicFile(std::filesystem::path target, Use use)
+    : target_(std::move(target)), scratch_(use == Use::scratch) {
   const OutputTarget where = scratch_ ? OutputTarget{OutputTarget::Kind::file, target_} : output_target(target_);
   if (where.kind == OutputTarget::Kind::stream) {
     streaming_ = true;

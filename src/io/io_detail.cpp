@@ -90,9 +90,9 @@ class GrowingPages {
                                    : ::mremap(base_, length_, length, MREMAP_MAYMOVE);
     if (grown == MAP_FAILED) {
       const int error = errno;
-      throw IoError(name_ + ": cannot hold " + std::to_string(length) + " bytes of a stream in memory: " +
-                        std::strerror(error),
-                    error);
+      throw IoError(
+          name_ + ": cannot hold " + std::to_string(length) + " bytes of a stream in memory: " + std::strerror(error),
+          error);
     }
     base_ = grown;
     length_ = length;
@@ -140,10 +140,6 @@ FileContent read_stream(int fd, const std::string& name, std::size_t limit) {
   if (used == 0) return FileContent();
   return pages.release(used);
 }
-
-namespace {
-
-}  // namespace
 
 FileContent read_file(const std::filesystem::path& path, std::size_t stream_limit) {
   const std::string name = path.string();

@@ -66,9 +66,10 @@ class FileContent {
   /// True when the content is a map of the file, false when it was read into memory.
   [[nodiscard]] bool mapped() const { return map_ != nullptr && anonymous_length_ == 0; }
   /// Bytes of memory the content holds apart from the file's own pages: 0
-  /// for a map of the file, else what was allocated to read it.
+  /// for a map of the file, else what was allocated to read it (an empty
+  /// string's inline capacity is no allocation).
   [[nodiscard]] std::size_t held_bytes() const {
-    return anonymous_length_ + (buffer_.empty() ? 0 : buffer_.capacity());  // (an empty string's inline capacity is no allocation)
+    return anonymous_length_ + (buffer_.empty() ? 0 : buffer_.capacity());
   }
   /// Gives the whole pages of bytes [begin, end) back to the kernel
   /// (madvise MADV_DONTNEED): they no longer count in the resident memory of

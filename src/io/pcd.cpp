@@ -197,8 +197,8 @@ void lay_out_fields(std::string_view file, const HeaderLines& entries, PcdHeader
     field.name = names.values[f];
     if (const auto [first, added] = first_of_name.emplace(field.name, f); !added && field.name != "_")
       fail_at_line(file, names.line,
-                   "FIELDS names " + excerpt(field.name) + " twice (fields " + std::to_string(first->second) +
-                       " and " + std::to_string(f) + "); '_' is the only name that may repeat (padding)");
+                   "FIELDS names " + excerpt(field.name) + " twice (fields " + std::to_string(first->second) + " and " +
+                       std::to_string(f) + "); '_' is the only name that may repeat (padding)");
     std::uint64_t size = 0;
     if (!parse_count(sizes.values[f], size) || !scalar_type_from_pcd(types.values[f], size, field.type))
       fail_at_line(file, types.line,

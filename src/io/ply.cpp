@@ -182,7 +182,7 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
 
   PlyHeader header;
   std::unordered_set<std::string_view> element_names;  // views into the content
-  PropertyLines property_lines;                         // of the last element
+  PropertyLines property_lines;                        // of the last element
   bool have_format = false;
   for (;;) {
     if (!lines.next(line)) fail_at_line(file, lines.line_number(), "the PLY header has no 'end_header' line");

@@ -82,7 +82,8 @@ PointCloud read_as(PointFormat format, const std::string& file, std::string_view
   switch (format) {
     case PointFormat::ply: return detail::read_ply_points(file, content);
     case PointFormat::xyz: return detail::read_xyz_points(file, content, options, said);
-    case PointFormat::pts: return detail::read_pts_points(file, content, options, said);
+    case PointFormat::pts:
+      return detail::read_pts_points(file, content, options, said);
     case PointFormat::obj: return detail::read_obj_points(file, content);
     case PointFormat::off: return detail::read_off_points(file, content);
     case PointFormat::pcd: return detail::read_pcd_points(file, content, options, said);

@@ -117,7 +117,6 @@ TEST(AtomicWriteIo, EveryWriterLeavesOnlyItsFile) {
   EXPECT_EQ(folder.entries(), (std::vector<std::string>{"m.obj", "m.off", "m.ply", "m.stl", "p.ply", "p.xyz"}));
 }
 
-
 // --------------------------------------------------------------------------
 // Special targets: links, FIFOs, devices (an output never replaces them)
 

@@ -514,7 +514,6 @@ TEST(PointIoTextColumns, RealFilesReadAsBefore) {
   expect_read_as_strtod(shared_data("hoppe_curve1/curve1.pts"), true, false);
 }
 
-
 TEST(TextColumns, ColumnsForAFormatWithNamedFieldsAreRefusedNotIgnored) {
   // --columns z,y,x on a PLY, LAS, PCD, OBJ or OFF file was ignored: the
   // points came back as x y z, with no word of it.

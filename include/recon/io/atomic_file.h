@@ -71,8 +71,8 @@ class AtomicFile {
   void keep_mode_and_owner() const;
   void sync_and_rename();
 
-  std::filesystem::path target_;     // as given, for messages
-  std::filesystem::path final_;      // the file renamed onto (links followed)
+  std::filesystem::path target_;  // as given, for messages
+  std::filesystem::path final_;   // the file renamed onto (links followed)
   std::filesystem::path temporary_;
   std::ofstream out_;
   bool streaming_ = false;
