@@ -138,7 +138,13 @@ AtomicFile::AtomicFile(std::filesystem::path target, Use use)
   if (std::error_code ec; !std::filesystem::is_directory(folder, ec))
     throw IoError(target_.string() + ": cannot write: folder '" + folder.string() + "' does not exist");
   open_temporary(folder);
-  if (!scratch_) keep_mode_and_owner();
+  if (scratch_) return;
+  try {
+    keep_mode_and_owner();
+  } catch (...) {
+    discard_temporary();  // no destructor runs for a constructor that throws
+    throw;
+  }
 }
 
 void AtomicFile::open_temporary(const std::filesystem::path& folder) {
@@ -178,11 +184,18 @@ void AtomicFile::keep_mode_and_owner() const {
 
 AtomicFile::~AtomicFile() {
   if (committed_) return;
+  if (streaming_) {
+    out_.close();  // what was written to a stream stays written
+    return;
+  }
+  discard_temporary();
+}
+
+void AtomicFile::discard_temporary() noexcept {
   out_.close();
-  if (streaming_) return;
   std::error_code ignored;
   std::filesystem::remove(temporary_, ignored);
-  unregister_temporary(slot_);
+  unregister_temporary(std::exchange(slot_, -1));
 }
 
 void AtomicFile::commit() {

@@ -69,6 +69,7 @@ class AtomicFile {
  private:
   void open_temporary(const std::filesystem::path& folder);
   void keep_mode_and_owner() const;
+  void discard_temporary() noexcept;
   void sync_and_rename();
 
   std::filesystem::path target_;  // as given, for messages
