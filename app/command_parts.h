@@ -32,8 +32,16 @@ void add_input(CLI::App& app, InputOptions& in);
 /// The reader's options the command line asks for (--format, --columns, --skip-invalid).
 io::ReadPointsOptions read_options(const InputOptions& in);
 /// Reads the cloud, says so, and records it in the statistics; `notes`,
-/// when given, receives what the reader said.
-PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* notes = nullptr);
+/// when given, receives what the reader said. `opened`, when it holds the
+/// input already opened (a stream, which can be read only once: see
+/// open_if_stream), is read instead of the path, and emptied (its memory
+/// goes back).
+PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* notes = nullptr,
+                      std::optional<io::PointSource>* opened = nullptr);
+/// The input opened (read whole) when it is a stream (a pipe, a FIFO, `-`),
+/// for a command that must look at it before reading it; empty for a file,
+/// which is opened where it is read.
+[[nodiscard]] std::optional<io::PointSource> open_if_stream(const InputOptions& in);
 
 /// Checks made before any work, so that a run that cannot write its results
 /// fails at once: outputs must not be the input or each other, and their

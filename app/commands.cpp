@@ -33,7 +33,11 @@
 namespace recon::cli {
 
 void add_input(CLI::App& app, InputOptions& in) {
-  app.add_option("input", in.path, "Point cloud (.ply .xyz .txt .csv .pts .obj .off .pcd .las)")->required();
+  app.add_option("input", in.path,
+                 "Point cloud (.ply .xyz .txt .csv .pts .obj .off .pcd .las); - or /dev/stdin: standard input, "
+                 "with --format")
+      ->required()
+      ->transform([](std::string name) { return name == "-" ? std::string("/dev/stdin") : name; }, "", "stdin");
   app.add_option("--format", in.format,
                  "Input format when the extension does not say: ply, xyz, pts, obj, off, pcd, las");
   app.add_option("--columns", in.columns,
@@ -52,10 +56,18 @@ io::ReadPointsOptions read_options(const InputOptions& in) {
   return options;
 }
 
-PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* said) {
+std::optional<io::PointSource> open_if_stream(const InputOptions& in) {
+  if (!io::is_stream(in.path)) return std::nullopt;
+  return io::PointSource(in.path);
+}
+
+PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* said,
+                      std::optional<io::PointSource>* opened) {
   Timer timer;
   io::ReadNotes notes;
-  PointCloud cloud = io::read_points(in.path, read_options(in), &notes);
+  PointCloud cloud = opened != nullptr && opened->has_value() ? io::read_points(**opened, read_options(in), &notes)
+                                                              : io::read_points(in.path, read_options(in), &notes);
+  if (opened != nullptr) opened->reset();
   if (in.no_colors) cloud.colors = {};
   const char* extras = cloud.has_normals() ? (cloud.has_colors() ? " with normals and colours" : " with normals")
                                            : (cloud.has_colors() ? " with colours" : "");
@@ -191,9 +203,14 @@ std::function<void(const char*)> on_phase(Progress& progress, StepPeaks& memory,
   };
 }
 
-void run_reconstruct(const ReconstructCommandOptions& o, const GlobalOptions& global) {
+void run_reconstruct(const ReconstructCommandOptions& o, const GlobalOptions& global,
+                     std::optional<io::PointSource>& opened) {
   check_outputs(o.in.path, {o.output, o.stats, o.report});
   if (const std::optional<std::string> why = tiling_reason(o, reconstruction_options(o))) {
+    if (opened)
+      throw InvalidInputError(o.in.path.string() + ": " + *why +
+                              ": a tiled run reads its input in several passes, and a stream (a pipe, a FIFO, -) "
+                              "can be read only once; save it to a file first");
     run_tiled(o, reconstruction_options(o), *why, global);
     return;
   }
@@ -205,7 +222,7 @@ void run_reconstruct(const ReconstructCommandOptions& o, const GlobalOptions& gl
   StepPeaks memory;
   memory.start("read");
   io::ReadNotes notes;
-  PointCloud cloud = read_input(o.in, summary, &notes);
+  PointCloud cloud = read_input(o.in, summary, &notes, &opened);
   const std::size_t points = cloud.size();
   if (o.use_normals && !cloud.has_normals()) refuse_dropped_normals(notes);
 
@@ -260,10 +277,13 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   app.add_option("--tmpdir", o->tmpdir, "Folder for the tiles of a tiled run (default: the output's folder)")
       ->check(CLI::ExistingDirectory);
   return [o, &global] {
-    if (wants_curves(o->in.path, o->in.format, o->output)) {  // 2D points: curves (curves.cpp)
-      reconstruct_curves(*o, global.quiet);
+    // The 2D check looks at the input before it is read: a stream is read
+    // once, here, and both look at what was read.
+    std::optional<io::PointSource> opened = open_if_stream(o->in);
+    if (wants_curves(o->in.path, o->in.format, o->output, opened ? &*opened : nullptr)) {  // 2D: curves.cpp
+      reconstruct_curves(*o, global.quiet, opened);
     } else {
-      run_reconstruct(*o, global);
+      run_reconstruct(*o, global, opened);
     }
   };
 }

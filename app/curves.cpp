@@ -86,9 +86,12 @@ CurveReconstructionOptions curve_options(const ReconstructCommandOptions& o, std
   return options;
 }
 
-std::vector<Vec2> read_input_2d(const ReconstructCommandOptions& o, Summary& summary) {
+std::vector<Vec2> read_input_2d(const ReconstructCommandOptions& o, Summary& summary,
+                                std::optional<io::PointSource>& opened) {
   Timer timer;
-  std::vector<Vec2> points = io::read_points_2d(o.in.path, read_options(o.in.format));
+  std::vector<Vec2> points = opened ? io::read_points_2d(*opened, read_options(o.in.format))
+                                    : io::read_points_2d(o.in.path, read_options(o.in.format));
+  opened.reset();
   summary.say("read      " + o.in.path.string() + ": " + plural(points.size(), "point") + " in 2D (" +
               format_seconds(timer.elapsed()) + ")");
   Json& s = summary.stats()["input"];
@@ -101,15 +104,17 @@ std::vector<Vec2> read_input_2d(const ReconstructCommandOptions& o, Summary& sum
 
 }  // namespace
 
-bool wants_curves(const std::filesystem::path& input, const std::string& format, const std::filesystem::path& output) {
+bool wants_curves(const std::filesystem::path& input, const std::string& format, const std::filesystem::path& output,
+                  const io::PointSource* opened) {
   std::string extension = output.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
   if (extension == ".svg" || extension == ".txt") return true;
-  return io::holds_2d_points(input, read_options(format));
+  return opened != nullptr ? io::holds_2d_points(*opened, read_options(format))
+                           : io::holds_2d_points(input, read_options(format));
 }
 
-void reconstruct_curves(const ReconstructCommandOptions& o, bool quiet) {
+void reconstruct_curves(const ReconstructCommandOptions& o, bool quiet, std::optional<io::PointSource>& opened) {
   if (!o.report.empty())
     throw InvalidInputError("--report draws 3D reconstructions; for curves, the SVG output shows the points, "
                             "their normals and the curves (and the playground, web/playground, every phase)");
@@ -120,8 +125,15 @@ void reconstruct_curves(const ReconstructCommandOptions& o, bool quiet) {
   write_options.format = io::curve_format_from_path(o.output);  // fail early on a bad extension
   if (o.use_normals)
     throw InvalidInputError("--use-normals: 2D inputs carry no normals; run without the option to estimate them");
+  // Options the 2D readers do not apply are refused rather than ignored.
+  if (!o.in.columns.empty())
+    throw InvalidInputError(
+        "--columns names 3D columns; 2D points are read as two columns, x y, or from a 3D "
+        "file with a constant coordinate: drop --columns");
+  if (o.in.skip_invalid)
+    throw InvalidInputError("--skip-invalid is not applied to 2D points; drop it and mend the input");
 
-  const std::vector<Vec2> points = read_input_2d(o, summary);
+  const std::vector<Vec2> points = read_input_2d(o, summary, opened);
   const CurveReconstruction r = reconstruct_curve(points, curve_options(o, points.size()));
   report(r, points.size(), summary);
 

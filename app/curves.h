@@ -6,6 +6,7 @@
 #include "command_parts.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace recon::cli {
@@ -14,12 +15,14 @@ namespace recon::cli {
 /// columns, or Hoppe's .pts with a constant x; see io/curve_io.h), or the
 /// output is a curve-only format (.svg, .txt), which reads a flat 3D cloud
 /// as 2D.
+/// `opened`: the input already opened (a stream), or null.
 [[nodiscard]] bool wants_curves(const std::filesystem::path& input, const std::string& format,
-                                const std::filesystem::path& output);
+                                const std::filesystem::path& output, const io::PointSource* opened);
 
 /// Reads the points, runs reconstruct_curve, reports each phase and writes
 /// the curves (.svg, .obj or .txt) and the --stats JSON. Refuses the
 /// options that have no meaning in 2D (--report, --use-normals).
-void reconstruct_curves(const ReconstructCommandOptions& o, bool quiet);
+/// `opened`: as read_input's (command_parts.h).
+void reconstruct_curves(const ReconstructCommandOptions& o, bool quiet, std::optional<io::PointSource>& opened);
 
 }  // namespace recon::cli

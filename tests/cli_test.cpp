@@ -36,7 +36,10 @@
 #include <utility>
 #include <vector>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace recon {
 namespace {
@@ -906,8 +909,7 @@ TEST_F(CliErrors, UseNormalsSaysTheReaderDroppedThem) {
                        "the first at line 7; recon estimates its own); run without the option"}));
   // LAZ is named with the tools that decompress it.
   write_file(at("scan.laz"), "LASF");
-  EXPECT_TRUE(
-      refused(recon({"info", "scan.laz"}), {"scan.laz: LAZ (compressed LAS) is not read", "laszip -i scan.laz"}));
+  EXPECT_TRUE(refused(recon({"info", "scan.laz"}), {"scan.laz: LAZ (compressed LAS) is not read", "laszip -i IN"}));
   EXPECT_EQ(entries(), (std::vector<std::string>{"n.pcd", "scan.laz"}));
 }
 
@@ -1557,6 +1559,103 @@ TEST_F(CliLimits, MemoryLimitTooSmallForTheStatisticsSaysSo) {
                       {"the memory limit is too small for the cloud-wide statistics", "1 MB allowed",
                        "of the 300000 points", "0 drawn", "needs at least 21", "raise --max-memory"}));
   EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
+}
+
+// ---------------------------------------------------------------- streams and special outputs (issue 28)
+
+/// Runs a shell line in the work folder, where RECON stands for the program;
+/// for pipes and FIFOs, which recon() (stdin from /dev/null) cannot set up.
+class CliStreams : public CliTest {
+ protected:
+  [[nodiscard]] RunResult shell(const std::string& line, int seconds = 30) const {
+    std::string expanded = line;
+    for (std::size_t at = expanded.find("RECON"); at != std::string::npos; at = expanded.find("RECON", at + 1))
+      expanded.replace(at, 5, shell_quoted(RECON_CLI_PATH));
+    RunResult run;
+    run.command = line;
+    const fs::path out = work_folder().parent_path() / "shell_out.txt";
+    const fs::path err = work_folder().parent_path() / "shell_err.txt";
+    const std::string command = "cd " + shell_quoted(work_folder().string()) + " && timeout -k 5 " +
+                                std::to_string(seconds) + " sh -c " + shell_quoted(expanded) + " >" +
+                                shell_quoted(out.string()) + " 2>" + shell_quoted(err.string());
+    const int status = std::system(command.c_str());
+    if (status != -1 && WIFEXITED(status)) run.exit_code = WEXITSTATUS(status);
+    if (fs::exists(out)) run.out = read_bytes(out);
+    if (fs::exists(err)) run.err = read_bytes(err);
+    return run;
+  }
+};
+
+TEST_F(CliStreams, ReconstructReadsAPipeOnce) {
+  // The 2D check read the pipe first, and the reader then found it empty.
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 1000, "s.xyz"));
+  for (const std::string input : {"-", "/dev/stdin"}) {
+    const RunResult run =
+        shell("cat s.xyz | RECON --quiet reconstruct " + input + " --format xyz -o m.ply --stats st.json");
+    ASSERT_EQ(run.exit_code, 0) << describe(run);
+    EXPECT_GT(io::read_mesh(at("m.ply")).triangles.size(), 100U);
+    EXPECT_EQ(stat_count(read_bytes(at("st.json")), "input", "points"), 1000) << input;
+  }
+  // 2D points from a pipe: the check and the reading see the same bytes.
+  write_file(at("circle.txt"), circle_xy_text(Vec2(0.0, 0.0), 1.0, 200, 1));
+  const RunResult curves = shell("cat circle.txt | RECON --quiet reconstruct - --format xyz -o c.obj");
+  ASSERT_EQ(curves.exit_code, 0) << describe(curves);
+  EXPECT_EQ(read_obj_curves(at("c.obj")).lines.size(), 1U);
+  // Without --format, a stream has no extension to go by.
+  const RunResult unnamed = shell("cat s.xyz | RECON reconstruct - -o n.ply");
+  EXPECT_EQ(unnamed.exit_code, 1) << describe(unnamed);
+  EXPECT_NE(unnamed.err.find("--format"), std::string::npos) << describe(unnamed);
+}
+
+TEST_F(CliStreams, ReconstructReadsAFifoOnce) {
+  // From a FIFO the second open waited forever for a writer that was gone.
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 1000, "s.xyz"));
+  ASSERT_EQ(::mkfifo(at("in.xyz").c_str(), 0600), 0);
+  const RunResult run = shell(
+      "cat s.xyz > in.xyz & RECON --quiet reconstruct in.xyz -o m.ply; status=$?; wait; "
+      "exit $status",
+      20);
+  ASSERT_EQ(run.exit_code, 0) << describe(run);
+  EXPECT_GT(io::read_mesh(at("m.ply")).triangles.size(), 100U);
+  // A tiled run reads its input in passes: a stream is refused, not read as empty.
+  const RunResult tiled = shell("cat s.xyz | RECON reconstruct - --format xyz -o t.ply --tile-size 0.5");
+  EXPECT_EQ(tiled.exit_code, 1) << describe(tiled);
+  EXPECT_NE(tiled.err.find("can be read only once"), std::string::npos) << describe(tiled);
+}
+
+TEST_F(CliStreams, OutputsThroughLinksAndFifosNeverReplaceThem) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 500, "s.xyz"));
+  fs::create_directory(at("real"));
+  write_file(at("real/st.json"), "{}\n");
+  ASSERT_EQ(::chmod(at("real/st.json").c_str(), 0600), 0);
+  fs::create_symlink("real/m.ply", at("m.ply"));      // dangling: its target is created
+  fs::create_symlink("real/st.json", at("st.json"));  // an existing private file
+  ASSERT_EQ(::mkfifo(at("report.fifo").c_str(), 0600), 0);
+  const RunResult run = shell(
+      "cat report.fifo > copy.html & RECON --quiet reconstruct s.xyz -o m.ply --stats st.json "
+      "--report report.fifo; status=$?; wait; exit $status");
+  EXPECT_EQ(run.exit_code, 0) << describe(run);
+  const std::string report = read_bytes(at("copy.html"));
+  EXPECT_TRUE(fs::is_symlink(at("m.ply")));
+  EXPECT_TRUE(fs::is_symlink(at("st.json")));
+  EXPECT_GT(io::read_mesh(at("real/m.ply")).triangles.size(), 50U);
+  EXPECT_EQ(stat_count(read_bytes(at("real/st.json")), "input", "points"), 500);
+  EXPECT_EQ(fs::status(at("real/st.json")).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_EQ(fs::status(at("report.fifo")).type(), fs::file_type::fifo);
+  EXPECT_NE(report.find("<html"), std::string::npos) << report.substr(0, 200);
+  EXPECT_EQ(entries(), (std::vector<std::string>{"copy.html", "m.ply", "real", "report.fifo", "s.xyz", "st.json"}));
+}
+
+TEST_F(CliStreams, ColumnsAreRefusedWhereTheyWouldBeIgnored) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 300, "s.ply"));
+  EXPECT_TRUE(refused(recon({"info", "s.ply", "--columns", "z,y,x"}), {"s.ply: --columns applies to delimited text"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--columns", "z,y,x"}),
+                      {"--columns applies to delimited text"}));
+  write_file(at("circle.txt"), circle_xy_text(Vec2(0.0, 0.0), 1.0, 100, 1));
+  EXPECT_TRUE(
+      refused(recon({"reconstruct", "circle.txt", "-o", "c.obj", "--columns", "x,y"}), {"--columns names 3D columns"}));
+  EXPECT_EQ(entries(), (std::vector<std::string>{"circle.txt", "s.ply"}));
 }
 
 }  // namespace

@@ -355,12 +355,8 @@ def test_stats_replace_a_file_whole(small_cloud, tmp_path, capsys, stats_run):
 
 
 # The special outputs' behaviour is io::AtomicFile's (recon_module.cpp's
-# _write_text writes through it); io-outputs teaches it these cases.
-UNTIL_ATOMIC_FILE_LEARNS = pytest.mark.xfail(strict=True,
-                                              reason="io::AtomicFile (branch io-outputs): remove at the merge")
-
-
-@UNTIL_ATOMIC_FILE_LEARNS
+# _write_text writes through it): the mode kept, a symlink written
+# through, a FIFO streamed to.
 def test_stats_keep_the_files_mode(small_cloud, tmp_path, capsys, stats_run):
     stats = tmp_path / "stats.json"
     stats.write_text("{}")
@@ -369,7 +365,6 @@ def test_stats_keep_the_files_mode(small_cloud, tmp_path, capsys, stats_run):
     assert stats.stat().st_mode & 0o777 == 0o600
 
 
-@UNTIL_ATOMIC_FILE_LEARNS
 def test_stats_go_through_a_symlink(small_cloud, tmp_path, capsys, stats_run):
     target, link = tmp_path / "target.json", tmp_path / "link.json"
     target.write_text("{}")
@@ -378,7 +373,6 @@ def test_stats_go_through_a_symlink(small_cloud, tmp_path, capsys, stats_run):
     assert link.is_symlink() and json.loads(target.read_text()) == FIGURES
 
 
-@UNTIL_ATOMIC_FILE_LEARNS
 def test_stats_stream_into_a_fifo(small_cloud, tmp_path, capsys, stats_run):
     fifo = tmp_path / "stats.fifo"
     os.mkfifo(fifo)

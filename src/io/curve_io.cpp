@@ -36,31 +36,33 @@ int shared_axis(const std::vector<Vec3>& points) {
 
 }  // namespace
 
-bool holds_2d_points(const std::filesystem::path& path, const ReadPointsOptions& options) {
-  const PointFormat format = resolve(path, options.format);
+bool holds_2d_points(const PointSource& source, const ReadPointsOptions& options) {
+  const PointFormat format = resolve(source.path(), options.format);
   if (format != PointFormat::xyz && format != PointFormat::pts) return false;
-  const std::string file = path.string();
-  const detail::FileContent file_content = detail::read_file(path);
-  const std::string_view content = file_content.view();
+  const std::string file = source.path().string();
+  const std::string_view content = source.bytes();
   if (content.empty()) detail::fail_in_file(file, "the file is empty");
   if (is_plain_columns(format, file, content)) return detail::xyz_column_count(file, content) == 2;
   const PointCloud cloud = detail::read_pts_points(file, content);
   return shared_axis(cloud.positions) == 0;
 }
 
-std::vector<Vec2> read_points_2d(const std::filesystem::path& path, const ReadPointsOptions& options) {
+bool holds_2d_points(const std::filesystem::path& path, const ReadPointsOptions& options) {
   const PointFormat format = resolve(path, options.format);
-  const std::string file = path.string();
-  {
-    const detail::FileContent file_content = detail::read_file(path);
-    const std::string_view content = file_content.view();
-    if (content.empty()) detail::fail_in_file(file, "the file is empty");
-    if (is_plain_columns(format, file, content) && detail::xyz_column_count(file, content) == 2)
-      return detail::read_xy_points(file, content);
-  }
+  if (format != PointFormat::xyz && format != PointFormat::pts) return false;  // not opened: it cannot be 2D
+  return holds_2d_points(PointSource(path, options.max_stream_bytes), options);
+}
+
+std::vector<Vec2> read_points_2d(const PointSource& source, const ReadPointsOptions& options) {
+  const PointFormat format = resolve(source.path(), options.format);
+  const std::string file = source.path().string();
+  const std::string_view content = source.bytes();
+  if (content.empty()) detail::fail_in_file(file, "the file is empty");
+  if (is_plain_columns(format, file, content) && detail::xyz_column_count(file, content) == 2)
+    return detail::read_xy_points(file, content);
   ReadPointsOptions read_options;
   read_options.format = format;
-  const PointCloud cloud = read_points(path, read_options);
+  const PointCloud cloud = read_points(source, read_options);
   const int axis = shared_axis(cloud.positions);
   if (axis < 0)
     detail::fail_in_file(file,
@@ -71,6 +73,10 @@ std::vector<Vec2> read_points_2d(const std::filesystem::path& path, const ReadPo
   points.reserve(cloud.size());
   for (const Vec3& p : cloud.positions) points.emplace_back(p[u], p[v]);
   return points;
+}
+
+std::vector<Vec2> read_points_2d(const std::filesystem::path& path, const ReadPointsOptions& options) {
+  return read_points_2d(PointSource(path, options.max_stream_bytes), options);
 }
 
 CurveFormat curve_format_from_path(const std::filesystem::path& path) {

@@ -29,8 +29,13 @@ namespace recon::io::detail {
 /// The format read_points reads `path` as (ReadPointsOptions::format, or
 /// from the extension).
 [[nodiscard]] PointFormat point_format_of(const std::filesystem::path& path, const ReadPointsOptions& options);
+/// InvalidInputError "FILE: --columns applies to delimited text ..." when
+/// ReadPointsOptions::columns is given for a format other than xyz and pts:
+/// an option that would be ignored is refused.
+void check_columns_apply(std::string_view file, PointFormat format, const ReadPointsOptions& options);
 /// The content of a point file as read_points opens it (read_file), after
-/// refusing LAZ (InvalidInputError); ParseError "FILE: the file is empty".
+/// refusing LAZ and columns that do not apply (InvalidInputError);
+/// ParseError "FILE: the file is empty".
 [[nodiscard]] FileContent open_points(const std::filesystem::path& path, PointFormat format,
                                       const ReadPointsOptions& options);
 
@@ -57,6 +62,10 @@ void append_ply_triangle_binary(std::string& out, const std::array<std::uint32_t
 void read_xyz_points(std::string_view file, std::string_view content, const ReadPointsOptions& options,
                      ReadNotes& notes, PointParts& parts);
 [[nodiscard]] PointCloud read_pts_points(std::string_view file, std::string_view content);
+/// As above; plain columns follow `options` (ReadPointsOptions::columns),
+/// and Hoppe's records refuse columns (InvalidInputError).
+[[nodiscard]] PointCloud read_pts_points(std::string_view file, std::string_view content,
+                                         const ReadPointsOptions& options, ReadNotes& notes);
 /// Numbers on the first line of plain text columns that has any (0: none).
 [[nodiscard]] std::size_t xyz_column_count(std::string_view file, std::string_view content);
 /// Plain text columns of two numbers a line: 2D points.
@@ -83,8 +92,11 @@ void write_off_mesh(std::ostream& out, const Mesh& mesh);
 /// The points into `parts`, whole or in parts (the colours' range is found
 /// by a first walk over the records in both cases).
 void read_las_points(std::string_view file, std::string_view content, ReadNotes& notes, PointParts& parts);
-/// "LAZ (compressed LAS) is not read ...: decompress FILE first, e.g. ...":
-/// what is said of a .laz file and of LAS content with laszip's compression bit.
+/// "LAZ (compressed LAS) is not read ...; decompress it first, e.g. ...":
+/// what is said of LAS content with laszip's compression bit (after "FILE:
+/// byte 104: "). The commands say IN for the file: a message names it once.
+[[nodiscard]] std::string laz_advice();
+/// "FILE: " and laz_advice(): what is said of a .laz file.
 [[nodiscard]] std::string laz_refusal(std::string_view file);
 
 void write_svg_curves(std::ostream& out, const PolylineSet& curves, std::span<const Vec2> points,

@@ -37,7 +37,9 @@ void note_being_read(const std::string& name) noexcept {
 }  // namespace
 
 FileContent::~FileContent() {
-  if (map_ != nullptr) {
+  if (anonymous_length_ != 0) {
+    ::munmap(const_cast<void*>(map_), anonymous_length_);
+  } else if (map_ != nullptr) {
     being_read[0] = '\0';
     std::atomic_signal_fence(std::memory_order_release);
     ::munmap(const_cast<void*>(map_), size_);
@@ -45,7 +47,7 @@ FileContent::~FileContent() {
 }
 
 void FileContent::let_go(std::size_t begin, std::size_t end) const {
-  if (map_ == nullptr) return;
+  if (!mapped()) return;  // content read into memory exists nowhere else
   static const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGE_SIZE));
   const std::size_t first = (begin + page - 1) / page * page;  // whole pages only: the map starts on one
   const std::size_t last = std::min(end, size_) / page * page;
@@ -71,16 +73,58 @@ class Descriptor {
   int fd_;
 };
 
-/// Reads until the end (pipes, character devices, files that cannot be
-/// mapped), refusing more than `limit` bytes.
-std::string read_to_end(int fd, const std::string& name, std::size_t limit) {
+/// Anonymous pages that grow without being copied (mremap moves them), for
+/// a stream read whole.
+class GrowingPages {
+ public:
+  GrowingPages(std::size_t length, const std::string& name) : name_(name) { grow_to(length); }
+  GrowingPages(const GrowingPages&) = delete;
+  GrowingPages& operator=(const GrowingPages&) = delete;
+  ~GrowingPages() {
+    if (base_ != nullptr) ::munmap(base_, length_);
+  }
+  [[nodiscard]] char* data() const { return static_cast<char*>(base_); }
+  [[nodiscard]] std::size_t length() const { return length_; }
+  void grow_to(std::size_t length) {
+    void* grown = base_ == nullptr ? ::mmap(nullptr, length, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0)
+                                   : ::mremap(base_, length_, length, MREMAP_MAYMOVE);
+    if (grown == MAP_FAILED) {
+      const int error = errno;
+      throw IoError(
+          name_ + ": cannot hold " + std::to_string(length) + " bytes of a stream in memory: " + std::strerror(error),
+          error);
+    }
+    base_ = grown;
+    length_ = length;
+  }
+  /// Hands the pages to a FileContent holding `size` bytes of content.
+  FileContent release(std::size_t size) {
+    FileContent content = FileContent::anonymous(base_, size, length_);
+    base_ = nullptr;
+    return content;
+  }
+
+ private:
+  const std::string& name_;
+  void* base_ = nullptr;
+  std::size_t length_ = 0;
+};
+
+}  // namespace
+
+FileContent read_stream(int fd, const std::string& name, std::size_t limit) {
   if (limit == 0) limit = default_memory_limit();
-  std::string content;
-  std::size_t used = 0;
+  static const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGE_SIZE));
   constexpr std::size_t chunk = std::size_t{1} << 20;
+  // One byte beyond the limit is enough to know the stream exceeds it.
+  const std::size_t most = limit < std::numeric_limits<std::size_t>::max() - page
+                               ? (limit / page + 1) * page
+                               : std::numeric_limits<std::size_t>::max() / page * page;
+  GrowingPages pages(std::min(chunk, most), name);
+  std::size_t used = 0;
   for (;;) {
-    content.resize(used + chunk);
-    const ssize_t got = ::read(fd, content.data() + used, chunk);
+    if (used == pages.length()) pages.grow_to(std::min(2 * pages.length(), most));  // below `most`: see the check
+    const ssize_t got = ::read(fd, pages.data() + used, std::min(chunk, pages.length() - used));
     if (got < 0) {
       const int error = errno;
       if (error == EINTR) continue;
@@ -93,11 +137,9 @@ std::string read_to_end(int fd, const std::string& name, std::size_t limit) {
                     " bytes from a stream, which recon holds whole in memory (a pipe or device, not a file it can "
                     "map): save it to a file first");
   }
-  content.resize(used);
-  return content;
+  if (used == 0) return FileContent();
+  return pages.release(used);
 }
-
-}  // namespace
 
 FileContent read_file(const std::filesystem::path& path, std::size_t stream_limit) {
   const std::string name = path.string();
@@ -116,11 +158,11 @@ FileContent read_file(const std::filesystem::path& path, std::size_t stream_limi
   if (S_ISDIR(status.st_mode)) throw IoError(name + ": cannot open: it is a folder, not a file", EISDIR);
   // Pipes and devices cannot be mapped; files of /proc and the like say they
   // are empty and are not: read those, an empty file reads as empty anyway.
-  if (!S_ISREG(status.st_mode) || status.st_size == 0) return FileContent(read_to_end(fd.get(), name, stream_limit));
+  if (!S_ISREG(status.st_mode) || status.st_size == 0) return read_stream(fd.get(), name, stream_limit);
 
   const auto size = static_cast<std::size_t>(status.st_size);
   void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd.get(), 0);
-  if (map == MAP_FAILED) return FileContent(read_to_end(fd.get(), name, stream_limit));  // e.g. a file system without mmap
+  if (map == MAP_FAILED) return read_stream(fd.get(), name, stream_limit);  // e.g. a file system without mmap
   // The readers walk the file from the front: let the kernel read ahead.
   static_cast<void>(::madvise(map, size, MADV_SEQUENTIAL));
   note_being_read(name);

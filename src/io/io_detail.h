@@ -32,7 +32,10 @@ namespace recon::io::detail {
 /// mapped read-only (mmap, MAP_PRIVATE) rather than copied: the readers touch
 /// only the pages they parse, so a multi-gigabyte file of garbage costs a few
 /// pages before it is refused, and a large valid file is not held twice. A
-/// pipe or another file that cannot be mapped is read into memory instead.
+/// pipe or another file that cannot be mapped is read into memory instead:
+/// into anonymous pages grown by mremap, which moves pages rather than
+/// copying them, so a stream of N bytes never holds more than N bytes and a
+/// megabyte (a doubling buffer would hold up to 2N, and 3N while it copies).
 /// The view is valid while the object lives; the file must not be shortened
 /// meanwhile: reading a page cut off the end of a mapped file raises
 /// SIGBUS, which the program turns into an error naming the file (see
@@ -42,6 +45,12 @@ class FileContent {
   FileContent() = default;
   explicit FileContent(std::string bytes) : buffer_(std::move(bytes)) {}
   FileContent(const void* map, std::size_t size) : map_(map), size_(size) {}
+  /// Anonymous memory (a stream read whole) of `length` bytes, `size` of them content; owned from now on.
+  static FileContent anonymous(void* memory, std::size_t size, std::size_t length) {
+    FileContent content(memory, size);
+    content.anonymous_length_ = length;
+    return content;
+  }
   FileContent(FileContent&& other) noexcept { swap(other); }
   FileContent& operator=(FileContent&& other) noexcept {
     swap(other);
@@ -55,7 +64,13 @@ class FileContent {
     return map_ != nullptr ? std::string_view(static_cast<const char*>(map_), size_) : std::string_view(buffer_);
   }
   /// True when the content is a map of the file, false when it was read into memory.
-  [[nodiscard]] bool mapped() const { return map_ != nullptr; }
+  [[nodiscard]] bool mapped() const { return map_ != nullptr && anonymous_length_ == 0; }
+  /// Bytes of memory the content holds apart from the file's own pages: 0
+  /// for a map of the file, else what was allocated to read it (an empty
+  /// string's inline capacity is no allocation).
+  [[nodiscard]] std::size_t held_bytes() const {
+    return anonymous_length_ + (buffer_.empty() ? 0 : buffer_.capacity());
+  }
   /// Gives the whole pages of bytes [begin, end) back to the kernel
   /// (madvise MADV_DONTNEED): they no longer count in the resident memory of
   /// the process, and a later read of them reads the file again. A reader
@@ -67,10 +82,12 @@ class FileContent {
   void swap(FileContent& other) noexcept {
     std::swap(map_, other.map_);
     std::swap(size_, other.size_);
+    std::swap(anonymous_length_, other.anonymous_length_);
     std::swap(buffer_, other.buffer_);
   }
   const void* map_ = nullptr;
   std::size_t size_ = 0;
+  std::size_t anonymous_length_ = 0;  ///< of the anonymous pages at map_, 0 for a map of the file
   std::string buffer_;
 };
 
@@ -81,6 +98,13 @@ class FileContent {
 /// bytes (0: default_memory_limit(), half the physical memory).
 /// While a mapped file's content lives, file_being_read() names it.
 [[nodiscard]] FileContent read_file(const std::filesystem::path& path, std::size_t stream_limit = 0);
+
+/// Reads `fd` to its end into anonymous memory (see FileContent), refusing
+/// more than `limit` bytes (0: default_memory_limit()) as soon as they are
+/// read: IoError "NAME: more than LIMIT bytes from a stream ...". The memory
+/// held stays within the bytes read and a megabyte (held_bytes()). Cost: one
+/// read() a megabyte, and log2(N) mremap() calls.
+[[nodiscard]] FileContent read_stream(int fd, const std::string& name, std::size_t limit);
 
 /// The longest line the text readers accept, in bytes. Real point files have
 /// lines of a few dozen bytes; a longer line means binary data or garbage,

@@ -100,11 +100,16 @@ void check_header_size(std::string_view file, std::string_view content, const La
 
 void read_point_format(std::string_view file, std::string_view content, LasHeader& header) {
   const auto format = static_cast<unsigned>(field<std::uint8_t>(content, point_format_byte));
-  // laszip marks compressed data by setting bit 7 (and bit 6 for the 1.4 formats) of this byte.
-  if ((format & 0xC0U) != 0) fail_at_byte(file, point_format_byte, laz_refusal(file));
+  // laszip marks compressed data by setting bit 7 (and bit 6 for the 1.4
+  // formats) of this byte, over a valid format in the low bits: other values
+  // with those bits (255, say) are just not a format.
+  const unsigned low_bits = format & 0x3FU;
+  const bool compressed = (format & 0xC0U) != 0 && low_bits < format_record_size.size();
+  if (compressed) fail_at_byte(file, point_format_byte, laz_advice());
   if (format >= format_record_size.size())
     fail_at_byte(file, point_format_byte,
-                 "point data record format " + std::to_string(format) + " is not known (LAS defines 0 to 10)");
+                 "point data record format " + std::to_string(format) + " is not known (LAS defines 0 to 10)" +
+                     ((format & 0xC0U) != 0 ? "; nor is it LAZ, which sets bit 7 or 6 over one of them" : ""));
   header.format = format;
   header.record_length = field<std::uint16_t>(content, 105);
   if (header.record_length < format_record_size[format])
@@ -243,14 +248,13 @@ void read_records(std::string_view file, std::string_view content, const LasHead
 
 }  // namespace
 
-std::string laz_refusal(std::string_view file) {
-  const std::string name(file);
-  return name +
-         ": LAZ (compressed LAS) is not read by recon, and no Debian package decodes it; decompress it "
-         "first, e.g. 'laszip -i " +
-         name + " -o out.las', 'pdal translate " + name + " out.las' or 'las2las -i " + name +
-         " -o out.las', and read the .las file";
+std::string laz_advice() {
+  return "LAZ (compressed LAS) is not read by recon, and no Debian package decodes it; decompress it first, e.g. "
+         "'laszip -i IN -o out.las', 'pdal translate IN out.las' or 'las2las -i IN -o out.las', and read the .las "
+         "file";
 }
+
+std::string laz_refusal(std::string_view file) { return std::string(file) + ": " + laz_advice(); }
 
 void read_las_points(std::string_view file, std::string_view content, ReadNotes& notes, PointParts& parts) {
   const LasHeader header = read_header(file, content);  // all its points are in the file: check_point_data

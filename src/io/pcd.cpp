@@ -16,7 +16,8 @@
 // float's or an integer's (in ascii data, PCL writes a float rgb as the
 // integer of its bits; a decimal fraction is taken as the float). Other
 // fields (curvature, intensity, padding "_", histograms with COUNT > 1) are
-// skipped and never checked.
+// skipped and never checked. A name FIELDS lists twice (but the padding
+// "_") is refused: taking one of the two would drop the other silently.
 //
 // NaN means "no value" (PCL's mark for what a sensor did not measure):
 //   - a point with a NaN coordinate in an organized cloud (HEIGHT > 1: a
@@ -41,6 +42,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -189,9 +191,14 @@ void lay_out_fields(std::string_view file, const HeaderLines& entries, PcdHeader
   if (counts.line != 0) check_length(counts, "COUNT");
 
   header.fields.resize(field_count);
+  std::unordered_map<std::string_view, std::size_t> first_of_name;  // a set: FIELDS may be long
   for (std::size_t f = 0; f < field_count; ++f) {
     PcdField& field = header.fields[f];
     field.name = names.values[f];
+    if (const auto [first, added] = first_of_name.emplace(field.name, f); !added && field.name != "_")
+      fail_at_line(file, names.line,
+                   "FIELDS names " + excerpt(field.name) + " twice (fields " + std::to_string(first->second) + " and " +
+                       std::to_string(f) + "); '_' is the only name that may repeat (padding)");
     std::uint64_t size = 0;
     if (!parse_count(sizes.values[f], size) || !scalar_type_from_pcd(types.values[f], size, field.type))
       fail_at_line(file, types.line,

@@ -9,7 +9,8 @@
 // diffuse_green, diffuse_blue when all three are: colors.h says how each
 // type becomes 0-255) and, for meshes, the "face" element's
 // "vertex_indices" (or "vertex_index") list; every other property and
-// element (alpha among them) is skipped.
+// element (alpha among them) is skipped. A property name declared twice in
+// one element is refused: taking either would drop the other silently.
 
 #include "colors.h"
 #include "formats.h"
@@ -25,6 +26,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -132,10 +134,15 @@ void read_element_line(std::string_view file, std::size_t n, std::string_view li
   header.elements.push_back(std::move(element));
 }
 
+/// The properties of the element being declared, by name, with the line of
+/// each (views into the content): a name declared twice is refused, since a
+/// reader taking one of the two would silently drop the other's values.
+using PropertyLines = std::unordered_map<std::string_view, std::size_t>;
+
 /// A "property TYPE NAME" or "property list COUNT_TYPE ITEM_TYPE NAME" line:
 /// a new property of the last element.
 void read_property_line(std::string_view file, std::size_t n, std::string_view line, Fields& fields,
-                        PlyHeader& header) {
+                        PropertyLines& declared, PlyHeader& header) {
   if (header.elements.empty()) fail_at_line(file, n, "a property before any element");
   PlyProperty property;
   property.line = n;
@@ -159,6 +166,10 @@ void read_property_line(std::string_view file, std::size_t n, std::string_view l
   }
   if (!scalar_type_from_name(type, property.type))
     fail_at_line(file, n, "unknown type " + excerpt(type) + " (known: " + std::string(known_types) + ")");
+  if (const auto [first, added] = declared.emplace(name, n); !added)
+    fail_at_line(file, n,
+                 "property " + excerpt(name) + " of element " + excerpt(header.elements.back().name) +
+                     " is declared twice (first at line " + std::to_string(first->second) + ")");
   property.name = name;
   header.elements.back().properties.push_back(std::move(property));
 }
@@ -171,6 +182,7 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
 
   PlyHeader header;
   std::unordered_set<std::string_view> element_names;  // views into the content
+  PropertyLines property_lines;                        // of the last element
   bool have_format = false;
   for (;;) {
     if (!lines.next(line)) fail_at_line(file, lines.line_number(), "the PLY header has no 'end_header' line");
@@ -183,8 +195,9 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
       read_format_line(file, n, line, fields, have_format, header);
     } else if (keyword == "element") {
       read_element_line(file, n, line, fields, element_names, header);
+      property_lines.clear();
     } else if (keyword == "property") {
-      read_property_line(file, n, line, fields, header);
+      read_property_line(file, n, line, fields, property_lines, header);
     } else if (keyword == "end_header") {
       if (!have_format) fail_at_line(file, n, "the PLY header has no format line");
       header.body_offset = lines.position();

@@ -82,7 +82,8 @@ PointCloud read_as(PointFormat format, const std::string& file, std::string_view
   switch (format) {
     case PointFormat::ply: return detail::read_ply_points(file, content);
     case PointFormat::xyz: return detail::read_xyz_points(file, content, options, said);
-    case PointFormat::pts: return detail::read_pts_points(file, content);
+    case PointFormat::pts:
+      return detail::read_pts_points(file, content, options, said);
     case PointFormat::obj: return detail::read_obj_points(file, content);
     case PointFormat::off: return detail::read_off_points(file, content);
     case PointFormat::pcd: return detail::read_pcd_points(file, content, options, said);
@@ -97,6 +98,13 @@ PointCloud read_as(PointFormat format, const std::string& file, std::string_view
 
 namespace detail {
 
+void check_columns_apply(std::string_view file, PointFormat format, const ReadPointsOptions& options) {
+  if (options.columns.empty() || format == PointFormat::xyz || format == PointFormat::pts) return;
+  throw InvalidInputError(std::string(file) + ": --columns applies to delimited text (xyz, and pts without 'p' " +
+                          "records), not to " + std::string(name_of(format)) +
+                          ", whose header names what each value is; drop --columns");
+}
+
 PointFormat point_format_of(const std::filesystem::path& path, const ReadPointsOptions& options) {
   return resolve(path, options.format);
 }
@@ -104,6 +112,7 @@ PointFormat point_format_of(const std::filesystem::path& path, const ReadPointsO
 FileContent open_points(const std::filesystem::path& path, PointFormat format, const ReadPointsOptions& options) {
   const std::string file = path.string();
   if (format == PointFormat::laz) throw InvalidInputError(laz_refusal(file));
+  check_columns_apply(file, format, options);
   FileContent content = read_file(path, options.max_stream_bytes);
   if (content.view().empty()) fail_in_file(file, "the file is empty");
   return content;
@@ -111,19 +120,53 @@ FileContent open_points(const std::filesystem::path& path, PointFormat format, c
 
 }  // namespace detail
 
-PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options, ReadNotes* notes) {
+namespace {
+
+/// The content, whole, as `format`, leaving out the invalid points when asked.
+PointCloud read_content(PointFormat format, const std::string& file, std::string_view content,
+                        const ReadPointsOptions& options, ReadNotes* notes) {
   ReadNotes ignored;
   ReadNotes& said = notes != nullptr ? *notes : ignored;
-  const PointFormat format = resolve(path, options.format);
-  const std::string file = path.string();
-  const detail::FileContent file_content = detail::open_points(path, format, options);
-  const std::string_view content = file_content.view();
   if (!options.skip_invalid) return read_as(format, file, content, options, said);
   // The readers' PointCheckers hand the invalid points to this scope instead of refusing them.
   const detail::SkipInvalidPoints skipping;
   PointCloud cloud = read_as(format, file, content, options, said);
   skipping.remove_from(file, cloud, said);
   return cloud;
+}
+
+}  // namespace
+
+PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options, ReadNotes* notes) {
+  const PointFormat format = resolve(path, options.format);
+  const detail::FileContent file_content = detail::open_points(path, format, options);
+  return read_content(format, path.string(), file_content.view(), options, notes);
+}
+
+PointSource::PointSource(std::filesystem::path path, std::size_t max_stream_bytes)
+    : path_(std::move(path)),
+      content_(std::make_unique<detail::FileContent>(detail::read_file(path_, max_stream_bytes))) {}
+PointSource::PointSource(PointSource&&) noexcept = default;
+PointSource& PointSource::operator=(PointSource&&) noexcept = default;
+PointSource::~PointSource() = default;
+
+std::string_view PointSource::bytes() const { return content_->view(); }
+std::size_t PointSource::held_bytes() const { return content_->held_bytes(); }
+
+bool is_stream(const std::filesystem::path& path) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  return !ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) &&
+         !std::filesystem::is_directory(status);
+}
+
+PointCloud read_points(const PointSource& source, const ReadPointsOptions& options, ReadNotes* notes) {
+  const PointFormat format = resolve(source.path(), options.format);
+  const std::string file = source.path().string();
+  if (format == PointFormat::laz) throw InvalidInputError(detail::laz_refusal(file));
+  detail::check_columns_apply(file, format, options);
+  if (source.bytes().empty()) detail::fail_in_file(file, "the file is empty");
+  return read_content(format, file, source.bytes(), options, notes);
 }
 
 void write_points(const std::filesystem::path& path, const PointCloud& cloud, const WritePointsOptions& options) {

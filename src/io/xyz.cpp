@@ -21,6 +21,8 @@
 #include "text_columns.h"
 #include "text_scanner.h"
 
+#include "recon/errors.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -327,6 +329,17 @@ bool pts_has_records(std::string_view file, std::string_view content) {
   const std::string_view record = first_pts_record(file, content).first;
   std::string_view first;
   return Fields(record).next(first) && is_letter(first[0]) && !is_header_line(record);
+}
+
+PointCloud read_pts_points(std::string_view file, std::string_view content, const ReadPointsOptions& options,
+                           ReadNotes& notes) {
+  if (!pts_has_records(file, content)) return read_xyz_points(file, content, options, notes);
+  if (!options.columns.empty())
+    throw InvalidInputError(std::string(file) +
+                            ": --columns applies to plain columns, but this .pts file holds Hoppe's 'p x y z' "
+                            "records (line " +
+                            std::to_string(first_pts_record(file, content).second) + "); drop --columns");
+  return read_pts_points(file, content);
 }
 
 PointCloud read_pts_points(std::string_view file, std::string_view content) {

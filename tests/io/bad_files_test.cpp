@@ -428,3 +428,39 @@ TEST(BadFiles, GigabytesOfGarbageAreRefusedAfterTheFirstPages) {
 
 }  // namespace
 }  // namespace recon::io
+
+namespace recon::io {
+namespace {
+
+using namespace testing;  // io_test_helpers.h
+
+TEST(BadFiles, AStreamHoldsNoMoreThanItsBytesAndAPage) {
+  // The limit on a stream is a limit on memory: the buffer must not grow
+  // past it (a doubling buffer held up to twice the bytes read, 16 GiB for
+  // /dev/zero against a cap of 12).
+  TempFolder folder;
+  const std::filesystem::path fifo = folder / "points.xyz";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::size_t size = (std::size_t{3} << 20) + 5;  // past a doubling from 1 or 2 MiB
+  const std::string content(size, ' ');
+  std::thread writer([&] { write_file(fifo, content); });
+  const PointSource source(fifo, size);
+  writer.join();
+  EXPECT_EQ(source.bytes().size(), size);
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGE_SIZE));
+  EXPECT_LE(source.held_bytes(), (size / page + 1) * page);
+  EXPECT_GE(source.held_bytes(), size);
+}
+
+TEST(BadFiles, DevZeroIsRefusedAtTheLimitQuickly) {
+  // 64 MiB of /dev/zero: refused as the bytes come, in well under a second.
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = testing::message_of<IoError>([&] {
+    static_cast<void>(read_points("/dev/zero", testing::as_format(PointFormat::xyz, std::size_t{64} << 20)));
+  });
+  EXPECT_TRUE(message.starts_with("/dev/zero: more than 67108864 bytes from a stream")) << message;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+}
+
+}  // namespace
+}  // namespace recon::io

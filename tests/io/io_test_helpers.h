@@ -217,6 +217,13 @@ inline PointCloud read_with_notes(const std::filesystem::path& path, ReadNotes& 
   return read_points(path, options, &notes);
 }
 
+/// How many times `part` occurs in `text` (not overlapping).
+inline std::size_t occurrences(std::string_view text, std::string_view part) {
+  std::size_t count = 0;
+  for (std::size_t at = text.find(part); at != std::string_view::npos; at = text.find(part, at + part.size())) ++count;
+  return count;
+}
+
 /// The message of the ParseError that reading `path` as a point cloud throws.
 inline std::string point_read_error(const std::filesystem::path& path) {
   return message_of<ParseError>([&] { static_cast<void>(read_points(path)); });

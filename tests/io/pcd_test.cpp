@@ -515,5 +515,24 @@ TEST(PcdNaN, NaNNormalsAreDroppedNotRefused) {
                   "1 point has a normal that is not finite (NaN or infinity); the first at line 10 (normal_y = inf)");
 }
 
+TEST(PcdReader, AFieldNamedTwiceIsRefused) {
+  // FIELDS x y z x: taking the first x would drop the second silently.
+  expect_read_errors(
+      "e.pcd",
+      {
+          {"FIELDS x y z x\nSIZE 4 4 4 4\nTYPE F F F F\nPOINTS 1\nDATA ascii\n1 2 3 4\n",
+           "e.pcd:1:", "FIELDS names 'x' twice (fields 0 and 3)"},
+          {"VERSION 0.7\nFIELDS x y z normal_x normal_x normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\nPOINTS 1\n"
+           "DATA ascii\n1 2 3 0 0 1\n",
+           "e.pcd:2:", "FIELDS names 'normal_x' twice"},
+      });
+  // Padding "_" may repeat, as PCL writes it.
+  TempFolder folder;
+  write_file(folder / "ok.pcd", "FIELDS x _ y _ z\nSIZE 4 4 4 4 4\nTYPE F F F F F\nPOINTS 1\nDATA ascii\n1 9 2 9 3\n");
+  const PointCloud cloud = read_points(folder / "ok.pcd");
+  ASSERT_EQ(cloud.size(), 1U);
+  EXPECT_EQ(cloud.positions[0], Vec3(1, 2, 3));
+}
+
 }  // namespace
 }  // namespace recon::io

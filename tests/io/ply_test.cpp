@@ -270,5 +270,29 @@ TEST(PlyReader, HugeCountsInTheHeaderAllocateNothing) {
   EXPECT_CONTAINS(point_read_error(folder / "l.ply"), "l.ply: byte ");
 }
 
+TEST(PlyReader, APropertyDeclaredTwiceIsRefused) {
+  // Reading the first x and skipping the second would drop values silently.
+  expect_read_errors(
+      "e.ply", {
+                   {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                    "property float x\nend_header\n1 2 3 4\n",
+                    "e.ply:7:", "property 'x' of element 'vertex' is declared twice (first at line 4)"},
+                   {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                    "property uchar red\nproperty double red\nend_header\n1 2 3 4 5\n",
+                    "e.ply:8:", "property 'red' of element 'vertex' is declared twice"},
+                   // Any element: a face with two index lists.
+                   {"ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 0\nproperty list uchar int vertex_indices\nproperty list uchar int vertex_indices\n"
+                    "end_header\n",
+                    "e.ply:9:", "property 'vertex_indices' of element 'face' is declared twice"},
+               });
+  // The same name in two elements is no duplicate.
+  TempFolder folder;
+  write_file(folder / "ok.ply",
+             "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+             "element extra 1\nproperty float x\nend_header\n1 2 3\n4\n");
+  EXPECT_EQ(read_points(folder / "ok.ply").size(), 1U);
+}
+
 }  // namespace
 }  // namespace recon::io

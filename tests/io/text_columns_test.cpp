@@ -5,6 +5,7 @@
 
 #include "recon/io/curve_io.h"
 #include "recon/io/point_io.h"
+#include "recon/io/point_stream.h"
 
 #include "io/io_test_helpers.h"
 #include "recon/errors.h"
@@ -511,6 +512,44 @@ TEST(PointIoTextColumns, RealFilesReadAsBefore) {
   expect_read_as_strtod(shared_data("hoppe_cactus/cactus.pts"), true, false);
   expect_read_as_strtod(shared_data("hoppe_distcap/distcap.pts"), true, false);
   expect_read_as_strtod(shared_data("hoppe_curve1/curve1.pts"), true, false);
+}
+
+TEST(TextColumns, ColumnsForAFormatWithNamedFieldsAreRefusedNotIgnored) {
+  // --columns z,y,x on a PLY, LAS, PCD, OBJ or OFF file was ignored: the
+  // points came back as x y z, with no word of it.
+  TempFolder folder;
+  write_points(folder / "c.ply", random_cloud(4, false, 1));
+  write_file(folder / "c.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n1 2 3\n");
+  write_file(folder / "c.obj", "v 1 2 3\n");
+  write_file(folder / "c.off", "OFF\n1 0 0\n1 2 3\n");
+  write_file(folder / "c.las", "LASF");  // refused before it is read
+  write_file(folder / "hoppe.pts", "p 1 2 3\np 4 5 6\n");
+  ReadPointsOptions options;
+  options.columns = {"z", "y", "x"};
+  for (const char* name : {"c.ply", "c.pcd", "c.obj", "c.off", "c.las"}) {
+    const std::string message =
+        message_of<InvalidInputError>([&] { static_cast<void>(read_points(folder / name, options)); });
+    EXPECT_CONTAINS(message, (folder / name).string() + ": --columns applies to delimited text");
+    PointChunkOptions chunks;
+    chunks.read = options;
+    EXPECT_THROW(static_cast<void>(read_points_in_chunks(folder / name, chunks, [](PointCloudView, std::size_t) {})),
+                 InvalidInputError)
+        << name;
+  }
+  const std::string message =
+      message_of<InvalidInputError>([&] { static_cast<void>(read_points(folder / "hoppe.pts", options)); });
+  EXPECT_CONTAINS(message, "hoppe.pts: --columns applies to plain columns, but this .pts file holds Hoppe's");
+}
+
+TEST(TextColumns, ColumnsApplyToPlainPtsColumns) {
+  // A .pts file of plain columns is read as xyz text: --columns applies.
+  TempFolder folder;
+  write_file(folder / "plain.pts", "1 2 3\n4 5 6\n");
+  ReadPointsOptions options;
+  options.columns = {"z", "y", "x"};
+  const PointCloud cloud = read_points(folder / "plain.pts", options);
+  ASSERT_EQ(cloud.size(), 2U);
+  EXPECT_EQ(cloud.positions[0], Vec3(3, 2, 1));
 }
 
 }  // namespace

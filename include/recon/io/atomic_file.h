@@ -1,32 +1,83 @@
 #pragma once
 // Write-then-rename, so that an output file is either complete or absent
-// (a previous version stays intact until the new one is whole).
+// (a previous version stays intact until the new one is whole), for every
+// file recon writes: meshes, clouds, curves, --stats, --report, tile files.
+//
+// What a target path names decides how it is written (output_target()):
+//   - a regular file, or nothing yet: a temporary file beside it, renamed
+//     onto it by commit(). A symbolic link is followed to its last target
+//     (as a shell's '>' does): the link stays a link and the file it names
+//     is replaced, atomically; a dangling link's target is created. An
+//     existing file keeps its mode and, where the user may set them, its
+//     owner and group. commit() calls fsync on the file before the rename
+//     and on its folder after it, so that a crash leaves the old file or
+//     the new one, never an empty one.
+//   - a FIFO or a character device (/dev/null, a terminal), or a regular
+//     file reached through a descriptor link (/dev/stdout, /dev/fd/N,
+//     /proc/self/fd/N: the shell's redirection, which may append): written
+//     in place as a stream. It is never replaced, but then nothing is
+//     atomic: a failed run may leave part of its output in the stream.
+//   - a folder, a block device or a socket: refused (IoError).
 
 #include <filesystem>
 #include <fstream>
 
 namespace recon::io {
 
+/// How a target path is written (see above).
+struct OutputTarget {
+  enum class Kind { file, stream };
+  Kind kind = Kind::file;
+  /// file: the path the finished file is renamed onto (the target, or the
+  /// file its symbolic links lead to); stream: the target as given.
+  std::filesystem::path path;
+};
+
+/// Decides how `target` is written, looking at the file system only (it
+/// opens nothing, so it can be asked of any path). Cost: a stat and one
+/// readlink per symbolic link. Throws IoError "TARGET: cannot write: it is
+/// a folder" (or "a block device", "a socket"), or for more than 40 links
+/// in a chain.
+[[nodiscard]] OutputTarget output_target(const std::filesystem::path& target);
+
 class AtomicFile {
  public:
-  /// Opens a temporary file next to `target` (same folder, so the final
-  /// rename cannot cross file systems). Throws IoError when it cannot.
-  explicit AtomicFile(std::filesystem::path target);
+  /// output: the target is written as output_target() says. scratch: a
+  /// temporary file beside the target (beside the file its links lead to),
+  /// whatever the target is, never renamed onto it: a part of an output
+  /// being assembled (mesh_stream.h); commit() is refused.
+  enum class Use { output, scratch };
+
+  /// Opens a temporary file next to the target (same folder, so the final
+  /// rename cannot cross file systems), or the stream itself. Throws
+  /// IoError when it cannot, or when output_target() refuses the target.
+  explicit AtomicFile(std::filesystem::path target, Use use = Use::output);
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
-  /// Removes the temporary file unless commit() succeeded.
+  /// Removes the temporary file unless commit() succeeded (a stream is
+  /// closed: what was written to it stays written).
   ~AtomicFile();
 
   std::ofstream& stream() { return out_; }
-  /// The temporary file being written (removed unless committed).
+  /// The temporary file being written (removed unless committed); for a
+  /// stream, the stream's path.
   [[nodiscard]] const std::filesystem::path& temporary() const { return temporary_; }
-  /// Flushes, closes and renames onto the target. Throws IoError on failure.
+  /// Flushes, closes, syncs and renames onto the target (a stream: flushes
+  /// and closes). Throws IoError on failure.
   void commit();
 
  private:
-  std::filesystem::path target_;
+  void open_temporary(const std::filesystem::path& folder);
+  void keep_mode_and_owner() const;
+  void discard_temporary() noexcept;
+  void sync_and_rename();
+
+  std::filesystem::path target_;  // as given, for messages
+  std::filesystem::path final_;   // the file renamed onto (links followed)
   std::filesystem::path temporary_;
   std::ofstream out_;
+  bool streaming_ = false;
+  bool scratch_ = false;
   bool committed_ = false;
   int slot_ = -1;  // in the registry of pending temporaries, or -1
 };

@@ -42,10 +42,14 @@ namespace recon::io {
 /// output is asked for. Throws what read_points throws for a file it
 /// cannot read.
 [[nodiscard]] bool holds_2d_points(const std::filesystem::path& path, const ReadPointsOptions& options = {});
+/// As above, on a source opened once (a stream is not read again).
+[[nodiscard]] bool holds_2d_points(const PointSource& source, const ReadPointsOptions& options = {});
 
 /// The 2D points of a file (see above).
 [[nodiscard]] std::vector<Vec2> read_points_2d(const std::filesystem::path& path,
                                                const ReadPointsOptions& options = {});
+/// As above, on a source opened once.
+[[nodiscard]] std::vector<Vec2> read_points_2d(const PointSource& source, const ReadPointsOptions& options = {});
 
 enum class CurveFormat { automatic, svg, obj, txt };
 

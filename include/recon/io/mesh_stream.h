@@ -62,8 +62,8 @@ class PlyMeshStream {
  private:
   /// Records not yet written to a part, and the part's temporary file.
   struct Part {
-    explicit Part(const std::filesystem::path& path) : file(path) {}
-    AtomicFile file;  // never committed: a temporary, removed with the Part
+    explicit Part(const std::filesystem::path& path) : file(path, AtomicFile::Use::scratch) {}
+    AtomicFile file;  // a scratch file beside the output (even a FIFO's), removed with the Part
     std::string buffer;
   };
 

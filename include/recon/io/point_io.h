@@ -7,7 +7,9 @@
 //          present, and the colours red, green, blue, or diffuse_red,
 //          diffuse_green, diffuse_blue, when all three are) of any scalar
 //          type; every other property and element (faces, alpha, ...) is
-//          skipped, so a mesh's vertices read as a cloud. Elements may come in any order; a list property on the
+//          skipped, so a mesh's vertices read as a cloud. A property name
+//          declared twice in an element is refused (ParseError at the second
+//          line). Elements may come in any order; a list property on the
 //          vertex element is refused. ASCII values may wrap across lines, but
 //          text after the last declared element is an error; bytes after the
 //          last element of a binary body are ignored.
@@ -73,7 +75,8 @@
 //   pcd  - PCD v0.7 with x, y, z fields of any type (F 4/8, I or U 1/2/4/8),
 //          normal_x, normal_y, normal_z used when all are present, rgb (or
 //          rgba) of 4 bytes as colours (PCL's packed 0x00RRGGBB), other
-//          fields skipped and never checked; DATA ascii, binary
+//          fields skipped and never checked (a name FIELDS lists twice,
+//          but the padding "_", is refused); DATA ascii, binary
 //          (little-endian records) or binary_compressed (LZF, the fields
 //          stored column by column). NaN is "no value": a point with a NaN
 //          coordinate in an organized cloud (HEIGHT > 1), or with all of
@@ -107,7 +110,8 @@
 //
 // The file is mapped into memory read-only (mmap), not copied; a pipe or
 // another file that cannot be mapped is read whole, up to a limit
-// (ReadPointsOptions::max_stream_bytes). Readers look no further
+// (ReadPointsOptions::max_stream_bytes) applied as the bytes come: the
+// memory held never exceeds the bytes read by more than a megabyte. Readers look no further
 // than they need, so a bad file is refused after its first pages, however
 // large, and a header count never sizes an allocation beyond what the file
 // could hold. Numbers are parsed with std::from_chars; in PLY and PCD text
@@ -145,12 +149,17 @@
 // 'laszip -i FILE -o out.las', ..."; LAS content with the compression bit
 // gives the same words as a ParseError at byte 104), and for
 // ReadPointsOptions::columns naming an unknown column, one twice, part of a
-// triple, or no x, y or z ("--columns names an unknown column 'q' ...").
+// triple, or no x, y or z ("--columns names an unknown column 'q' ..."),
+// and for columns given with a format they do not apply to ("FILE:
+// --columns applies to delimited text (xyz, and pts without 'p' records),
+// not to ply, ...": ply, pcd, las, obj, off, and .pts with Hoppe's
+// records): an option is refused rather than ignored.
 
 #include "recon/point_cloud.h"
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -204,6 +213,44 @@ struct ReadNotes {
 /// Reads a point cloud; `notes`, when given, receives what the reader chose
 /// or skipped.
 [[nodiscard]] PointCloud read_points(const std::filesystem::path& path, const ReadPointsOptions& options = {},
+                                     ReadNotes* notes = nullptr);
+
+namespace detail {
+class FileContent;
+}
+
+/// A point file opened once, for a program that looks at its input before
+/// reading it (reconstruct asks whether it holds 2D points): a regular file
+/// is mapped, so looking costs nothing; a stream (a pipe, a FIFO,
+/// /dev/stdin) can be read only once, so it is read whole into memory here,
+/// up to `max_stream_bytes` (as ReadPointsOptions::max_stream_bytes).
+/// Throws what read_points throws when the file cannot be opened or read.
+class PointSource {
+ public:
+  explicit PointSource(std::filesystem::path path, std::size_t max_stream_bytes = 0);
+  PointSource(PointSource&&) noexcept;
+  PointSource& operator=(PointSource&&) noexcept;
+  ~PointSource();
+
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+  [[nodiscard]] std::string_view bytes() const;
+  /// Memory held for a stream's bytes (0 for a mapped file): within the
+  /// bytes read and a page, however the stream grew (no doubling buffer).
+  [[nodiscard]] std::size_t held_bytes() const;
+
+ private:
+  std::filesystem::path path_;
+  std::unique_ptr<detail::FileContent> content_;
+};
+
+/// True when `path` is something other than a regular file or a folder (a
+/// pipe, a FIFO, a device, /dev/stdin on a pipe): what can be read only
+/// once. False when it does not exist (opening it says so).
+[[nodiscard]] bool is_stream(const std::filesystem::path& path);
+
+/// read_points on a source already opened; options.max_stream_bytes was the
+/// source's to apply.
+[[nodiscard]] PointCloud read_points(const PointSource& source, const ReadPointsOptions& options = {},
                                      ReadNotes* notes = nullptr);
 
 /// The mapped input file a reader of this library is reading at this
