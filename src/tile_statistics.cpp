@@ -188,7 +188,7 @@ Spacing measure_spacing(const TilePlan& plan, const std::filesystem::path& dir, 
   o.planes.keep_spacing_parts = true;
   Spacing s;
   SpacingSums sums;
-  s.inexact = over_tiles(plan, dir, o, [&](const TileVisit& t, std::vector<Values>& values) {
+  const std::uint64_t unmeasured = over_tiles(plan, dir, o, [&](const TileVisit& t, std::vector<Values>& values) {
     const TangentPlanes<3>& planes = t.r.planes;
     const std::span<const Vec3> w = t.r.points();
     const tile_files::CoreBox core = tile_files::core_at(plan, t.info.index);
@@ -204,6 +204,7 @@ Spacing measure_spacing(const TilePlan& plan, const std::filesystem::path& dir, 
     }
     s.samples += t.samples.size();
   });
+  s.inexact += unmeasured;
   const Selection select(plan, dir);
   const auto positive = [](float v) { return v > 0.0f ? std::optional<float>(v) : std::nullopt; };
   const std::optional<float> lambda = select.median([](const Values& v) { return v.c; });

@@ -100,5 +100,24 @@ INSTANTIATE_TEST_SUITE_P(
              (p.param.rho ? "_rho" : "");
     });
 
+// Samples a tile cannot measure exactly are counted, not hidden: five
+// strays far from the rest make a tile of their own, too few for a
+// neighbourhood of k (the in-memory run measures them with the sphere's
+// samples, 3 away).
+TEST(MeasuredOverTiles, SamplesATileCannotMeasureAreCounted) {
+  PointCloud cloud = make_shape("sphere")->sample(8000, 3);
+  for (int i = 0; i < 5; ++i) cloud.positions.emplace_back(4.0 + 0.01 * i, 0.0, 0.0);
+  TilingOptions tiling;
+  tiling.statistics_points = 2000;
+  tiling.tile_size = 0.5;
+  const auto dir = std::filesystem::path(::testing::TempDir()) / "recon-tile-statistics-strays";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const TiledRun run = reconstruct_tiled(pass_over(cloud, 4096), tiling, dir / "work", dir / "mesh.ply");
+  std::filesystem::remove_all(dir);
+  EXPECT_TRUE(run.plan.statistics_over_tiles);
+  EXPECT_EQ(run.plan.statistics_inexact, 5u);
+}
+
 }  // namespace
 }  // namespace recon
