@@ -36,9 +36,12 @@ double chosen_cell(std::optional<double> cell, std::optional<int> resolution, co
 }
 
 double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes, const ReconstructionOptions& options) {
-  const double fallback = options.method == Method::hoppe92 ? planes.rho : planes.rho / std::numbers::sqrt2;
-  return chosen_cell(
-      options.cell, options.resolution, [&] { return bounding_box<3>(points).extent().maxCoeff(); }, fallback);
+  return lattice_cell([&] { return bounding_box<3>(points).extent().maxCoeff(); }, planes.rho, options);
+}
+
+double lattice_cell(const std::function<double()>& longest_side, double rho, const ReconstructionOptions& options) {
+  const double fallback = options.method == Method::hoppe92 ? rho : rho / std::numbers::sqrt2;
+  return chosen_cell(options.cell, options.resolution, longest_side, fallback);
 }
 
 void refuse_no_surface(const std::string& figures, double cell, double longest_side, const std::string& smaller_cell) {

@@ -36,7 +36,7 @@ double probe_median(std::span<const Vec<D>> points, const TangentPlanes<D>& plan
   std::vector<double> residual;
   for (const Vec<D>& p : points)
     if (is_noise_probe<D>(p, points.size())) residual.push_back(probe_residual<D>(planes, points, p, wider_k));
-  return residual.empty() ? std::numeric_limits<double>::infinity() : median(std::move(residual));
+  return probes_median(std::move(residual));
 }
 
 // Throws unless the options and the point count make a neighbourhood.
@@ -397,6 +397,10 @@ bool is_noise_probe(const Vec<D>& p, std::size_t n) {
     h = detail::mix64(h ^ bits);
   }
   return static_cast<double>(h) < probes / static_cast<double>(n) * 18446744073709551616.0;
+}
+
+double probes_median(std::vector<double> residuals) {
+  return residuals.empty() ? std::numeric_limits<double>::infinity() : median(std::move(residuals));
 }
 
 int raised_k(const TangentPlaneOptions& options, double noise, double rho, std::size_t distinct, std::size_t n,

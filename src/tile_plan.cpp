@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <numbers>
 #include <fstream>
 #include <string>
 #include <unordered_map>
@@ -257,10 +256,8 @@ void choose(const tile_statistics::Measures& m, const TilingOptions& options, Ti
   plan.walk_margin = walk_ring + plan.ring;
   plan.radius_q = m.radius_q;
   plan.rho_q = m.rho_q;
-  const double rho = o.planes.rho ? *o.planes.rho : m.spacing.rho;
-  const double fallback = o.method == Method::hoppe92 ? rho : rho / std::numbers::sqrt2;
-  const double cell = chosen_cell(
-      o.cell, o.resolution, [&] { return plan.box.extent().maxCoeff(); }, fallback);
+  // (m.spacing.rho is the given rho, when one is.)
+  const double cell = lattice_cell([&] { return plan.box.extent().maxCoeff(); }, m.spacing.rho, o);
   plan.lattice = tiles_lattice(plan.box, cell);
   const double delta = o.distance.delta ? *o.distance.delta : 2.0 * m.spacing.noise;
   // (Distances to a core are taken on the axes: a ball of radius R around

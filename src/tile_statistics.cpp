@@ -10,8 +10,6 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
-#include <limits>
-#include <numbers>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -224,13 +222,6 @@ Spacing measure_spacing(const TilePlan& plan, const std::filesystem::path& dir, 
   return s;
 }
 
-double median_of(std::vector<double> values) {
-  if (values.empty()) return std::numeric_limits<double>::infinity();
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
 // ---------------------------------------------------------------------------
 // Steps B and C: the quadrics (refined).
 
@@ -285,13 +276,12 @@ Measures measure_over_tiles(const TilePlan& plan, const std::filesystem::path& d
   int k = asked.planes.k;
   Spacing a = measure_spacing(plan, dir, asked, k, n);
   const int raised = raised_k(asked.planes, a.spacing.noise, a.spacing.rho, a.distinct, n,
-                              [&] { return median_of(a.probes); });
+                              [&] { return probes_median(a.probes); });
   if (raised > 0) a = measure_spacing(plan, dir, asked, k = raised, n);
 
   Measures m;
   if (asked.method == Method::refined) {
-    const double cell = chosen_cell(
-        asked.cell, asked.resolution, [&] { return plan.box.extent().maxCoeff(); }, a.spacing.rho / std::numbers::sqrt2);
+    const double cell = lattice_cell([&] { return plan.box.extent().maxCoeff(); }, a.spacing.rho, asked);
     const LocalQuadricOptions fits = fit_options(asked, cell);
     auto [fit_residual, split] = own_fits(plan, dir, given_spacing(asked, k, a.spacing), fits);
     if (k > asked.planes.k && 4 * split > a.samples) {  // (B: the raise undone)

@@ -280,5 +280,9 @@ struct WorkingTree {
 /// result: the given cell or resolution, else rho (hoppe92) or rho / sqrt 2 (refined).
 [[nodiscard]] double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes,
                                   const ReconstructionOptions& options);
+/// The same from the data's longest side (computed only when needed) and
+/// the cloud's rho (a tiled run's plan, which holds no points).
+[[nodiscard]] double lattice_cell(const std::function<double()>& longest_side, double rho,
+                                  const ReconstructionOptions& options);
 
 }  // namespace recon

@@ -121,6 +121,10 @@ template <int D>
 
 struct TangentPlaneOptions;
 
+/// The median of the noise probes' residuals (the upper one of an even
+/// count; infinity for none, which raises no k).
+[[nodiscard]] double probes_median(std::vector<double> residuals);
+
 /// The k to run phase I again with, or 0 (see above): from the cloud's
 /// noise and rho, its distinct samples (n of them in all), and the median
 /// residual of the noise probes' neighbourhoods of 2k samples, asked for
