@@ -11,6 +11,7 @@
 #include "recon/io/point_io.h"  // file_being_read
 #include "recon/parallel.h"
 #include "recon/tiles.h"
+#include "recon/version.h"
 
 #include <csignal>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <new>
+#include <string>
 
 #include <unistd.h>
 
@@ -110,6 +112,8 @@ int main(int argc, char** argv) {
   CLI::App app{"recon: triangle meshes and oriented normals from unorganized point clouds\n"
                "(Hoppe, DeRose, Duchamp, McDonald, Stuetzle: Surface reconstruction from unorganized points, 1992)"};
   app.require_subcommand(1);
+  // "recon 0.1.0+g1a2b3c4", exit status 0: what a bug report should quote (recon/version.h).
+  app.set_version_flag("--version", "recon " + std::string(recon::version()), "Print recon's version and exit");
   app.fallthrough();  // --quiet and --threads may also follow the subcommand
   recon::cli::GlobalOptions global;
   app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
@@ -143,6 +147,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "recon: error: " << e.what() << " (see recon --help)\n";

@@ -1,6 +1,7 @@
 #include "summary.h"
 
 #include "recon/io/atomic_file.h"
+#include "recon/version.h"
 
 #include <algorithm>
 #include <charconv>
@@ -97,6 +98,8 @@ std::string Json::dump(int indent) const {
   dump(out, indent, 0);
   return out;
 }
+
+Summary::Summary(bool quiet) : quiet_(quiet) { stats_["version"] = std::string(version()); }
 
 void Summary::add(const StepReport& report, const std::string& key, const std::string& subkey) {
   for (const std::string& line : report.lines) say(line);

@@ -48,7 +48,9 @@ struct StepReport {
 
 class Summary {
  public:
-  explicit Summary(bool quiet) : quiet_(quiet) {}
+  /// Its statistics start with "version": recon::version(), so that every
+  /// --stats file, a Python run's stats and a report say what made them.
+  explicit Summary(bool quiet);
   /// Prints one line (unless quiet).
   void say(const std::string& text) const;
   /// Prints the report's lines and puts its statistics at stats()[key]

@@ -40,6 +40,7 @@
 #include "recon/reconstruct.h"
 #include "recon/tiles.h"
 #include "recon/timer.h"
+#include "recon/version.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -738,6 +739,7 @@ PYBIND11_MODULE(_recon, m) {
   using namespace recon;
   using namespace recon::python;
   m.doc() = "The compiled part of recon (see the recon package for the documented interface).";
+  m.attr("__version__") = std::string(version());  // recon/version.h: the program's and the wheel's too
   py::register_exception<ResourceLimitError>(m, "ResourceLimitError", PyExc_MemoryError);
   py::register_exception_translator(translate);
   bind_point_cloud(m);

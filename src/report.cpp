@@ -4,6 +4,7 @@
 #include "recon/io/atomic_file.h"
 #include "recon/mesh.h"
 #include "recon/reconstruct.h"
+#include "recon/version.h"
 
 #include <algorithm>
 #include <bit>
@@ -618,6 +619,7 @@ void write_lab(JsonWriter& w, const ReportLab& lab) {
 void write_data(JsonWriter& w, const ReportLayers& layers, const ReportOptions& options) {
   w.open("");
   w.string("title", options.title);
+  w.string("version", version());  // the page's footer: which recon drew it
   w.vec("centre", layers.centre);
   w.number("diagonal", layers.diagonal);
   w.number("rho", layers.rho);

@@ -39,6 +39,11 @@ import numpy as np
 from . import _recon
 from ._recon import ResourceLimitError
 
+#: recon's version, the compiled library's own (recon/version.h): the same
+#: string as ``recon --version``, the wheel's version and the "version" of
+#: every stats dict, e.g. "0.1.0" or "0.1.0+g1a2b3c4" (docs/releasing.md).
+__version__: str = _recon.__version__
+
 __all__ = [
     "PointCloud",
     "Mesh",
@@ -269,5 +274,3 @@ def reconstruct(
                               None if report is None else os.fspath(report), progress)
     return Mesh._of(made)
 
-
-__version__ = "0.1.0"

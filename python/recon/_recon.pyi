@@ -4,6 +4,8 @@ from typing import Any, Callable, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+__version__: str
+
 class ResourceLimitError(MemoryError): ...
 
 class PointCloud:

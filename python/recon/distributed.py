@@ -295,7 +295,7 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     exists; on a local cluster, ``workers`` and ``threads_per_task`` are
     at most PROCESSES_PER_CORE per core of this machine.
 
-    The figures: "plan" (tiles, points, tile_size, halo, per-tile points,
+    The figures: "version" (recon.__version__), "plan" (tiles, points, tile_size, halo, per-tile points,
     ...), "orient" and "contour" (one dict per tile: its seconds, the
     worker that ran it, the threads it used, ...), "reconcile", "mesh"
     (vertices, triangles, ...), "seconds" per step ("connect": reaching or
@@ -332,7 +332,7 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     finally:
         workspace.close()
     seconds["total"] = time.perf_counter() - started
-    return {"plan": plan, **figures, "seconds": seconds, "threads_per_task": threads_per_task,
+    return {"version": _recon.__version__, "plan": plan, **figures, "seconds": seconds, "threads_per_task": threads_per_task,
             "client_peak_rss_mib": _peak_memory()["peak_rss_mib"]}
 
 

@@ -540,6 +540,7 @@ document.getElementById('parameters').appendChild(parameterTable);
 const title = data.title || 'recon report';
 document.getElementById('title').textContent = title;
 document.title = `recon report: ${title}`;
+document.getElementById('version').textContent = data.version ?? '';
 
 for (const layer of layers) if (layer.defaultVisible) setVisible(layer.id, true);
 resize();

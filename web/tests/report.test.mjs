@@ -122,6 +122,8 @@ test('a reconstruction report opens offline, and every layer toggle changes the 
   const opened = await open('two.html');
   const { page } = opened;
   assert.equal(await page.title(), 'recon report: two.ply');
+  // The footer names the recon that wrote the page (recon/version.h).
+  assert.equal(`recon ${await page.locator('#version').textContent()}`, run('--version').trim());
   assert.deepEqual(await page.evaluate(() => window.reconReport.layers.filter((l) => l.available).map((l) => l.id)), layerIds);
   // The refined mesh is shown first, the 1992 surface on demand.
   assert.equal(await page.evaluate(() => window.reconReport.visible('refinement')), true);
