@@ -16,6 +16,7 @@
 #include "recon/io/point_io.h"
 #include "recon/mesh.h"
 #include "recon/shapes.h"
+#include "recon/version.h"
 
 #include <gtest/gtest.h>
 
@@ -292,6 +293,27 @@ TEST_F(CliHelp, EachSubcommandListsItsOptions) {
       EXPECT_NE(run.out.find(option), std::string::npos) << command << " --help lacks " << option << describe(run);
   }
   EXPECT_TRUE(entries().empty());
+}
+
+// ---------------------------------------------------------------- version
+
+// The program's version is the library's (recon/version.h; how it is made is
+// tested in python/tests/test_packaging.py), and every --stats file and
+// report page says it.
+TEST_F(CliHelp, VersionIsTheLibrarysInEveryStatsFileAndReport) {
+  const RunResult run = recon({"--version"});
+  ASSERT_TRUE(succeeded(run)) << describe(run);
+  EXPECT_EQ(run.out, "recon " + std::string(version()) + "\n");
+  EXPECT_TRUE(entries().empty());
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 1000, "s.xyz"));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "s.xyz", "-o", "m.ply", "--stats", "r.json"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "s.xyz", "-o", "n.ply", "--stats", "n.json"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "lab", "s.xyz", "--stats", "l.json", "--report", "l.html"})));
+  const std::string field = "\"version\": \"" + std::string(version()) + "\"";
+  for (const char* stats : {"r.json", "n.json", "l.json"})
+    EXPECT_TRUE(read_bytes(at(stats)).starts_with("{\n  " + field)) << stats << ": " << read_bytes(at(stats));
+  const std::string page = read_bytes(at("l.html"));
+  EXPECT_NE(page.find("\"title\":\"s.xyz\",\"version\":\"" + std::string(version()) + "\""), std::string::npos);
 }
 
 // ---------------------------------------------------------------- errors

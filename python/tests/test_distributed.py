@@ -160,6 +160,7 @@ def test_a_dask_run_gives_the_in_memory_mesh(torus, reference, in_memory, tmp_pa
     (stale / "recon-tiles.lock").touch()
     (stale / "tile-000000.points").write_bytes(b"x")
     figures = recon.distributed.run(torus, output, workers=2, tile_size=TILE_SIZE, timeout=TIMEOUT)
+    assert figures["version"] == recon.__version__  # as every stats dict (test_packaging.py compares them all)
     assert_same_triangles(read_ply_mesh(output), in_memory, in_memory_tolerance(reference))
     assert output.read_bytes() == reference["path"].read_bytes()
     assert figures["plan"] == {**reference["plan"], "seconds": figures["plan"]["seconds"]}
