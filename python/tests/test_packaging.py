@@ -5,8 +5,8 @@ Run by CTest as python_packaging, apart from python_tests: it builds the
 package twice with pip's and build's own front ends, in fresh virtual
 environments, offline (--no-index). setup.py's CMake build folder is
 RECON_PIP_BUILD_DIR (CTest: build/<preset>/pip-package), kept between
-runs, so a run after the first only relinks what changed (about 20 s here;
-the first, 3 minutes on 2 cores without ccache).
+runs, so a run after the first only relinks what changed (15-35 s here;
+the first compiles the library: 2 min 40 s of CPU, without ccache).
 """
 
 import importlib.util
