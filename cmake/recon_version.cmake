@@ -6,6 +6,8 @@
 #                           or the sources are not a git checkout (a tarball)
 #   0.1.0+g1a2b3c4          a commit other than the release's
 #   0.1.0+g1a2b3c4.dirty    with changes to tracked files not yet committed
+# An sdist (python3 -m build --sdist) has no git either: it keeps the
+# version it was made with, from the PKG-INFO file setuptools put in it.
 #
 # Each form is a valid PEP 440 version (the part after '+' is a "local
 # version"), so the wheel's version and recon.__version__ are this same
@@ -53,10 +55,28 @@ function(recon_is_own_checkout out)
   endif()
 endfunction()
 
+# The version an sdist was made with (its PKG-INFO), when it is one of
+# this VERSION's; else "".
+function(recon_sdist_version out)
+  set(${out} "" PARENT_SCOPE)
+  if(EXISTS "${RECON_SOURCE_DIR}/PKG-INFO")
+    file(STRINGS "${RECON_SOURCE_DIR}/PKG-INFO" line REGEX "^Version: " LIMIT_COUNT 1)
+    string(REGEX REPLACE "^Version: *" "" version "${line}")
+    string(STRIP "${version}" version)
+    if(version STREQUAL RECON_BASE_VERSION OR version MATCHES "^${RECON_BASE_VERSION}\\+g[0-9a-f]+(\\.dirty)?$")
+      set(${out} "${version}" PARENT_SCOPE)
+    endif()
+  endif()
+endfunction()
+
 function(recon_version_string out)
   set(${out} "${RECON_BASE_VERSION}" PARENT_SCOPE)
   recon_is_own_checkout(own)
   if(NOT own)
+    recon_sdist_version(sdist)
+    if(sdist)
+      set(${out} "${sdist}" PARENT_SCOPE)
+    endif()
     return()
   endif()
   recon_git(commit rev-parse --short=7 HEAD)

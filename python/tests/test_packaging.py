@@ -272,7 +272,7 @@ def test_the_version_follows_the_checkout(repo, tmp_path):
         assert str(Version(v)) == v
 
 
-def test_a_tarball_has_the_plain_version_even_inside_another_repository(repo, tmp_path):
+def test_a_tarball_has_the_plain_version_even_inside_another_repository_an_sdist_its_own(repo, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     tarball = repo / "unpacked" / "recon-2.3.4"  # sources without .git, inside some other checkout
@@ -282,6 +282,11 @@ def test_a_tarball_has_the_plain_version_even_inside_another_repository(repo, tm
     alone.mkdir()
     assert version_of(alone, out) == "2.3.4"
     assert (out / "version.h").read_text().endswith('#define RECON_VERSION_STRING "2.3.4"\n')
+    # An sdist keeps the version it was made with (its PKG-INFO), when it is this VERSION's.
+    (alone / "PKG-INFO").write_text("Metadata-Version: 2.1\nName: recon\nVersion: 2.3.4+gabc1234.dirty\n")
+    assert version_of(alone, out) == "2.3.4+gabc1234.dirty"
+    (alone / "PKG-INFO").write_text("Metadata-Version: 2.1\nName: recon\nVersion: 2.4.0\n")
+    assert version_of(alone, out) == "2.3.4", "another version's PKG-INFO is not this one's"
 
 
 def test_an_unchanged_version_rewrites_nothing(repo, tmp_path):
