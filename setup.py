@@ -47,8 +47,16 @@ def viewer_can_be_built(root: Path) -> bool:
 
 
 def run(command: List[str]) -> None:
+    """Runs a CMake step; a failure ends the build with one line saying which
+    step (CMake's own messages, printed above it, say why)."""
     print("recon setup.py:", " ".join(command), flush=True)
-    subprocess.run(command, check=True)
+    if shutil.which(command[0]) is None:
+        raise SystemExit(f"recon setup.py: error: {command[0]} is not installed (scripts/setup installs what the "
+                         "build needs)")
+    done = subprocess.run(command)
+    if done.returncode != 0:
+        raise SystemExit(f"recon setup.py: error: {' '.join(command)} failed with status {done.returncode} "
+                         "(see CMake's messages above; scripts/setup installs what the build needs)")
 
 
 def configure(build: Path) -> None:

@@ -26,18 +26,22 @@ if(NOT RECON_BASE_VERSION OR NOT RECON_SOURCE_DIR)
   message(FATAL_ERROR "recon_version.cmake: give -DRECON_BASE_VERSION=... and -DRECON_SOURCE_DIR=...")
 endif()
 
-# git's answer in `out` (stripped), or "" when git is missing or fails.
+# git's answer in `out` (stripped), or "" when git is missing or fails
+# (then `out`_failed is TRUE). --no-optional-locks: a build never takes
+# the index's lock from a git command the user runs meanwhile.
 function(recon_git out)
   set(${out} "" PARENT_SCOPE)
+  set(${out}_failed TRUE PARENT_SCOPE)
   find_program(RECON_GIT git)
   if(NOT RECON_GIT)
     return()
   endif()
-  execute_process(COMMAND "${RECON_GIT}" ${ARGN}
+  execute_process(COMMAND "${RECON_GIT}" --no-optional-locks ${ARGN}
                   WORKING_DIRECTORY "${RECON_SOURCE_DIR}"
                   RESULT_VARIABLE status OUTPUT_VARIABLE text ERROR_QUIET OUTPUT_STRIP_TRAILING_WHITESPACE)
   if(status EQUAL 0)
     set(${out} "${text}" PARENT_SCOPE)
+    set(${out}_failed FALSE PARENT_SCOPE)
   endif()
 endfunction()
 
@@ -85,6 +89,9 @@ function(recon_version_string out)
   endif()
   # Untracked files (a build folder, an editor's backup) are not changes to recon.
   recon_git(changes status --porcelain --untracked-files=no)
+  if(changes_failed)  # a checkout whose state git cannot tell is not vouched for as clean
+    set(changes "unknown")
+  endif()
   recon_git(release_tag tag --points-at HEAD --list "v${RECON_BASE_VERSION}")
   if(release_tag AND NOT changes)
     return()

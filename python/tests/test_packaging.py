@@ -168,12 +168,25 @@ def test_the_module_needs_only_debian_runtime_packages(packaged):
         assert package in RUNTIME_PACKAGES, f"{name} ({path}) comes from {package}, not a Debian 12 runtime package"
 
 
-def test_without_web_packages_the_build_leaves_the_viewer_out(tmp_path, monkeypatch):
-    """Where Node.js or web/node_modules is missing, setup.py configures with
-    RECON_REPORT=OFF (src/report_page_missing.cpp) instead of failing."""
+def load_setup_py():
     spec = importlib.util.spec_from_file_location("recon_setup", ROOT / "setup.py")
     setup_py = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(setup_py)  # defines its functions; setup() runs only as __main__
+    return setup_py
+
+
+def test_a_failed_build_step_is_one_line_naming_it():
+    setup_py = load_setup_py()
+    with pytest.raises(SystemExit, match=r"error: no-such-cmake is not installed \(scripts/setup"):
+        setup_py.run(["no-such-cmake", "--version"])
+    with pytest.raises(SystemExit, match=r"error: cmake -P /nonexistent.cmake failed with status 1"):
+        setup_py.run(["cmake", "-P", "/nonexistent.cmake"])
+
+
+def test_without_web_packages_the_build_leaves_the_viewer_out(tmp_path, monkeypatch):
+    """Where Node.js or web/node_modules is missing, setup.py configures with
+    RECON_REPORT=OFF (src/report_page_missing.cpp) instead of failing."""
+    setup_py = load_setup_py()
     commands = []
     monkeypatch.setattr(setup_py, "run", commands.append)
     monkeypatch.setattr(setup_py, "ROOT", tmp_path)
@@ -301,3 +314,11 @@ def test_an_unchanged_version_rewrites_nothing(repo, tmp_path):
     (repo / "a.txt").write_text("changed\n")
     version_of(repo, out)
     assert all((out / n).stat().st_mtime > 1_000_000_000 for n in ("version.h", "version.txt"))
+
+
+def test_a_checkout_git_cannot_read_is_not_called_clean(repo, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    commit = git(repo, "rev-parse", "--short=7", "HEAD")
+    (repo / ".git" / "index").write_bytes(b"not an index")  # `git status` fails; HEAD is still known
+    assert version_of(repo, out) == f"2.3.4+g{commit}.dirty"
