@@ -277,7 +277,7 @@ TEST_F(CliHelp, EachSubcommandListsItsOptions) {
       {"normals", {"input", "--format", "--output", "--k", "--rho", "--ascii", "--stats"}},
       {"reconstruct",
        {"input", "--format", "--output", "--k", "--rho", "--delta", "--cell", "--resolution", "--use-normals",
-        "--ascii", "--stats"}},
+        "--ascii", "--stats", "--normals", ".glb"}},
       {"generate",
        {"shape", "--output", "--points", "--seed", "--noise", "--with-normals", "--truth", "--truth-points", "sphere",
         "torus", "two", "part", "handle", "conics"}},
@@ -738,6 +738,40 @@ TEST_F(CliMeshFormat, BinaryStl) {
   for (std::size_t i = 0; i < 4; ++i)
     count |= static_cast<std::uint32_t>(static_cast<unsigned char>(written.bytes[80 + i])) << (8 * i);
   EXPECT_EQ(static_cast<long>(count), written.faces);
+}
+
+// --normals: PLY and OBJ carry them (ASCII PLY: tests/io/glb_test.cpp); without it the
+// file is byte for byte the one of a run that never made them; a .glb
+// always has them; a tiled run refuses them.
+TEST_F(CliMeshFormat, NormalsOnlyWhenAskedAndAlwaysInGlb) {
+  const WrittenMesh plain = reconstruct_torus("m.ply");
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "n.ply", "--normals"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "n.obj", "--normals"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "m.glb"})));
+  EXPECT_EQ(plain.bytes.find("property float nx"), std::string::npos);
+  const Mesh n = io::read_mesh(at("n.ply"));
+  EXPECT_EQ(static_cast<long>(n.normals.size()), plain.vertices);
+  EXPECT_TRUE(n.vertices == io::read_mesh(at("m.ply")).vertices) << "the same mesh, with normals";
+  const std::string obj = read_bytes(at("n.obj"));
+  EXPECT_EQ(static_cast<long>(lines_starting_with(obj, "vn ").size()), plain.vertices);
+  EXPECT_NE(obj.find("//"), std::string::npos);
+  // Outward on the torus: the normal points away from the ring's core.
+  std::size_t inward = 0;
+  for (std::size_t v = 0; v < n.vertices.size(); ++v) {
+    const Vec3& p = n.vertices[v];
+    const Vec3 core = Vec3(p.x(), p.y(), 0.0).normalized();
+    inward += n.normals[v].dot(p - core) > 0.0 ? 0u : 1u;
+  }
+  EXPECT_EQ(inward, 0u);
+  const std::string glb = read_bytes(at("m.glb"));
+  ASSERT_GE(glb.size(), 20u);
+  EXPECT_EQ(glb.substr(0, 4), "glTF");
+  EXPECT_NE(glb.find("\"NORMAL\":1"), std::string::npos);
+  EXPECT_NE(glb.find("\"count\":" + std::to_string(3 * plain.faces) + ","), std::string::npos) << "the indices";
+  const RunResult tiled = recon({"reconstruct", "t.ply", "-o", "tiled.ply", "--normals", "--tile-size", "0.5"});
+  EXPECT_EQ(tiled.exit_code, 1) << describe(tiled);
+  EXPECT_NE(tiled.err.find("--normals"), std::string::npos) << describe(tiled);
+  EXPECT_FALSE(fs::exists(at("tiled.ply")));
 }
 
 TEST_F(CliReconstruct, TwoShapesGiveTwoComponents) {
