@@ -60,7 +60,6 @@ void refuse_what_tiles_do_not_do(const ReconstructCommandOptions& o) {
   if (io::mesh_format_from_path(o.output) != io::MeshFormat::ply) refuse("write binary PLY: name the output .ply");
   if (o.ascii) refuse("write binary PLY: drop --ascii");
   if (o.use_normals) refuse("estimate and orient the normals: drop --use-normals");
-  if (o.normals) refuse("write no vertex normals yet: drop --normals");
   if (!o.report.empty()) refuse("write no report: drop --report");
 }
 

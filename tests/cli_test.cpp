@@ -742,7 +742,7 @@ TEST_F(CliMeshFormat, BinaryStl) {
 
 // --normals: PLY and OBJ carry them (ASCII PLY: tests/io/glb_test.cpp); without it the
 // file is byte for byte the one of a run that never made them; a .glb
-// always has them; a tiled run refuses them.
+// always has them; a tiled run writes them too (as PLY).
 TEST_F(CliMeshFormat, NormalsOnlyWhenAskedAndAlwaysInGlb) {
   const WrittenMesh plain = reconstruct_torus("m.ply");
   ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "n.ply", "--normals"})));
@@ -768,10 +768,13 @@ TEST_F(CliMeshFormat, NormalsOnlyWhenAskedAndAlwaysInGlb) {
   EXPECT_EQ(glb.substr(0, 4), "glTF");
   EXPECT_NE(glb.find("\"NORMAL\":1"), std::string::npos);
   EXPECT_NE(glb.find("\"count\":" + std::to_string(3 * plain.faces) + ","), std::string::npos) << "the indices";
-  const RunResult tiled = recon({"reconstruct", "t.ply", "-o", "tiled.ply", "--normals", "--tile-size", "0.5"});
-  EXPECT_EQ(tiled.exit_code, 1) << describe(tiled);
-  EXPECT_NE(tiled.err.find("--normals"), std::string::npos) << describe(tiled);
-  EXPECT_FALSE(fs::exists(at("tiled.ply")));
+  // Tiled: the same normals (tests/tiles_test.cpp compares them); GLB is refused there.
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "tiled.ply", "--normals", "--tile-size", "0.5"})));
+  EXPECT_EQ(io::read_mesh(at("tiled.ply")).normals.size(), n.normals.size());
+  const RunResult tiled_glb = recon({"reconstruct", "t.ply", "-o", "tiled.glb", "--tile-size", "0.5"});
+  EXPECT_EQ(tiled_glb.exit_code, 1) << describe(tiled_glb);
+  EXPECT_NE(tiled_glb.err.find("binary PLY"), std::string::npos) << describe(tiled_glb);
+  EXPECT_FALSE(fs::exists(at("tiled.glb")));
 }
 
 TEST_F(CliReconstruct, TwoShapesGiveTwoComponents) {

@@ -155,6 +155,10 @@ struct TilePlan {
   RefinementOptions refinement;     ///< phase V's options (max_move 0: the cell)
   bool colors = false;              ///< the cloud has colours, and the mesh gets them (mesh_colors)
   VertexColorOptions color_blend;   ///< how (vertex_colors.h)
+  /// The mesh gets vertex normals (ReconstructionOptions::vertex_normals):
+  /// each tile writes phase V's fitted ones, the stitch fills the rest from
+  /// the faces it keeps, as reconstruct() does (vertex_normals.h).
+  bool normals = false;
   double radius_q = 0.0, rho_q = 0.0;  ///< 99.9th percentiles of the neighbourhood radius and of rho_i
   std::uint64_t input_points = 0;
   std::uint64_t statistics_points = 0;  ///< points phase I ran on for the cloud-wide measures
