@@ -713,8 +713,9 @@ void bind_tiles(py::module_& m) {
            std::optional<double> cell, std::optional<std::int64_t> resolution, double tile_size,
            const py::object& max_memory,
            std::size_t statistics_points, const std::optional<std::string>& format,
-           const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
-          const ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
+           const std::optional<std::vector<std::string>>& columns, bool skip_invalid, bool vertex_normals) {
+          ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
+          p.vertex_normals = vertex_normals;
           check_range(tile_size, "tile_size", true);
           TilingOptions options;
           options.reconstruction = p.options(false);
@@ -727,7 +728,7 @@ void bind_tiles(py::module_& m) {
         py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
         py::arg("resolution") = py::none(), py::arg("tile_size") = 0.0, py::arg("max_memory") = py::none(),
         py::arg("statistics_points") = 0, py::arg("format") = py::none(), py::arg("columns") = py::none(),
-        py::arg("skip_invalid") = false);
+        py::arg("skip_invalid") = false, py::arg("vertex_normals") = false);
   m.def("_tiles_count", [](const std::filesystem::path& work_dir) {
     return run_tile_step(std::nullopt, [&] { return read_tile_plan(work_dir).tiles.size(); });
   }, py::arg("work_dir"));
