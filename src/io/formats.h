@@ -112,7 +112,7 @@ void write_stl_mesh(std::ostream& out, const Mesh& mesh);
 
 /// GLB (glb.cpp). check_mesh_for_glb refuses, before anything is written,
 /// what GLB cannot hold (InvalidInputError naming the file): a coordinate
-/// beyond float range, a file of 4 GiB or more.
+/// beyond float range, a normal that is not unit, a file of 4 GiB or more.
 void check_mesh_for_glb(std::string_view file, const Mesh& mesh);
 void write_glb_mesh(std::ostream& out, const Mesh& mesh);
 

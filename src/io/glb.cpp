@@ -22,8 +22,8 @@
 // it refuses an empty contour first.)
 //
 // Limits refused before anything is written (InvalidInputError): a
-// coordinate beyond float range, or a file of 4 GiB or more (GLB's lengths
-// are 32-bit).
+// coordinate beyond float range, a normal that is not unit, or a file of
+// 4 GiB or more (GLB's lengths are 32-bit).
 
 #include "formats.h"
 #include "io_detail.h"
@@ -32,6 +32,7 @@
 #include "recon/vertex_normals.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -174,6 +175,12 @@ void check_mesh_for_glb(std::string_view file, const Mesh& mesh) {
     if (mesh.vertices[i].cwiseAbs().maxCoeff() > largest)
       throw InvalidInputError(std::string(file) + ": cannot write: vertex " + std::to_string(i) +
                               " is too large for the float coordinates of GLB");
+  // glTF: "NORMAL ... unit" (the validator checks it).
+  for (std::size_t v = 0; v < mesh.normals.size(); ++v)
+    if (!(std::abs(mesh.normals[v].norm() - 1.0) < 1e-3))
+      throw InvalidInputError(std::string(file) + ": cannot write: vertex " + std::to_string(v) +
+                              "'s normal is not a unit vector (length " + std::to_string(mesh.normals[v].norm()) +
+                              "), as GLB requires");
   const std::size_t n = mesh.vertices.size(), t = mesh.triangles.size();
   // JSON is under 2 KB; the buffer as make_buffer lays it out.
   refuse_too_large(file, 4096 + n * (mesh.has_colors() ? 28 : 24) + t * 12);

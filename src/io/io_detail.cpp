@@ -493,10 +493,11 @@ void check_mesh_for_writing(std::string_view file, const Mesh& mesh) {
   check_readable(name, mesh.vertices, "vertex");
   if (mesh.has_normals()) {
     check_one_per_position(name, "mesh", mesh.normals.size(), "normals", vertices, "vertices");
+    // Finite, as the readers want them (a normal read from another tool's
+    // file need not be unit; GLB alone requires it: check_mesh_for_glb).
     for (std::size_t v = 0; v < vertices; ++v)
-      if (!(std::abs(mesh.normals[v].norm() - 1.0) < 1e-3))
-        throw InvalidInputError(name + ": cannot write: vertex " + std::to_string(v) +
-                                "'s normal is not a unit vector (length " + std::to_string(mesh.normals[v].norm()) + ")");
+      if (!std::isfinite(mesh.normals[v].norm()))
+        throw InvalidInputError(name + ": cannot write: vertex " + std::to_string(v) + "'s normal is not finite");
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (const std::uint32_t v : mesh.triangles[t]) {

@@ -254,7 +254,7 @@ TEST(MeshNormals, ObjWritesVnLinesAndFacesNamingThem) {
   EXPECT_EQ(read_bytes(folder / "plain.obj").find("//"), std::string::npos);
 }
 
-TEST(MeshNormals, RefusesNormalsNotOnePerVertexOrNotUnit) {
+TEST(MeshNormals, RefusesNormalsNotOnePerVertexNotFiniteOrInGlbNotUnit) {
   TempFolder folder;
   Mesh mesh = unit_normals(20, 30, 38);
   mesh.normals.pop_back();
@@ -262,8 +262,12 @@ TEST(MeshNormals, RefusesNormalsNotOnePerVertexOrNotUnit) {
   mesh = unit_normals(20, 30, 38);
   mesh.normals[4] = Vec3(0, 0, 2);
   const std::string message = message_of<InvalidInputError>([&] { write_mesh(folder / "a.glb", mesh); });
-  EXPECT_CONTAINS(message, "vertex 4");
+  EXPECT_CONTAINS(message, "vertex 4's normal is not a unit vector");
   EXPECT_FALSE(std::filesystem::exists(folder / "a.glb"));
+  write_mesh(folder / "a.ply", mesh);  // PLY and OBJ hold any finite normal (another tool's, read back)
+  mesh.normals[5] = Vec3(0, std::nan(""), 0);
+  EXPECT_CONTAINS(message_of<InvalidInputError>([&] { write_mesh(folder / "b.obj", mesh); }), "vertex 5's normal is not finite");
+  EXPECT_FALSE(std::filesystem::exists(folder / "b.obj"));
 }
 
 }  // namespace

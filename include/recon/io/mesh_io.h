@@ -33,7 +33,7 @@
 // the area-weighted ones, vertex_normals.h). OFF and STL have no place for
 // them: dropped. Without normals the bytes are as before they existed.
 // write_mesh refuses (InvalidInputError) normals not one per vertex or not
-// unit.
+// finite, and for GLB not unit (glTF requires unit normals).
 //
 // GLB (glTF 2.0 binary: src/io/glb.cpp says what it holds) is written, not
 // read.
