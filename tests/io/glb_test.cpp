@@ -194,6 +194,19 @@ TEST(Glb, AMeshWithoutTrianglesIsAnEmptyScene) {
   EXPECT_NE(g.json.find("\"scenes\":[{}]"), std::string::npos);
 }
 
+// Written as every output is (atomic_file.h): through a symbolic link,
+// which stays a link, and into a stream such as /dev/null.
+TEST(Glb, FollowsTheOutputRules) {
+  TempFolder folder;
+  const Mesh mesh = unit_normals(30, 40, 39);
+  write_file(folder / "target.glb", "old");
+  std::filesystem::create_symlink("target.glb", folder / "link.glb");
+  write_mesh(folder / "link.glb", mesh);
+  EXPECT_TRUE(std::filesystem::is_symlink(folder / "link.glb"));
+  expect_glb_holds(parse(read_bytes(folder / "target.glb")), mesh, mesh.normals);
+  write_mesh("/dev/null", mesh, {.format = MeshFormat::glb});
+}
+
 TEST(Glb, RefusesCoordinatesBeyondFloatAndLeavesTheOldFile) {
   TempFolder folder;
   Mesh mesh = random_mesh(10, 10, 34);
