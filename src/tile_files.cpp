@@ -146,8 +146,8 @@ TileMesh read_mesh(const std::filesystem::path& path) {
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
       throw bad(in, at_record("vertex", i) + "a coordinate is not a finite number");
     const Vec3 normal(double{v.normal[0]}, double{v.normal[1]}, double{v.normal[2]});
-    const double length = normal.norm();  // (NaN for a NaN: refused below)
-    if (!(length == 0.0 || std::abs(length - 1.0) < 1e-3))
+    const double length = normal.norm();
+    if (!std::isfinite(length) || !(length == 0.0 || std::abs(length - 1.0) < 1e-3))  // (no comparison with a NaN)
       throw bad(in, at_record("vertex", i) + "its normal is neither unit nor zero");
   }
   for (std::size_t i = 0; i < m.triangles.size(); ++i) {

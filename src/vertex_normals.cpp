@@ -40,7 +40,7 @@ std::vector<Vec3> area_weighted_sums(const Mesh& mesh, const std::vector<std::ui
 // v / |v| when |v| is a positive finite number; nothing otherwise.
 bool normalise(const Vec3& v, Vec3& unit) {
   const double norm = v.norm();
-  if (!(norm > 0.0) || !std::isfinite(norm)) return false;
+  if (!std::isfinite(norm) || !(norm > 0.0)) return false;  // (isfinite first: no comparison with a NaN)
   unit = v / norm;
   return true;
 }

@@ -54,7 +54,8 @@ std::uint32_t PlyMeshStream::add_vertex(const Vec3& position, const Color* color
     throw InvalidInputError(path_.string() + ": cannot write: vertex " + std::to_string(vertices_) +
                             (color ? " has a colour, but the mesh was opened without colours"
                                    : " has no colour, but the mesh has colours"));
-  if (!(std::abs(normal.norm() - 1.0) < 1e-3))
+  const double norm = normal.norm();
+  if (!std::isfinite(norm) || !(std::abs(norm - 1.0) < 1e-3))  // (isfinite first: no comparison with a NaN)
     throw InvalidInputError(path_.string() + ": cannot write: vertex " + std::to_string(vertices_) +
                             "'s normal is not a unit vector");
   return add(position, color, &normal);
