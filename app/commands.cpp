@@ -176,6 +176,13 @@ void refuse_dropped_normals(const io::ReadNotes& notes) {
 
 namespace {
 
+// Whether `output` names a GLB file (by its extension, any case).
+bool writes_glb(const std::filesystem::path& output) {
+  std::string extension = output.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".glb";
+}
+
 // The library's options for a 3D run of `recon reconstruct`.
 ReconstructionOptions reconstruction_options(const ReconstructCommandOptions& o) {
   ReconstructionOptions options;
@@ -187,6 +194,8 @@ ReconstructionOptions reconstruction_options(const ReconstructCommandOptions& o)
   options.resolution = o.resolution;
   options.use_input_normals = o.use_normals;
   options.max_memory = o.phases.max_memory;
+  // GLB always has them (viewers shade with them); other formats when asked.
+  options.vertex_normals = o.normals || writes_glb(o.output);
   // Without a report only the counts are reported; the report draws the
   // graph and the evaluated corners.
   options.keep_graph = !o.report.empty();
@@ -250,7 +259,8 @@ void run_reconstruct(const ReconstructCommandOptions& o, const GlobalOptions& gl
 Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   auto o = std::make_shared<ReconstructCommandOptions>();
   add_input(app, o->in);
-  app.add_option("-o,--output", o->output, "Mesh to write (.ply .obj .off .stl); for 2D points, curves (.svg .obj .txt)")
+  app.add_option("-o,--output", o->output,
+                 "Mesh to write (.ply .obj .off .stl .glb); for 2D points, curves (.svg .obj .txt)")
       ->required();
   app.add_option("--method", o->method,
                  "refined (default: second-order fits, a finer lattice, the mesh moved onto the fitted surface, "
@@ -268,6 +278,9 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
       ->excludes(cell);
   app.add_flag("--use-normals", o->use_normals, "Use the input's own normals (skips phase II)");
   app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
+  app.add_flag("--normals", o->normals,
+               "Write vertex normals (PLY nx ny nz, OBJ vn): the fitted surface's where phase V has one, the "
+               "triangles' area-weighted mean elsewhere (a .glb always has them)");
   app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
   add_report_option(app, o->report);
   app.add_option("--tile-size", o->tile_size,

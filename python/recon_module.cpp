@@ -232,7 +232,8 @@ struct PyMesh {
   py::dict stats;
 };
 
-Mesh mesh_from_arrays(const DoubleArray& vertices, const IndexArray& faces, const std::optional<ByteArray>& colors) {
+Mesh mesh_from_arrays(const DoubleArray& vertices, const IndexArray& faces, const std::optional<ByteArray>& colors,
+                      const std::optional<DoubleArray>& normals) {
   Mesh mesh;
   const std::size_t n = rows_of(vertices, "vertices", std::nullopt);
   const auto* v = vertices.data();
@@ -251,6 +252,12 @@ Mesh mesh_from_arrays(const DoubleArray& vertices, const IndexArray& faces, cons
     rows_of(*colors, "colors", n);
     mesh.colors.resize(n);
     std::memcpy(static_cast<void*>(mesh.colors.data()), colors->data(), 3 * n);
+  }
+  if (normals) {  // (unit or not: write_mesh refuses what is not)
+    rows_of(*normals, "normals", n);
+    const auto* a = normals->data();
+    mesh.normals.resize(n);
+    for (std::size_t i = 0; i < n; ++i) mesh.normals[i] = Vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
   }
   return mesh;
 }
@@ -343,6 +350,7 @@ struct ReconstructParameters {
   std::optional<std::int64_t> resolution;
   std::string method = "refined";
   bool keep_fragments = false;
+  bool vertex_normals = false;  // the mesh's vertex normals (ReconstructionOptions::vertex_normals)
   std::optional<int> threads;
   std::optional<std::filesystem::path> report;
   py::object progress = py::none();
@@ -360,6 +368,7 @@ struct ReconstructParameters {
     o.cell = cell;
     if (resolution) o.resolution = static_cast<int>(*resolution);
     o.refinement.keep_fragments = keep_fragments;
+    o.vertex_normals = vertex_normals;
     o.use_input_normals = use_normals;
     o.max_memory = phases.max_memory;
     o.keep_graph = report.has_value();
@@ -554,13 +563,14 @@ void bind_point_cloud(py::module_& m) {
 
 void bind_mesh(py::module_& m) {
   py::class_<PyMesh>(m, "Mesh")
-      .def(py::init([](const py::object& vertices, const py::object& faces, const py::object& colors) {
+      .def(py::init([](const py::object& vertices, const py::object& faces, const py::object& colors,
+                       const py::object& normals) {
              auto result = std::make_unique<PyMesh>();
              result->mesh = mesh_from_arrays(real_array(vertices, "vertices"), index_array(faces, "faces"),
-                                             byte_array_or_none(colors, "colors"));
+                                             byte_array_or_none(colors, "colors"), real_array_or_none(normals, "normals"));
              return result;
            }),
-           py::arg("vertices"), py::arg("faces"), py::arg("colors") = py::none())
+           py::arg("vertices"), py::arg("faces"), py::arg("colors") = py::none(), py::arg("normals") = py::none())
       .def_property_readonly("vertices", [](py::object self) {
         return vectors_view(self.cast<PyMesh&>().mesh.vertices, self);
       })
@@ -570,6 +580,10 @@ void bind_mesh(py::module_& m) {
       .def_property_readonly("colors", [](py::object self) -> py::object {
         const Mesh& mesh = self.cast<PyMesh&>().mesh;
         return mesh.has_colors() ? py::object(colors_view(mesh.colors, self)) : py::none();
+      })
+      .def_property_readonly("normals", [](py::object self) -> py::object {
+        const Mesh& mesh = self.cast<PyMesh&>().mesh;
+        return mesh.has_normals() ? py::object(vectors_view(mesh.normals, self)) : py::none();
       })
       .def_readonly("stats", &PyMesh::stats)
       .def("save", [](const PyMesh& self, const std::filesystem::path& path, bool ascii) {
@@ -643,10 +657,11 @@ void bind_runs(py::module_& m) {
            std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
            std::optional<std::int64_t> resolution, const std::string& method, bool keep_fragments,
            const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
-           const py::object& progress) {
+           const py::object& progress, bool vertex_normals) {
           const CloudArrays in(points, normals, colors);
           ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
           p.keep_fragments = keep_fragments;
+          p.vertex_normals = vertex_normals;
           p.threads = threads;
           p.report = std::move(report);
           p.progress = progress;
@@ -656,7 +671,7 @@ void bind_runs(py::module_& m) {
         py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
         py::arg("resolution") = py::none(), py::arg("method") = "refined", py::arg("keep_fragments") = false,
         py::arg("max_memory") = py::none(), py::arg("threads") = py::none(), py::arg("report") = py::none(),
-        py::arg("progress") = py::none());
+        py::arg("progress") = py::none(), py::arg("vertex_normals") = false);
 
   // For the tests: the address of the data the library would read for
   // `points` (equal to the array's own when no copy was made).
@@ -699,8 +714,9 @@ void bind_tiles(py::module_& m) {
            std::optional<double> cell, std::optional<std::int64_t> resolution, double tile_size,
            const py::object& max_memory,
            std::size_t statistics_points, const std::optional<std::string>& format,
-           const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
-          const ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
+           const std::optional<std::vector<std::string>>& columns, bool skip_invalid, bool vertex_normals) {
+          ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
+          p.vertex_normals = vertex_normals;
           check_range(tile_size, "tile_size", true);
           TilingOptions options;
           options.reconstruction = p.options(false);
@@ -713,7 +729,7 @@ void bind_tiles(py::module_& m) {
         py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
         py::arg("resolution") = py::none(), py::arg("tile_size") = 0.0, py::arg("max_memory") = py::none(),
         py::arg("statistics_points") = 0, py::arg("format") = py::none(), py::arg("columns") = py::none(),
-        py::arg("skip_invalid") = false);
+        py::arg("skip_invalid") = false, py::arg("vertex_normals") = false);
   m.def("_tiles_count", [](const std::filesystem::path& work_dir) {
     return run_tile_step(std::nullopt, [&] { return read_tile_plan(work_dir).tiles.size(); });
   }, py::arg("work_dir"));

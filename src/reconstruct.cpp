@@ -397,7 +397,9 @@ void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   // a tile's (tiles.h), so that phase V makes the same choices there. (Far-
   // apart clusters: each cluster's were sorted on its own lattice.)
   if (r.clusters.empty()) sort_by_cube(r.contour);
-  r.refinement = refine_mesh(r.contour.mesh, refinement_input_of(r, f), refinement_options(run.options.refinement, cell));
+  RefinementOptions options = refinement_options(run.options.refinement, cell);
+  options.fitted_normals = run.options.vertex_normals;
+  r.refinement = refine_mesh(r.contour.mesh, refinement_input_of(r, f), options);
 }
 
 // The final mesh's colours from the samples' (vertex_colors.h). Called
@@ -584,6 +586,8 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   if (run.refined()) phase_5(r, run, f, cell);
   if (options.mesh_colors && !r.colors.empty()) color_mesh(r, run);
   move_back_to_input_coordinates(r);
+  // Last, in the input's coordinates (as a tiled run's stitched mesh has them).
+  if (options.vertex_normals) r.face_normals = fill_face_normals(r.refinement ? r.refinement->mesh : r.contour.mesh);
   return r;
 }
 

@@ -32,6 +32,7 @@ struct Projected {
   std::vector<Vec3> normal;           // oriented
   std::vector<std::uint32_t> plane;
   std::vector<std::uint32_t> partner;  // the vertex across the crease it was brought back to, or none
+  std::vector<std::uint8_t> trusted;   // moved onto its quadric (not left where it was: max_move)
   std::size_t unmoved = 0;
 };
 
@@ -72,6 +73,7 @@ Projected project_vertices(const Mesh& mesh, const RefinementInput& in, double m
   out.plane.resize(n);
   out.partner.assign(n, none);
   out.covered.assign(n, 1);
+  out.trusted.assign(n, 1);
   std::size_t unmoved = 0;
   const auto count = static_cast<std::int64_t>(n);
   ProgressCounter* const progress = progress_counter();
@@ -93,6 +95,7 @@ Projected project_vertices(const Mesh& mesh, const RefinementInput& in, double m
       out.point[v] = trusted ? q.point : p;
       out.normal[v] = in.oriented[i].dot(in.normals[i]) < 0.0 ? Vec3(-q.normal) : q.normal;
       out.plane[v] = i;
+      out.trusted[v] = trusted ? 1 : 0;
       if (!in.spacing.empty())
         out.covered[v] = (p - in.origins[i]).norm() <= static_cast<double>(in.spacing[i]) ? 1 : 0;
       unmoved += trusted ? 0 : 1;
@@ -884,10 +887,12 @@ std::vector<std::uint32_t> compact_mesh(Mesh& mesh, std::vector<std::uint32_t>& 
     if (renumber[v] == none) continue;
     renumber[v] = next;
     mesh.vertices[next] = mesh.vertices[v];
+    if (mesh.has_normals()) mesh.normals[next] = mesh.normals[v];
     move(next, v);
     ++next;
   }
   mesh.vertices.resize(next);
+  if (mesh.has_normals()) mesh.normals.resize(next);
   for (auto& t : mesh.triangles)
     for (auto& v : t) v = renumber[v];
   return renumber;
@@ -902,6 +907,21 @@ void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle) {
   b.displacement.resize(b.mesh.vertices.size());
   b.planes.resize(b.mesh.vertices.size());
   b.stem.resize(b.mesh.vertices.size());
+}
+
+// The fitted normal of each vertex (RefinementOptions::fitted_normals):
+// a projected vertex's own plane alone, moved onto its quadric, has one;
+// a vertex on two planes (a crease vertex, or one brought back onto a
+// crease) or none (a corner) has (0, 0, 0). pr.normal is oriented as phase
+// II oriented the plane, the side f is positive on, which the contoured
+// triangles face.
+std::vector<Vec3> fitted_normals(const Builder& b, const Projected& pr) {
+  std::vector<Vec3> normals(b.mesh.vertices.size(), Vec3::Zero());
+  for (std::size_t v = 0; v < normals.size(); ++v) {
+    const auto& on = b.planes[v];
+    if (on[0] != none && on[1] == none && pr.trusted[on[0]]) normals[v] = pr.normal[on[0]];
+  }
+  return normals;
 }
 
 void check_input(const RefinementInput& in) {
@@ -941,6 +961,7 @@ RefinedPatch refine_patch(const Mesh& contoured, const RefinementInput& input, c
   interruption_point();
   sharpen(b, pr, contoured, input, cos_crease);
   interruption_point();
+  if (options.fitted_normals) b.mesh.normals = fitted_normals(b, pr);
   RefinedPatch patch;
   patch.covered = covered_vertices(b, pr);
   patch.far = far_vertices(b, pr, input);

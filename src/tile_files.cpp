@@ -145,6 +145,10 @@ TileMesh read_mesh(const std::filesystem::path& path) {
       throw bad(in, at_record("vertex", i) + "names an atom or an edge it cannot have");
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
       throw bad(in, at_record("vertex", i) + "a coordinate is not a finite number");
+    const Vec3 normal(double{v.normal[0]}, double{v.normal[1]}, double{v.normal[2]});
+    const double length = normal.norm();
+    if (!std::isfinite(length) || !(length == 0.0 || std::abs(length - 1.0) < 1e-3))  // (no comparison with a NaN)
+      throw bad(in, at_record("vertex", i) + "its normal is neither unit nor zero");
   }
   for (std::size_t i = 0; i < m.triangles.size(); ++i) {
     const MeshTriangle& t = m.triangles[i];
@@ -240,6 +244,7 @@ void write_plan(const TilePlan& plan, const std::filesystem::path& dir) {
     out.put(v);
   out.put(static_cast<std::uint8_t>(plan.refinement.keep_fragments));
   out.put(static_cast<std::uint8_t>(plan.colors));
+  out.put(static_cast<std::uint8_t>(plan.normals));
   out.put(plan.color_blend.k);
   out.put(plan.input_points);
   out.put(plan.statistics_points);
@@ -277,6 +282,7 @@ TilePlan read_plan_file(const std::filesystem::path& path) {
     *v = in.get<double>();
   plan.refinement.keep_fragments = in.get<std::uint8_t>() != 0;
   plan.colors = in.get<std::uint8_t>() != 0;
+  plan.normals = in.get<std::uint8_t>() != 0;
   plan.color_blend.k = in.get<int>();
   plan.input_points = in.get<std::uint64_t>();
   plan.statistics_points = in.get<std::uint64_t>();

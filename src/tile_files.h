@@ -59,6 +59,11 @@ struct MeshVertex {
   std::uint32_t atom = none;
   std::uint32_t object = none;
   std::uint32_t color = 0;  ///< r | g << 8 | b << 16 (when the plan has colours)
+  /// Phase V's fitted normal (when the plan has normals), or 0 0 0 where
+  /// there is none (the stitch fills those from the faces): floats, as
+  /// the mesh files hold normals.
+  float normal[3] = {0.0f, 0.0f, 0.0f};
+  std::uint32_t unused = 0;  ///< (keeps the record free of padding, which would be written unset)
 };
 
 /// A triangle of a tile's own cubes, and what step 4 of phase V decides
@@ -125,12 +130,12 @@ void write_flips(const std::filesystem::path& dir, const Flips& flips);
 void write_plan(const TilePlan& plan, const std::filesystem::path& dir);
 [[nodiscard]] TilePlan read_plan_file(const std::filesystem::path& path);
 
-inline constexpr char plan_magic[9] = "RCNPLAN3";
+inline constexpr char plan_magic[9] = "RCNPLAN4";
 inline constexpr char points_magic[9] = "RCNPTS02";
 inline constexpr char colors_magic[9] = "RCNCOL02";
 inline constexpr char orient_magic[9] = "RCNORI02";
 inline constexpr char flips_magic[9] = "RCNFLIP3";
-inline constexpr char mesh_magic[9] = "RCNMESH3";
+inline constexpr char mesh_magic[9] = "RCNMESH4";
 inline constexpr char planes_magic[9] = "RCNPLNS3";
 
 /// A tile's points as its file holds them, in input order.

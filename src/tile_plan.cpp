@@ -252,6 +252,7 @@ void choose(const tile_statistics::Measures& m, const TilingOptions& options, Ti
   plan.min_component_points = o.orientation.graph.min_component_points;
   plan.refinement = o.refinement;
   plan.color_blend = o.colors;
+  plan.normals = o.vertex_normals;
   plan.ring = o.method == Method::refined ? refine_ring : plain_ring;
   plan.walk_margin = walk_ring + plan.ring;
   plan.radius_q = m.radius_q;

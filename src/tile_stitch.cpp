@@ -11,7 +11,14 @@
 //     into atoms (see tiles.cpp); here atoms are joined through the
 //     vertices tiles share and the peelable triangles that stay, and their
 //     triangles and votes are added up.
-// The stitch reads every tile's mesh twice: once to decide, once to write.
+//   - normals (when the plan has them): a vertex's fitted normal, written by
+//     its tile, or else the area-weighted mean of the kept triangles around
+//     it (vertex_normals.h): summed over its tile's triangles as it is
+//     written, and for a vertex tiles share, over every tile's, in a pass
+//     of its own before the writing. The sums add the same triangles as
+//     reconstruct()'s, in another order: the same normals to rounding.
+// The stitch reads every tile's mesh twice: once to decide, once to write
+// (three times with normals).
 #include "recon/tiles.h"
 
 #include "recon/errors.h"
@@ -21,6 +28,9 @@
 #include "recon/union_find.h"
 #include "tile_files.h"
 
+#include <Eigen/Geometry>
+
+#include <cmath>
 #include <map>
 #include <sstream>
 #include <unordered_map>
@@ -56,7 +66,24 @@ struct Welded {
   std::uint32_t id = 0;      // among the welded (names the edges between them)
   std::uint32_t atom = none; // (global) of the first tile where it had one: it voted there
   std::uint32_t out = none;  // in the output, once written
+  Vec3 faces = Vec3::Zero(); // with normals: the cross products of the kept triangles around it
 };
+
+Vec3 position_of(const MeshVertex& v) { return {v.x, v.y, v.z}; }
+bool has_normal(const MeshVertex& v) { return v.normal[0] != 0.0f || v.normal[1] != 0.0f || v.normal[2] != 0.0f; }
+
+// Twice the area of triangle t along its normal.
+Vec3 cross_of(const TileMesh& m, const MeshTriangle& t) {
+  const Vec3 a = position_of(m.vertices[t.v[0]]);
+  return (position_of(m.vertices[t.v[1]]) - a).cross(position_of(m.vertices[t.v[2]]) - a);
+}
+
+// A unit vector along `sum`; +z when it is zero (every triangle around the
+// vertex has zero area: reconstruct() takes its neighbours' mean there).
+Vec3 unit_or_up(const Vec3& sum) {
+  const double norm = sum.norm();
+  return norm > 0.0 && std::isfinite(norm) ? Vec3(sum / norm) : Vec3::UnitZ();
+}
 
 Color color_of(const MeshVertex& v) {
   return {static_cast<std::uint8_t>(v.color & 0xFF), static_cast<std::uint8_t>(v.color >> 8 & 0xFF),
@@ -127,31 +154,45 @@ class Stitch {
     if (plan_.method == Method::refined && !plan_.refinement.keep_fragments) drop_fragments(result);
   }
 
+  // Pass 1b, per tile (with normals): the kept triangles' cross products
+  // added to the shared vertices without a fitted normal.
+  void sum_shared_faces(const TileMesh& m, std::size_t tile) {
+    for (const MeshTriangle& t : m.triangles) {
+      if (fate(m, tile, t) != Fate::kept) continue;
+      const Vec3 cross = cross_of(m, t);
+      for (const std::uint32_t v : t.v)
+        if (m.vertices[v].shared && !has_normal(m.vertices[v])) welded_.at(key_of(m.vertices[v])).faces += cross;
+    }
+  }
+
   // Pass 2, per tile: the triangles that stay, and the vertices they use.
   void write(const TileMesh& m, std::size_t tile, io::PlyMeshStream& out, StitchedMesh& result) {
     std::vector<std::uint32_t> id(m.vertices.size(), none);
+    const std::vector<Vec3> faces = plan_.normals ? own_faces(m, tile) : std::vector<Vec3>{};
     const auto vertex = [&](std::uint32_t v) {
       if (id[v] != none) return id[v];
       const MeshVertex& x = m.vertices[v];
-      std::uint32_t* slot = x.shared ? &welded_.at(key_of(x)).out : nullptr;
-      if (slot && *slot != none) return id[v] = *slot;
-      id[v] = plan_.colors ? out.add_vertex(Vec3(x.x, x.y, x.z), color_of(x)) : out.add_vertex(Vec3(x.x, x.y, x.z));
-      if (slot) *slot = id[v];
+      Welded* welded = x.shared ? &welded_.at(key_of(x)) : nullptr;
+      if (welded && welded->out != none) return id[v] = welded->out;
+      const Color color = color_of(x);
+      if (plan_.normals) {
+        const Vec3 normal = has_normal(x) ? Vec3(x.normal[0], x.normal[1], x.normal[2])
+                                          : unit_or_up(welded ? welded->faces : faces[v]);
+        id[v] = out.add_vertex(position_of(x), plan_.colors ? &color : nullptr, normal);
+      } else {
+        id[v] = plan_.colors ? out.add_vertex(position_of(x), color) : out.add_vertex(position_of(x));
+      }
+      if (welded) welded->out = id[v];
       if (x.corner[1] != UINT64_MAX) ++result.crease_vertices;
       return id[v];
     };
     for (const MeshTriangle& t : m.triangles) {
-      if (t.peel != none && peeled(peel_base_[tile] + t.peel)) {
-        ++result.trimmed;
-        continue;
+      switch (fate(m, tile, t)) {
+        case Fate::trimmed: ++result.trimmed; break;
+        case Fate::stray: ++result.stray_triangles; break;
+        case Fate::fragment: break;
+        case Fate::kept: out.add_triangle({vertex(t.v[0]), vertex(t.v[1]), vertex(t.v[2])}); break;
       }
-      if (t.stray) {
-        ++result.stray_triangles;
-        continue;
-      }
-      const std::uint32_t atom = m.vertices[t.v[0]].atom;
-      if (atom != none && !kept_[atoms_.find(atom_base_[tile] + atom)]) continue;
-      out.add_triangle({vertex(t.v[0]), vertex(t.v[1]), vertex(t.v[2])});
     }
   }
 
@@ -162,6 +203,29 @@ class Stitch {
   };
 
   [[nodiscard]] bool peeled(std::uint32_t node) { return peeled_[peels_.find(node)] != 0; }
+
+  // What step 4 decided of triangle t of `tile` (after decide()).
+  enum class Fate { kept, trimmed, stray, fragment };
+  [[nodiscard]] Fate fate(const TileMesh& m, std::size_t tile, const MeshTriangle& t) {
+    if (t.peel != none && peeled(peel_base_[tile] + t.peel)) return Fate::trimmed;
+    if (t.stray) return Fate::stray;
+    const std::uint32_t atom = m.vertices[t.v[0]].atom;
+    if (atom != none && !kept_[atoms_.find(atom_base_[tile] + atom)]) return Fate::fragment;
+    return Fate::kept;
+  }
+
+  // The kept triangles' cross products around each vertex of the tile
+  // only it uses, without a fitted normal (its triangles are all here).
+  [[nodiscard]] std::vector<Vec3> own_faces(const TileMesh& m, std::size_t tile) {
+    std::vector<Vec3> sum(m.vertices.size(), Vec3::Zero());
+    for (const MeshTriangle& t : m.triangles) {
+      if (fate(m, tile, t) != Fate::kept) continue;
+      const Vec3 cross = cross_of(m, t);
+      for (const std::uint32_t v : t.v)
+        if (!m.vertices[v].shared && !has_normal(m.vertices[v])) sum[v] += cross;
+    }
+    return sum;
+  }
 
   // As refine_mesh's step 4: a component (a set of atoms) smaller than
   // fragment_fraction of the largest drawn from the same object goes; its
@@ -219,7 +283,9 @@ StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::file
   Stitch stitch(plan);
   for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) stitch.gather(mesh_of(tile), result);
   stitch.decide(result);
-  io::PlyMeshStream out(output, plan.colors);
+  if (plan.normals)
+    for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) stitch.sum_shared_faces(mesh_of(tile), tile);
+  io::PlyMeshStream out(output, plan.colors, plan.normals);
   for (std::size_t tile = 0; tile < plan.tiles.size(); ++tile) stitch.write(mesh_of(tile), tile, out, result);
   result.vertices = out.vertex_count();
   result.triangles = out.triangle_count();

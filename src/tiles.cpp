@@ -410,6 +410,14 @@ RefinedPatch unrefined(const Mesh& contoured) {
   return p;
 }
 
+// Phase V's options in a tile: reconstruct()'s, with the fitted normals
+// recorded when the mesh gets normals.
+RefinementOptions tile_refinement_options(const TilePlan& plan) {
+  RefinementOptions options = refinement_options(plan.refinement, plan.lattice.cell);
+  options.fitted_normals = plan.normals;
+  return options;
+}
+
 TilePatch tile_patch(const TilePlan& plan, std::size_t tile, const TileSurface& surface, const Reconciled& reconciled,
                      std::size_t points) {
   const KdTree<3> origin_tree = surface.planes.point_tree.refit(surface.planes.origins);
@@ -430,7 +438,7 @@ TilePatch tile_patch(const TilePlan& plan, std::size_t tile, const TileSurface& 
           ? refine_patch(patch.contour.mesh,
                          refinement_input(surface.planes, reconciled.normals, surface.curvature, reconciled.object, f,
                                           origin_tree),
-                         refinement_options(plan.refinement, plan.lattice.cell))
+                         tile_refinement_options(plan))
           : unrefined(patch.contour.mesh);
   return patch;
 }
@@ -572,6 +580,8 @@ tile_files::TileMesh own_mesh(const TilePlan& plan, std::size_t tile, const Tile
     name_vertex(patch, v, m);
     m.shared = used_other[v];
     m.object = p.piece[v];
+    if (p.mesh.has_normals())
+      for (std::size_t k = 0; k < 3; ++k) m.normal[k] = static_cast<float>(p.mesh.normals[v][static_cast<Eigen::Index>(k)]);
     out.vertices.push_back(m);
   }
   for (const std::uint32_t t : own) {

@@ -278,7 +278,7 @@ TEST_F(CliHelp, EachSubcommandListsItsOptions) {
       {"normals", {"input", "--format", "--output", "--k", "--rho", "--ascii", "--stats"}},
       {"reconstruct",
        {"input", "--format", "--output", "--k", "--rho", "--delta", "--cell", "--resolution", "--use-normals",
-        "--ascii", "--stats"}},
+        "--ascii", "--stats", "--normals", ".glb"}},
       {"generate",
        {"shape", "--output", "--points", "--seed", "--noise", "--with-normals", "--truth", "--truth-points", "sphere",
         "torus", "two", "part", "handle", "conics"}},
@@ -760,6 +760,43 @@ TEST_F(CliMeshFormat, BinaryStl) {
   for (std::size_t i = 0; i < 4; ++i)
     count |= static_cast<std::uint32_t>(static_cast<unsigned char>(written.bytes[80 + i])) << (8 * i);
   EXPECT_EQ(static_cast<long>(count), written.faces);
+}
+
+// --normals: PLY and OBJ carry them (ASCII PLY: tests/io/glb_test.cpp); without it the
+// file is byte for byte the one of a run that never made them; a .glb
+// always has them; a tiled run writes them too (as PLY).
+TEST_F(CliMeshFormat, NormalsOnlyWhenAskedAndAlwaysInGlb) {
+  const WrittenMesh plain = reconstruct_torus("m.ply");
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "n.ply", "--normals"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "n.obj", "--normals"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "m.glb"})));
+  EXPECT_EQ(plain.bytes.find("property float nx"), std::string::npos);
+  const Mesh n = io::read_mesh(at("n.ply"));
+  EXPECT_EQ(static_cast<long>(n.normals.size()), plain.vertices);
+  EXPECT_TRUE(n.vertices == io::read_mesh(at("m.ply")).vertices) << "the same mesh, with normals";
+  const std::string obj = read_bytes(at("n.obj"));
+  EXPECT_EQ(static_cast<long>(lines_starting_with(obj, "vn ").size()), plain.vertices);
+  EXPECT_NE(obj.find("//"), std::string::npos);
+  // Outward on the torus: the normal points away from the ring's core.
+  std::size_t inward = 0;
+  for (std::size_t v = 0; v < n.vertices.size(); ++v) {
+    const Vec3& p = n.vertices[v];
+    const Vec3 core = Vec3(p.x(), p.y(), 0.0).normalized();
+    inward += n.normals[v].dot(p - core) > 0.0 ? 0u : 1u;
+  }
+  EXPECT_EQ(inward, 0u);
+  const std::string glb = read_bytes(at("m.glb"));
+  ASSERT_GE(glb.size(), 20u);
+  EXPECT_EQ(glb.substr(0, 4), "glTF");
+  EXPECT_NE(glb.find("\"NORMAL\":1"), std::string::npos);
+  EXPECT_NE(glb.find("\"count\":" + std::to_string(3 * plain.faces) + ","), std::string::npos) << "the indices";
+  // Tiled: the same normals (tests/tiles_test.cpp compares them); GLB is refused there.
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "tiled.ply", "--normals", "--tile-size", "0.5"})));
+  EXPECT_EQ(io::read_mesh(at("tiled.ply")).normals.size(), n.normals.size());
+  const RunResult tiled_glb = recon({"reconstruct", "t.ply", "-o", "tiled.glb", "--tile-size", "0.5"});
+  EXPECT_EQ(tiled_glb.exit_code, 1) << describe(tiled_glb);
+  EXPECT_NE(tiled_glb.err.find("binary PLY"), std::string::npos) << describe(tiled_glb);
+  EXPECT_FALSE(fs::exists(at("tiled.glb")));
 }
 
 TEST_F(CliReconstruct, TwoShapesGiveTwoComponents) {

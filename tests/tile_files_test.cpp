@@ -193,6 +193,23 @@ TEST(TileFiles, IndicesAreCheckedBeyondTheChecksum) {
   fs::remove_all(dir);
 }
 
+// A tile mesh's vertex normal (phase V's fitted one) must be unit or zero.
+TEST(TileFiles, AVertexNormalNeitherUnitNorZeroIsRefused) {
+  const auto dir = scratch("normals");
+  fs::create_directories(dir);
+  const fs::path path = dir / "tile-000000.mesh";
+  tile_files::TileMesh mesh;
+  mesh.vertices.resize(3);
+  mesh.vertices[1].normal[2] = 1.0f;
+  tile_files::write_mesh(path, mesh);
+  EXPECT_NO_THROW((void)tile_files::read_mesh(path));
+  mesh.vertices[2].normal[0] = 2.0f;
+  tile_files::write_mesh(path, mesh);
+  const std::string error = error_of([&] { (void)tile_files::read_mesh(path); });
+  EXPECT_TRUE(has(error, path.string() + ": vertex 2: its normal is neither unit nor zero")) << error;
+  fs::remove_all(dir);
+}
+
 // A NaN in a tile's points once made that tile orient to no piece and draw
 // nothing (a hole, exit status 0). Now it is an error naming the file and
 // the tile, with or without a matching checksum.

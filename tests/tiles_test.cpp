@@ -129,6 +129,49 @@ TEST(TiledRun, ColoursAreTheInMemoryOnes) {
   std::filesystem::remove_all(dir);
 }
 
+// Vertex normals come through tiles as in memory: phase V's fitted ones
+// travel in the tiles' mesh files, the others are summed from the kept
+// faces by the stitch (in another order: the same floats, or within one
+// rounding of them). The box has creases and corners (face-weighted), the
+// hoppe92 torus only face-weighted normals.
+// x rounded to float, as the files hold normals. (Through a volatile: at
+// -O3, GCC 12 folded a vectorised double -> float -> double round trip.)
+double as_float(double x) {
+  volatile float f = static_cast<float>(x);
+  return static_cast<double>(f);
+}
+
+TEST(TiledRun, NormalsAreTheInMemoryOnes) {
+  for (const Case& c : {Case{"box", 12000, Method::refined, 0.45}, Case{"torus", 8000, Method::hoppe92, 0.9}}) {
+    const PointCloud cloud = cloud_of(c);
+    ReconstructionOptions in_memory;
+    in_memory.method = c.method;
+    in_memory.vertex_normals = true;
+    const Reconstruction whole = reconstruct(cloud, in_memory);
+    TilingOptions options;
+    options.reconstruction = in_memory;
+    options.tile_size = c.tile_size;
+    const auto dir = scratch(std::string("normals-") + c.shape);
+    const TiledRun run = reconstruct_tiled(pass_over(cloud, 4096), options, dir / "work", dir / "mesh.ply");
+    const Mesh tiled = io::read_mesh(dir / "mesh.ply");
+    std::filesystem::remove_all(dir);
+    ASSERT_GT(run.plan.tiles.size(), 1u) << c.shape;
+    ASSERT_TRUE(same_mesh(tiled, whole.mesh(), 1e-9 * whole.contour.cell)) << c.shape;
+    ASSERT_EQ(tiled.normals.size(), tiled.vertices.size());
+    const KdTree<3> tree(whole.mesh().vertices);
+    std::size_t exact = 0;
+    double worst = 0.0;
+    for (std::size_t v = 0; v < tiled.vertices.size(); ++v) {
+      const Vec3& n = whole.mesh().normals[tree.nearest(tiled.vertices[v]).index];
+      const Vec3 expected(as_float(n.x()), as_float(n.y()), as_float(n.z()));  // as written
+      exact += tiled.normals[v] == expected ? 1u : 0u;
+      worst = std::max(worst, (tiled.normals[v] - expected).norm());
+    }
+    EXPECT_LT(worst, 1e-6) << c.shape;
+    EXPECT_GT(exact, tiled.vertices.size() * 9 / 10) << c.shape;
+  }
+}
+
 // Real scans, cut into tiles a quarter of their extent wide (or the least
 // the halo allows): the bunny into 16 tiles, distcap with its open boundary
 // trimmed, its strays and fragments dropped across tiles, the kitten's

@@ -13,12 +13,17 @@ namespace recon {
 /// Indexed triangle mesh: #V vertices, #F triangles of three vertex indices,
 /// counter-clockwise seen from the side the surface normal points to.
 /// `colors` is either empty or holds one colour per vertex.
+/// `normals` is either empty or holds one unit normal per vertex, on the side
+/// the triangles face (made only when asked: ReconstructionOptions::vertex_normals;
+/// phase V's own mesh holds (0, 0, 0) where vertex_normals.h fills them in).
 struct Mesh {
   std::vector<Vec3> vertices;
   std::vector<std::array<std::uint32_t, 3>> triangles;
   std::vector<Color> colors;
+  std::vector<Vec3> normals;
 
   [[nodiscard]] bool has_colors() const { return !colors.empty(); }
+  [[nodiscard]] bool has_normals() const { return !normals.empty(); }
 };
 
 /// An undirected edge (a, b) of vertex indices as one number, the same for

@@ -20,6 +20,7 @@
 #include "recon/signed_distance.h"
 #include "recon/tangent_planes.h"
 #include "recon/vertex_colors.h"
+#include "recon/vertex_normals.h"
 
 #include <array>
 #include <cstdint>
@@ -64,6 +65,11 @@ struct ReconstructionOptions {
   /// false: the mesh has none (the colours are still kept in the result).
   bool mesh_colors = true;
   VertexColorOptions colors{};             ///< how the mesh's colours are blended
+  /// Give the final mesh a unit normal per vertex (Mesh::normals): phase
+  /// V's fitted normal where it has one, the area-weighted mean of the
+  /// triangles' elsewhere (vertex_normals.h). False: none (the default, so
+  /// outputs that do not ask stay as they were).
+  bool vertex_normals = false;
   /// Called as each phase starts, with its name ("tangent planes",
   /// "orientation", "signed distance", "contouring", "refinement" in the
   /// refined method, and "colours" when the mesh is coloured): for progress
@@ -152,6 +158,7 @@ struct Reconstruction {
   /// hold a sample, from the unoriented planes (signs are fixed afterwards).
   double seconds_distance_beside = 0.0;
   double seconds_colors = 0.0;                 ///< giving the mesh its colours (0 when it has none)
+  FaceNormalFill face_normals;                 ///< the normals filled from the faces (vertex_normals)
 };
 
 /// The phases run in order (reference.h writes them out plainly), except

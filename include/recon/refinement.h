@@ -65,6 +65,11 @@ struct RefinementOptions {
   double fragment_fraction = 0.02;     ///< drop components with fewer triangles than this fraction of their piece's largest
   bool keep_fragments = false;         ///< keep every component
   double max_move = 0.0;               ///< a projection moving a vertex further is not trusted (0: unbounded)
+  /// Record in mesh.normals each projected vertex's fitted normal (the
+  /// quadric's, at the point it was projected to, on the side the
+  /// triangles face), and (0, 0, 0) where there is none: crease and corner
+  /// vertices, unmoved ones (vertex_normals.h fills those). False: no normals.
+  bool fitted_normals = false;
 };
 
 /// What the refinement reads: the surface fits of phase I (origins on the

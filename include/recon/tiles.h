@@ -43,12 +43,14 @@
 //      local steps over all of it (refine_patch); then the triangles of its
 //      own cubes are kept, each vertex named by the lattice edge it comes
 //      from (or the two, for a vertex phase V put on a crease), and
-//      coloured from the samples' colours when the cloud has them.
+//      coloured from the samples' colours when the cloud has them; with
+//      vertex normals, each keeps phase V's fitted normal (or none).
 //   5. stitch_tiles: the tiles' triangles into one PLY file, written as
 //      they come; vertices other tiles use too are welded by name, so there
 //      are no cracks and no doubled triangles. Phase V's last step (trim
 //      open boundaries, drop strays and fragments) is decided over the
-//      whole mesh first, from what each tile marked (tile_stitch.cpp).
+//      whole mesh first, from what each tile marked (tile_stitch.cpp); the
+//      vertices without a fitted normal get their kept faces' mean.
 //
 // Steps 2 and 4 read and write only their tile's files in the work
 // directory: they can run in any order, in parallel, on other machines
@@ -155,6 +157,10 @@ struct TilePlan {
   RefinementOptions refinement;     ///< phase V's options (max_move 0: the cell)
   bool colors = false;              ///< the cloud has colours, and the mesh gets them (mesh_colors)
   VertexColorOptions color_blend;   ///< how (vertex_colors.h)
+  /// The mesh gets vertex normals (ReconstructionOptions::vertex_normals):
+  /// each tile writes phase V's fitted ones, the stitch fills the rest from
+  /// the faces it keeps, as reconstruct() does (vertex_normals.h).
+  bool normals = false;
   double radius_q = 0.0, rho_q = 0.0;  ///< 99.9th percentiles of the neighbourhood radius and of rho_i
   std::uint64_t input_points = 0;
   std::uint64_t statistics_points = 0;  ///< points phase I ran on for the cloud-wide measures

@@ -141,26 +141,30 @@ class PointCloud(_Wraps):
 class Mesh(_Wraps):
     """A triangle mesh: ``vertices`` (m x 3 float64), ``faces`` (f x 3 int32,
     counter-clockwise seen from outside), ``colors`` (m x 3 uint8) or None,
+    ``normals`` (m x 3 float64, unit, on the side the faces face) or None,
     and, for a mesh made by reconstruct(), ``stats``: what
     ``recon reconstruct --stats`` records (an empty dict otherwise). The
     arrays of a reconstructed mesh are recon's own buffers, not copies."""
 
     __slots__ = ()
 
-    def __init__(self, vertices: Any, faces: Any, colors: Any = None) -> None:
-        self._made = _recon.Mesh(vertices, faces, _colors_as_bytes(colors, _rows(vertices)))
+    def __init__(self, vertices: Any, faces: Any, colors: Any = None, normals: Any = None) -> None:
+        self._made = _recon.Mesh(vertices, faces, _colors_as_bytes(colors, _rows(vertices)), normals)
 
     vertices = _passed_on("vertices", "m x 3 float64")
     faces = _passed_on("faces", "f x 3 int32, counter-clockwise seen from outside")
     colors = _passed_on("colors", "m x 3 uint8, or None")
+    normals = _passed_on("normals", "m x 3 float64 unit vertex normals, or None")
     stats = _passed_on("stats", "what recon reconstruct --stats records ({} for a mesh made from arrays)")
 
     def __repr__(self) -> str:
         return f"recon.Mesh({len(self.vertices)} vertices, {len(self.faces)} faces)"
 
     def save(self, path: PathLike, ascii: bool = False) -> None:
-        """Writes the mesh as PLY, OBJ, OFF or STL (from the extension),
-        atomically: a temporary file renamed into place."""
+        """Writes the mesh as PLY, OBJ, OFF, STL or GLB (from the extension),
+        atomically: a temporary file renamed into place. Its normals, when
+        it has them, go into PLY (nx ny nz) and OBJ (vn); GLB always has
+        normals (the faces' area-weighted ones when the mesh has none)."""
         self._made.save(os.fspath(path), ascii)
 
     def to_open3d(self) -> Any:
@@ -255,6 +259,7 @@ def reconstruct(
     threads: Optional[int] = None,
     report: Optional[PathLike] = None,
     progress: Optional[Progress] = None,
+    vertex_normals: bool = False,
 ) -> Mesh:
     """Phases I-IV (and V for the refined method): a triangle mesh of the
     surface the points sample, as ``recon reconstruct`` makes it.
@@ -267,10 +272,14 @@ def reconstruct(
     and ``max_memory`` (bytes, or "8G") mean what the program's options of
     the same names mean, with the same defaults. ``report`` writes the HTML
     report of every phase. ``progress(phase)`` is called as each phase
-    starts. The result's ``stats`` holds what ``--stats`` records."""
+    starts. The result's ``stats`` holds what ``--stats`` records.
+    ``vertex_normals=True`` gives the mesh unit vertex normals
+    (``mesh.normals``, as ``--normals``: the fitted surface's where phase V
+    has one, the faces' area-weighted mean elsewhere); ``normals`` is the
+    input's own normals, not these."""
     points, normals, colors = _cloud_arrays(points, normals, colors)
     made = _recon.reconstruct(points, normals, _colors_as_bytes(colors, _rows(points)), k, rho, delta, cell, resolution,
                               method, keep_fragments, max_memory, threads,
-                              None if report is None else os.fspath(report), progress)
+                              None if report is None else os.fspath(report), progress, vertex_normals)
     return Mesh._of(made)
 

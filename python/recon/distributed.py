@@ -263,7 +263,8 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
         cell: Optional[float] = None, resolution: Optional[int] = None, max_memory: Union[None, int, str] = None,
         statistics_points: int = 0, threads_per_task: Optional[int] = None, format: Optional[str] = None,
         columns: Optional[Sequence[str]] = None, skip_invalid: bool = False, client: Any = None,
-        timeout: Optional[float] = None, progress: Optional[Progress] = None) -> Dict[str, Any]:
+        timeout: Optional[float] = None, progress: Optional[Progress] = None,
+        vertex_normals: bool = False) -> Dict[str, Any]:
     """Reconstructs the cloud in the file `input` tile by tile, the tiles as
     Dask tasks, into the binary PLY file `output`; returns the run's figures.
 
@@ -287,7 +288,8 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     among the worker's task slots; on a local cluster, this machine's cores
     shared among the workers). The scheduler must answer and the tasks be
     done within ``timeout`` seconds of the start (TimeoutError, OSError). ``progress(step, done, total)`` is
-    called as tiles finish ("orient", "contour").
+    called as tiles finish ("orient", "contour"). ``vertex_normals`` writes
+    the mesh's vertex normals (nx ny nz), as recon.reconstruct's.
 
     Checked before any work, as the program checks them (ValueError, or
     FileNotFoundError for a missing folder): ``output`` is not the input
@@ -323,7 +325,7 @@ def run(input: PathLike, output: PathLike, *, scheduler: Optional[str] = None, w
     try:
         plan = _recon._tiles_plan(os.fspath(input), folder, method, k, rho, delta, cell, resolution, tile_size,
                                   max_memory, statistics_points, format, list(columns) if columns else None,
-                                  skip_invalid)
+                                  skip_invalid, vertex_normals)
         seconds["plan"] = time.perf_counter() - started
         lap = time.perf_counter()
         with _connected(scheduler, workers, threads_per_task, client, deadline) as dask:
@@ -382,6 +384,7 @@ def _arguments() -> argparse.ArgumentParser:
     parser.add_argument("--format", help="input format, when the extension does not say")
     parser.add_argument("--columns", help="what the columns of a text file hold, as x,y,z,_,r,g,b")
     parser.add_argument("--skip-invalid", action="store_true", help="skip points with a coordinate that is not finite")
+    parser.add_argument("--normals", action="store_true", help="write vertex normals (nx ny nz)")
     parser.add_argument("--timeout", type=float, metavar="SECONDS",
                         help="give up when the scheduler or the tiles have not answered this long after the start")
     parser.add_argument("--stats", metavar="FILE",
@@ -409,7 +412,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                       cell=a.cell, resolution=a.resolution, max_memory=a.max_memory,
                       statistics_points=a.statistics_points, threads_per_task=a.threads_per_task, format=a.format,
                       columns=a.columns.split(",") if a.columns else None, skip_invalid=a.skip_invalid,
-                      timeout=a.timeout)
+                      timeout=a.timeout, vertex_normals=a.normals)
         if a.stats:
             _recon._write_text(a.stats, json.dumps(figures, indent=1))
     except (OSError, ValueError, MemoryError, TimeoutError) as error:

@@ -415,3 +415,26 @@ def test_wrong_arguments_are_one_line(small_cloud, tmp_path, capsys, no_cluster)
     for extra, message in cases.items():
         one_line_error(*program(capsys, small_cloud, "-o", output, *extra), message)
     one_line_error(*program(capsys, small_cloud), "the following arguments are required: -o/--output")
+
+
+def test_a_dask_run_gives_the_in_memory_normals(tmp_path):
+    """Vertex normals through Dask: phase V's fitted ones travel in the
+    tiles' files, the stitch fills the rest from the faces; compared with
+    the in-memory run's (as floats, the file's precision)."""
+    cloud = tmp_path / "box.ply"
+    run_cli("generate", "box", "-n", "12000", "-o", cloud, "--quiet")
+    output = tmp_path / "mesh.ply"
+    recon.distributed.run(cloud, output, workers=2, tile_size=0.45, timeout=TIMEOUT, vertex_normals=True)
+    data = output.read_bytes()
+    header = data[:data.index(b"end_header\n")].decode("ascii")
+    assert "property float nx\nproperty float ny\nproperty float nz\n" in header
+    count = int(header.split("element vertex ")[1].split()[0])
+    records = np.frombuffer(data, np.dtype([("p", "<f8", 3), ("n", "<f4", 3)]), count,
+                            data.index(b"end_header\n") + len(b"end_header\n"))
+    in_memory = recon.reconstruct(recon.read_points(cloud).points, vertex_normals=True)
+    assert_same_triangles(read_ply_mesh(output), in_memory, 1e-9)
+    keys = {tuple(v): i for i, v in enumerate(np.rint(in_memory.vertices / 1e-9).astype(np.int64))}
+    order = [keys[tuple(v)] for v in np.rint(records["p"] / 1e-9).astype(np.int64)]
+    expected = in_memory.normals[order].astype(np.float32)
+    assert np.max(np.abs(records["n"] - expected)) < 1e-6
+    assert np.count_nonzero(np.all(records["n"] == expected, axis=1)) > 0.9 * count

@@ -201,3 +201,27 @@ def test_given_normals_are_used_instead_of_phase_two():
     inward = recon.reconstruct(points, -points)
     w, g = inward.vertices, inward.faces
     assert np.einsum("ij,ij->i", w[g[:, 0]], np.cross(w[g[:, 1]], w[g[:, 2]])).sum() < 0
+
+
+def test_vertex_normals_are_the_programs_and_reach_every_format(torus_file, tmp_path):
+    cloud = recon.read_points(torus_file)
+    plain = recon.reconstruct(cloud.points)
+    assert plain.normals is None, "no normals unless asked"
+    mesh = recon.reconstruct(cloud.points, vertex_normals=True)
+    assert mesh.normals.shape == (len(mesh.vertices), 3)
+    assert mesh.normals.dtype == np.float64
+    np.testing.assert_allclose(np.linalg.norm(mesh.normals, axis=1), 1.0, atol=1e-12)
+    np.testing.assert_array_equal(mesh.vertices, plain.vertices)
+    for suffix, option in ((".ply", "--normals"), (".obj", "--normals"), (".glb", None)):
+        by_program = tmp_path / f"program{suffix}"
+        run_cli("reconstruct", torus_file, "-o", by_program, *([option] if option else []))
+        by_package = tmp_path / f"package{suffix}"
+        mesh.save(by_package)
+        assert by_package.read_bytes() == by_program.read_bytes(), suffix
+    # A mesh made from arrays keeps the normals it is given, and writes them.
+    again = recon.Mesh(mesh.vertices, mesh.faces, normals=mesh.normals)
+    np.testing.assert_array_equal(again.normals, mesh.normals)
+    again.save(tmp_path / "again.ply")
+    assert (tmp_path / "again.ply").read_bytes() == (tmp_path / "package.ply").read_bytes()
+    with pytest.raises(ValueError, match="normals"):
+        recon.Mesh(mesh.vertices, mesh.faces, normals=mesh.normals[:-1])

@@ -50,8 +50,12 @@ void write_ply_mesh(std::ostream& out, const Mesh& mesh, bool ascii);
 /// do not hold the mesh (mesh_stream.cpp): the header, up to its
 /// "end_header" line; a vertex record (`color` nullptr: none); a triangle's
 /// face record in binary.
-[[nodiscard]] std::string ply_mesh_header(bool ascii, std::size_t vertices, std::size_t triangles, bool colors);
-void append_ply_vertex(std::string& out, const Vec3& position, const Color* color, bool ascii);
+/// With `normals`, "property float nx, ny, nz" after x, y, z (before the colours).
+[[nodiscard]] std::string ply_mesh_header(bool ascii, std::size_t vertices, std::size_t triangles, bool colors,
+                                          bool normals = false);
+/// `normal` nullptr: none.
+void append_ply_vertex(std::string& out, const Vec3& position, const Color* color, bool ascii,
+                       const Vec3* normal = nullptr);
 void append_ply_triangle_binary(std::string& out, const std::array<std::uint32_t, 3>& triangle);
 
 [[nodiscard]] PointCloud read_xyz_points(std::string_view file, std::string_view content);
@@ -105,5 +109,11 @@ void write_obj_curves(std::ostream& out, const PolylineSet& curves);
 void write_text_curves(std::ostream& out, const PolylineSet& curves);
 
 void write_stl_mesh(std::ostream& out, const Mesh& mesh);
+
+/// GLB (glb.cpp). check_mesh_for_glb refuses, before anything is written,
+/// what GLB cannot hold (InvalidInputError naming the file): a coordinate
+/// beyond float range, a normal that is not unit, a file of 4 GiB or more.
+void check_mesh_for_glb(std::string_view file, const Mesh& mesh);
+void write_glb_mesh(std::ostream& out, const Mesh& mesh);
 
 }  // namespace recon::io::detail

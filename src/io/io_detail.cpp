@@ -491,6 +491,14 @@ void check_mesh_for_writing(std::string_view file, const Mesh& mesh) {
   const std::size_t vertices = mesh.vertices.size();
   if (mesh.has_colors()) check_one_per_position(name, "mesh", mesh.colors.size(), "colours", vertices, "vertices");
   check_readable(name, mesh.vertices, "vertex");
+  if (mesh.has_normals()) {
+    check_one_per_position(name, "mesh", mesh.normals.size(), "normals", vertices, "vertices");
+    // Finite, as the readers want them (a normal read from another tool's
+    // file need not be unit; GLB alone requires it: check_mesh_for_glb).
+    for (std::size_t v = 0; v < vertices; ++v)
+      if (!std::isfinite(mesh.normals[v].norm()))
+        throw InvalidInputError(name + ": cannot write: vertex " + std::to_string(v) + "'s normal is not finite");
+  }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (const std::uint32_t v : mesh.triangles[t]) {
       if (v >= vertices)
@@ -526,6 +534,19 @@ void append_triangles_text(BlockWriter& writer, const std::vector<std::array<std
     out += '\n';
     writer.flush_if_full();
   }
+}
+
+void append_normal_text(std::string& out, const Vec3& n) {
+  for (int k = 0; k < 3; ++k) {
+    if (k > 0) out += ' ';
+    char text[24];
+    const auto [end, ec] = std::to_chars(text, text + sizeof text, static_cast<float>(n[k]));
+    out.append(text, ec == std::errc{} ? static_cast<std::size_t>(end - text) : 0);
+  }
+}
+
+void append_normal_binary(std::string& out, const Vec3& n) {
+  for (int k = 0; k < 3; ++k) append_little_endian(out, static_cast<float>(n[k]));
 }
 
 void append_vec3_text(std::string& out, const Vec3& v) {

@@ -167,6 +167,11 @@ void append_number(std::string& out, double value);
 void append_integer(std::string& out, std::uint64_t value);
 /// Appends "x y z" with append_number.
 void append_vec3_text(std::string& out, const Vec3& v);
+/// A unit normal as three floats (the precision shading needs; 12 bytes):
+/// text with the shortest decimals that read back as the same floats, or
+/// little-endian binary. Meshes' normals are written so (PLY, OBJ, GLB).
+void append_normal_text(std::string& out, const Vec3& n);
+void append_normal_binary(std::string& out, const Vec3& n);
 
 /// Field names used in messages about a position or a normal.
 inline constexpr std::string_view position_names[3] = {"x", "y", "z"};

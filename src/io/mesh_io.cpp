@@ -41,7 +41,8 @@ MeshFormat mesh_format_from_path(const std::filesystem::path& path) {
   if (extension == ".obj") return MeshFormat::obj;
   if (extension == ".off") return MeshFormat::off;
   if (extension == ".stl") return MeshFormat::stl;
-  detail::fail_unknown_extension(path, extension, "known mesh formats: .ply, .obj, .off, .stl");
+  if (extension == ".glb") return MeshFormat::glb;
+  detail::fail_unknown_extension(path, extension, "known mesh formats: .ply, .obj, .off, .stl, .glb");
 }
 
 void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const WriteMeshOptions& options) {
@@ -49,12 +50,14 @@ void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const Write
   const std::string file = path.string();
   detail::check_mesh_for_writing(file, mesh);
   if (format == MeshFormat::stl) check_for_stl(file, mesh);
+  if (format == MeshFormat::glb) detail::check_mesh_for_glb(file, mesh);
   AtomicFile output(path);
   switch (format) {
     case MeshFormat::ply: detail::write_ply_mesh(output.stream(), mesh, options.ascii); break;
     case MeshFormat::obj: detail::write_obj_mesh(output.stream(), mesh); break;
     case MeshFormat::off: detail::write_off_mesh(output.stream(), mesh); break;
     case MeshFormat::stl: detail::write_stl_mesh(output.stream(), mesh); break;
+    case MeshFormat::glb: detail::write_glb_mesh(output.stream(), mesh); break;
     case MeshFormat::automatic: throw InvalidInputError(file + ": no mesh format chosen");
   }
   output.commit();
@@ -65,6 +68,7 @@ Mesh read_mesh(const std::filesystem::path& path) {
   const std::string file = path.string();
   if (format == MeshFormat::stl)
     throw InvalidInputError(file + ": reading STL is not supported (it has no shared vertices); use PLY, OBJ or OFF");
+  if (format == MeshFormat::glb) throw InvalidInputError(file + ": reading GLB is not supported; use PLY, OBJ or OFF");
   const detail::FileContent file_content = detail::read_file(path);
   const std::string_view content = file_content.view();
   if (content.empty()) detail::fail_in_file(file, "the file is empty");
@@ -73,6 +77,7 @@ Mesh read_mesh(const std::filesystem::path& path) {
     case MeshFormat::obj: return detail::read_obj_mesh(file, content);
     case MeshFormat::off: return detail::read_off_mesh(file, content);
     case MeshFormat::stl:
+    case MeshFormat::glb:
     case MeshFormat::automatic: break;
   }
   throw InvalidInputError(file + ": no mesh format chosen");

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -23,8 +24,8 @@ constexpr std::size_t block_size = std::size_t{1} << 20;
 
 }  // namespace
 
-PlyMeshStream::PlyMeshStream(const std::filesystem::path& path, bool with_colors)
-    : path_(path), with_colors_(with_colors), output_(path) {
+PlyMeshStream::PlyMeshStream(const std::filesystem::path& path, bool with_colors, bool with_normals)
+    : path_(path), with_colors_(with_colors), with_normals_(with_normals), output_(path) {
   // Three temporaries of the same target: their names differ by a counter.
   vertex_part_.emplace(path);
   face_part_.emplace(path);
@@ -38,25 +39,41 @@ std::uint32_t PlyMeshStream::add_vertex(const Vec3& position) {
   if (with_colors_)
     throw InvalidInputError(path_.string() + ": cannot write: vertex " + std::to_string(vertices_) +
                             " has no colour, but the mesh has colours");
-  return add(position, nullptr);
+  return add(position, nullptr, nullptr);
 }
 
 std::uint32_t PlyMeshStream::add_vertex(const Vec3& position, const Color& color) {
   if (!with_colors_)
     throw InvalidInputError(path_.string() + ": cannot write: vertex " + std::to_string(vertices_) +
                             " has a colour, but the mesh was opened without colours");
-  return add(position, &color);
+  return add(position, &color, nullptr);
 }
 
-std::uint32_t PlyMeshStream::add(const Vec3& position, const Color* color) {
+std::uint32_t PlyMeshStream::add_vertex(const Vec3& position, const Color* color, const Vec3& normal) {
+  if (with_colors_ != (color != nullptr))
+    throw InvalidInputError(path_.string() + ": cannot write: vertex " + std::to_string(vertices_) +
+                            (color ? " has a colour, but the mesh was opened without colours"
+                                   : " has no colour, but the mesh has colours"));
+  const double norm = normal.norm();
+  if (!std::isfinite(norm) || !(std::abs(norm - 1.0) < 1e-3))  // (isfinite first: no comparison with a NaN)
+    throw InvalidInputError(path_.string() + ": cannot write: vertex " + std::to_string(vertices_) +
+                            "'s normal is not a unit vector");
+  return add(position, color, &normal);
+}
+
+std::uint32_t PlyMeshStream::add(const Vec3& position, const Color* color, const Vec3* normal) {
   check_open();
+  if (with_normals_ != (normal != nullptr))
+    throw InvalidInputError(path_.string() + ": cannot write: vertex " + std::to_string(vertices_) +
+                            (normal ? " has a normal, but the mesh was opened without normals"
+                                    : " has no normal, but the mesh has normals"));
   if (vertices_ > std::numeric_limits<std::uint32_t>::max())
     throw InvalidInputError(path_.string() + ": cannot write: more than 2^32 vertices");
   if (!detail::coordinate_in_range(position.x()) || !detail::coordinate_in_range(position.y()) ||
       !detail::coordinate_in_range(position.z()))
     throw InvalidInputError(path_.string() + ": cannot write: vertex " + std::to_string(vertices_) +
                             " has a coordinate that is not finite or beyond " + detail::coordinate_bound());
-  detail::append_ply_vertex(vertex_part_->buffer, position, color, false);
+  detail::append_ply_vertex(vertex_part_->buffer, position, color, false, normal);
   flush_if_full(*vertex_part_);
   return static_cast<std::uint32_t>(vertices_++);
 }
@@ -118,7 +135,7 @@ void PlyMeshStream::finish() {
   check_open();
   check_indices();
   finished_ = true;
-  const std::string header = detail::ply_mesh_header(false, vertices_, triangles_, with_colors_);
+  const std::string header = detail::ply_mesh_header(false, vertices_, triangles_, with_colors_, with_normals_);
   output_.stream().write(header.data(), static_cast<std::streamsize>(header.size()));
   copy_part(*vertex_part_);
   vertex_part_.reset();

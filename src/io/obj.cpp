@@ -181,8 +181,31 @@ Mesh read_obj_mesh(std::string_view file, std::string_view content) {
   mesh.vertices = std::move(obj.positions);
   mesh.triangles = std::move(obj.triangles);
   mesh.colors = obj.colors.take();
+  // As for points: only a normal per vertex can be matched to them (the
+  // form recon writes, "f a//a b//b c//c").
+  if (obj.normals.size() == mesh.vertices.size()) mesh.normals = std::move(obj.normals);
   return mesh;
 }
+
+namespace {
+
+// "f a//a b//b c//c": each corner's vertex and its normal (1-based, the same number).
+void append_triangles_with_normals(BlockWriter& writer, const std::vector<std::array<std::uint32_t, 3>>& triangles) {
+  std::string& out = writer.buffer();
+  for (const auto& triangle : triangles) {
+    out += 'f';
+    for (const std::uint32_t v : triangle) {
+      out += ' ';
+      append_integer(out, std::uint64_t{v} + 1);
+      out += "//";
+      append_integer(out, std::uint64_t{v} + 1);
+    }
+    out += '\n';
+    writer.flush_if_full();
+  }
+}
+
+}  // namespace
 
 void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
   BlockWriter writer(stream);
@@ -200,9 +223,18 @@ void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
       append_color_unit(out, mesh.colors[i]);
     }
     out += '\n';
+    if (mesh.has_normals()) {  // vertex i's normal is normal i: OBJ counts "vn" lines on their own
+      out += "vn ";
+      append_normal_text(out, mesh.normals[i]);
+      out += '\n';
+    }
     writer.flush_if_full();
   }
-  append_triangles_text(writer, mesh.triangles, 'f', 1);
+  if (mesh.has_normals()) {
+    append_triangles_with_normals(writer, mesh.triangles);
+  } else {
+    append_triangles_text(writer, mesh.triangles, 'f', 1);
+  }
   writer.finish();
 }
 

@@ -725,6 +725,7 @@ Mesh read_ply_mesh(std::string_view file, std::string_view content) {
   PointCloud vertices = whole.take_whole();
   mesh.vertices = std::move(vertices.positions);
   mesh.colors = std::move(vertices.colors);
+  mesh.normals = std::move(vertices.normals);
   return mesh;
 }
 
@@ -751,11 +752,13 @@ void write_ply_points(std::ostream& stream, const PointCloud& cloud, bool ascii)
   writer.finish();
 }
 
-std::string ply_mesh_header(bool ascii, std::size_t vertices, std::size_t triangles, bool colors) {
+std::string ply_mesh_header(bool ascii, std::size_t vertices, std::size_t triangles, bool colors, bool normals) {
   // Indices are written as "int", which every PLY reader knows, unless the
   // mesh is too large for it.
   const bool signed_indices = vertices <= static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
-  std::string header = header_start(ascii, vertices, false, colors);
+  std::string header = header_start(ascii, vertices, false, false);
+  if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (colors) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   header += "element face ";
   header += std::to_string(triangles);
   header +=
@@ -764,11 +767,16 @@ std::string ply_mesh_header(bool ascii, std::size_t vertices, std::size_t triang
   return header;
 }
 
-void append_ply_vertex(std::string& out, const Vec3& position, const Color* color, bool ascii) {
+void append_ply_vertex(std::string& out, const Vec3& position, const Color* color, bool ascii, const Vec3* normal) {
   if (ascii) {
     append_vec3_text(out, position);
+    if (normal != nullptr) {
+      out += ' ';
+      append_normal_text(out, *normal);
+    }
   } else {
     append_vec3_binary(out, position);
+    if (normal != nullptr) append_normal_binary(out, *normal);
   }
   if (color != nullptr) append_color(out, *color, ascii);
   if (ascii) out += '\n';
@@ -782,9 +790,10 @@ void append_ply_triangle_binary(std::string& out, const std::array<std::uint32_t
 void write_ply_mesh(std::ostream& stream, const Mesh& mesh, bool ascii) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += ply_mesh_header(ascii, mesh.vertices.size(), mesh.triangles.size(), mesh.has_colors());
+  out += ply_mesh_header(ascii, mesh.vertices.size(), mesh.triangles.size(), mesh.has_colors(), mesh.has_normals());
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    append_ply_vertex(out, mesh.vertices[i], mesh.has_colors() ? &mesh.colors[i] : nullptr, ascii);
+    append_ply_vertex(out, mesh.vertices[i], mesh.has_colors() ? &mesh.colors[i] : nullptr, ascii,
+                      mesh.has_normals() ? &mesh.normals[i] : nullptr);
     writer.flush_if_full();
   }
   if (ascii) {

@@ -25,6 +25,19 @@
 // incompatible ways): the colours are dropped and the file is the same as
 // without them.
 //
+// Normals (Mesh::normals, one unit normal per vertex) are written when the
+// mesh has them, as floats (shading needs no more; the shortest decimals
+// that read back as the same floats in text): PLY "property float nx", ny,
+// nz after x, y, z (before the colours); OBJ a "vn" line after each "v" line
+// and faces "f a//a b//b c//c"; GLB always has them (a mesh without gets
+// the area-weighted ones, vertex_normals.h). OFF and STL have no place for
+// them: dropped. Without normals the bytes are as before they existed.
+// write_mesh refuses (InvalidInputError) normals not one per vertex or not
+// finite, and for GLB not unit (glTF requires unit normals).
+//
+// GLB (glTF 2.0 binary: src/io/glb.cpp says what it holds) is written, not
+// read.
+//
 // Reading: PLY takes the "vertex" element's x, y, z (and its colours, as
 // read_points does) and the "face" element's "vertex_indices" or
 // "vertex_index" list (any integer count type, any index type holding whole
@@ -45,7 +58,7 @@
 
 namespace recon::io {
 
-enum class MeshFormat { automatic, ply, obj, off, stl };
+enum class MeshFormat { automatic, ply, obj, off, stl, glb };
 
 [[nodiscard]] MeshFormat mesh_format_from_path(const std::filesystem::path& path);
 

@@ -4,7 +4,8 @@
 //
 // PlyMeshStream writes a binary PLY file, byte for byte the file that
 // write_mesh (mesh_io.h) writes for the same mesh: the same header, x y z as
-// "property double" (and "property uchar red", green, blue with colours),
+// "property double" (then "property float nx", ny, nz with normals, and
+// "property uchar red", green, blue with colours),
 // faces as "property list uchar int vertex_indices" ("uint" beyond 2^31 - 1
 // vertices). Since the header holds the counts, which are known only at the
 // end, the vertex records and the face records go to two temporary files
@@ -41,8 +42,9 @@ namespace recon::io {
 class PlyMeshStream {
  public:
   /// Opens the temporary files beside `path`; `with_colors`: every vertex
-  /// has a colour (add_vertex with a Color), else none has.
-  PlyMeshStream(const std::filesystem::path& path, bool with_colors);
+  /// has a colour (add_vertex with a Color), else none has; `with_normals`:
+  /// every vertex has a unit normal (add_vertex with a normal), else none has.
+  PlyMeshStream(const std::filesystem::path& path, bool with_colors, bool with_normals = false);
   PlyMeshStream(const PlyMeshStream&) = delete;
   PlyMeshStream& operator=(const PlyMeshStream&) = delete;
   ~PlyMeshStream();
@@ -50,6 +52,8 @@ class PlyMeshStream {
   /// Adds a vertex and returns its index (0, 1, 2, ... in the order added).
   std::uint32_t add_vertex(const Vec3& position);
   std::uint32_t add_vertex(const Vec3& position, const Color& color);
+  /// With a normal (the stream opened with_normals); `color` null: none.
+  std::uint32_t add_vertex(const Vec3& position, const Color* color, const Vec3& normal);
   /// Adds a triangle of vertex indices; a vertex may be added after the
   /// triangles that use it (checked at finish()).
   void add_triangle(const std::array<std::uint32_t, 3>& triangle);
@@ -67,7 +71,7 @@ class PlyMeshStream {
     std::string buffer;
   };
 
-  std::uint32_t add(const Vec3& position, const Color* color);
+  std::uint32_t add(const Vec3& position, const Color* color, const Vec3* normal);
   void flush_if_full(Part& part);
   void flush(Part& part);
   void check_open() const;
@@ -76,6 +80,7 @@ class PlyMeshStream {
 
   std::filesystem::path path_;
   bool with_colors_;
+  bool with_normals_;
   AtomicFile output_;
   std::optional<Part> vertex_part_;
   std::optional<Part> face_part_;
