@@ -29,6 +29,7 @@
 #include "io_detail.h"
 
 #include "recon/errors.h"
+#include "recon/version.h"
 #include "recon/vertex_normals.h"
 
 #include <charconv>
@@ -40,9 +41,6 @@
 namespace recon::io::detail {
 namespace {
 
-// The writer's name and version in asset.generator. The version is a
-// placeholder until the project has one (the lead wires the project version here).
-constexpr std::string_view generator = "recon 0.0.0-dev";
 
 constexpr std::uint32_t glb_magic = 0x46546C67;  // "glTF"
 constexpr std::uint32_t json_chunk = 0x4E4F534A;  // "JSON"
@@ -117,7 +115,11 @@ void append_vec3(std::string& json, const std::array<float, 3>& v) {
   json += ']';
 }
 
-std::string asset() { return "\"asset\":{\"version\":\"2.0\",\"generator\":\"" + std::string(generator) + "\"}"; }
+// asset.generator names the writer and its version (recon::version(), the
+// one the program, the package and the stats give).
+std::string asset() {
+  return "\"asset\":{\"version\":\"2.0\",\"generator\":\"recon " + std::string(recon::version()) + "\"}";
+}
 
 // The JSON of a mesh with triangles, over the buffer `b`.
 std::string describe(const Mesh& mesh, const Buffer& b) {
