@@ -22,15 +22,18 @@
 //   - The queue holds vertices, not edges: a vertex's key is the cost of its
 //     cheapest allowed move. A collapse changes the keys of the vertices
 //     around it up or down, hence the indexed heap's update_key and erase.
-//   - Features, found on the input by dihedral angle: an edge is a feature
-//     when its two triangles' normals differ by more than feature_angle
-//     (phase V draws its creases with edges at crease_angle, the same 25
-//     degrees by default), or when it has one triangle (an open boundary).
-//     A vertex on no feature edge moves freely; on exactly two it lies on a
-//     crease or boundary line and moves only along it (onto the neighbour
-//     across one of its two feature edges); on one or three or more (a
-//     corner, an end of a crease, where a crease meets a boundary) it never
-//     moves. Boundary edges add a constraint plane (through the edge,
+//   - Features, found on the input by the planes around each vertex: the
+//     eigenvalues of their normals' second moment (area-weighted, so that
+//     the slivers phase V leaves along a crease hardly count) say whether
+//     they span one direction (flat ground), two (a crease, running along
+//     the third eigenvector) or three (a corner). A flat vertex moves
+//     freely; a crease vertex only onto a neighbour on a crease or corner
+//     along the crease direction; a vertex on an open boundary only along
+//     it; a corner, a crease meeting a boundary, a non-manifold vertex
+//     never. Phase V knows its crease vertices too, but its slivers and
+//     brought-back vertices make its labels a poorer guide than the planes,
+//     and this way meshes from elsewhere (hoppe92's) are treated alike.
+//     Boundary edges add a constraint plane (through the edge,
 //     perpendicular to its triangle) to their ends' quadrics, so that a
 //     curved boundary costs what it deviates.
 //   - Only valid meshes: a collapse is refused when it breaks the link
@@ -76,7 +79,6 @@ struct SimplifyOptions {
   std::size_t target_triangles = 0;   ///< stop at this many triangles or fewer (0: no count target)
   double ratio = 0.0;                 ///< or at this fraction of the input's (0 < ratio < 1; 0: none)
   double max_error = 0.0;             ///< distance every input vertex stays within (input units; 0: no bound)
-  double feature_angle_degrees = 25.0;  ///< dihedral angle over which an edge is a crease
   double max_normal_turn_degrees = 60.0;  ///< a collapse may turn a triangle's normal by at most this
   SimplifyQueue queue = SimplifyQueue::binary_heap;
 };
@@ -87,7 +89,7 @@ struct Simplification {
   std::size_t triangles_after = 0;
   std::size_t collapses = 0;
   std::size_t refused = 0;            ///< moves refused at the top of the queue (topology, flips, the bound)
-  std::size_t crease_vertices = 0;    ///< input vertices on exactly two feature edges (creases and boundaries)
+  std::size_t crease_vertices = 0;    ///< input vertices that move only along a crease or boundary
   std::size_t corner_vertices = 0;    ///< input vertices that never move
   /// The largest distance from an input vertex to the triangle keeping it
   /// (an upper bound of its distance to the simplified mesh); tracked only
