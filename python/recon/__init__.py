@@ -250,6 +250,8 @@ def reconstruct(
     threads: Optional[int] = None,
     report: Optional[PathLike] = None,
     progress: Optional[Progress] = None,
+    simplify: Union[None, int, float] = None,
+    max_error: Optional[float] = None,
 ) -> Mesh:
     """Phases I-IV (and V for the refined method): a triangle mesh of the
     surface the points sample, as ``recon reconstruct`` makes it.
@@ -262,11 +264,14 @@ def reconstruct(
     and ``max_memory`` (bytes, or "8G") mean what the program's options of
     the same names mean, with the same defaults. ``report`` writes the HTML
     report of every phase. ``progress(phase)`` is called as each phase
-    starts. The result's ``stats`` holds what ``--stats`` records."""
+    starts. ``simplify`` (an int: a triangle count; a float below 1: a
+    ratio) and ``max_error`` (a multiple of rho) simplify the mesh keeping
+    creases, corners, boundaries and separate objects, as ``--simplify`` and
+    ``--max-error`` do. The result's ``stats`` holds what ``--stats`` records."""
     points, normals, colors = _cloud_arrays(points, normals, colors)
     made = _recon.reconstruct(points, normals, _colors_as_bytes(colors, _rows(points)), k, rho, delta, cell, resolution,
                               method, keep_fragments, max_memory, threads,
-                              None if report is None else os.fspath(report), progress)
+                              None if report is None else os.fspath(report), progress, simplify, max_error)
     return Mesh._of(made)
 
 
