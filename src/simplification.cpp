@@ -220,6 +220,11 @@ constexpr double second_direction = 0.02;
 // boxes, up to 0.05).
 constexpr double third_direction = 0.1;
 
+// A triangle whose doubled area is below this fraction of the sum of its
+// squared edges is a sliver (an equilateral one has 0.58; this is about a
+// 2 degree smallest angle).
+constexpr double sliver_ratio = 0.05;
+
 template <class Queue>
 class Collapser {
  public:
@@ -526,7 +531,13 @@ class Collapser {
       const Vec3 after = (c[1] - c[0]).cross(c[2] - c[0]);
       const double scale = (c[1] - c[0]).squaredNorm() + (c[2] - c[1]).squaredNorm() + (c[0] - c[2]).squaredNorm();
       if (!(after.norm() > 1e-10 * scale)) return false;
-      if (before.dot(after) < cos_turn_ * before.norm() * after.norm()) return false;
+      // A sliver's normal (three vertices nearly in a row, as along phase
+      // V's creases) says nothing: only a real triangle's turn is checked.
+      const double scale_before = (p_[tris_[f][1]] - p_[tris_[f][0]]).squaredNorm() +
+                                  (p_[tris_[f][2]] - p_[tris_[f][1]]).squaredNorm() +
+                                  (p_[tris_[f][0]] - p_[tris_[f][2]]).squaredNorm();
+      const bool sliver = before.norm() < sliver_ratio * scale_before;
+      if (!sliver && before.dot(after) < cos_turn_ * before.norm() * after.norm()) return false;
       if (duplicates(f, u, v)) return false;
     }
     return true;
