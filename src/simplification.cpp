@@ -216,9 +216,9 @@ enum PlaneShape : std::uint8_t { flat = 0, crease = 1, corner = 2 };
 // crease a few thousandths.
 constexpr double second_direction = 0.02;
 // A third eigenvalue over this: a corner (three planes of equal areas give
-// 1/3; a crease vertex with a sliver of a third plane, measured on phase V's
-// boxes, up to 0.05).
-constexpr double third_direction = 0.1;
+// 1/3). At 0.1, one of the eight corners of phase V's box (unequal areas
+// around it) moved along a crease at 100x fewer triangles; at 0.03 none did.
+constexpr double third_direction = 0.03;
 
 // A triangle whose doubled area is below this fraction of the sum of its
 // squared edges is a sliver (an equilateral one has 0.58; this is about a
