@@ -523,6 +523,8 @@ class Collapser {
   // No triangle turns by more than the limit or loses its area, and no two
   // triangles end on the same three vertices.
   bool no_fold(std::uint32_t u, std::uint32_t v) const {
+    Vec3 fan = Vec3::Zero();
+    for (const std::uint32_t f : faces_[u]) fan += normal(f);
     for (const std::uint32_t f : faces_[u]) {
       if (has(f, v)) continue;
       const Vec3 before = normal(f);
@@ -538,6 +540,9 @@ class Collapser {
                                   (p_[tris_[f][0]] - p_[tris_[f][2]]).squaredNorm();
       const bool sliver = before.norm() < sliver_ratio * scale_before;
       if (!sliver && before.dot(after) < cos_turn_ * before.norm() * after.norm()) return false;
+      // A sliver may turn, but not fold over: it must still face the side
+      // u's triangles face together.
+      if (sliver && !(fan.dot(after) > 0.0)) return false;
       if (duplicates(f, u, v)) return false;
     }
     return true;
