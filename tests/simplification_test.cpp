@@ -210,6 +210,38 @@ TEST(Simplification, SeparateObjectsStaySeparateAndKeepTheirGenus) {
   }
 }
 
+// A torus as a grid of rings: its hole stays however far it goes (the link
+// condition refuses the collapses that would pinch the handle).
+Mesh grid_torus(int rings, int sectors) {
+  Mesh m;
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const double a = 2.0 * std::numbers::pi * i / rings, b = 2.0 * std::numbers::pi * j / sectors;
+      m.vertices.emplace_back((1.0 + 0.3 * std::cos(b)) * std::cos(a), (1.0 + 0.3 * std::cos(b)) * std::sin(a),
+                              0.3 * std::sin(b));
+    }
+  const auto id = [&](int i, int j) { return static_cast<std::uint32_t>((i % rings) * sectors + (j % sectors)); };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+TEST(Simplification, TorusKeepsItsHole) {
+  const Mesh torus = grid_torus(40, 16);
+  SimplifyOptions o;
+  o.target_triangles = 1;
+  const Simplification s = simplify(torus, o);
+  const MeshTopology t = analyze_topology(s.mesh);
+  EXPECT_LT(s.mesh.triangles.size(), 100u);
+  EXPECT_EQ(t.euler_characteristic, 0);
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+  EXPECT_TRUE(t.watertight());
+  EXPECT_EQ(t.degenerate_triangles, 0u);
+}
+
 // Every input vertex lies within max_error of the simplified mesh.
 TEST(Simplification, ErrorBoundHolds) {
   const Mesh dome = lat_long(40, 64, true);
