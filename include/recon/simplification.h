@@ -59,6 +59,8 @@
 // vertex degree for the re-costing and checks; with max_error, also the
 // input vertices handed on per collapse (a few per triangle). Memory: a
 // quadric (10 doubles), a triangle list and a heap slot per vertex.
+// Measured: 3.4 s for 973,520 triangles to a tenth (docs/benchmarks.md),
+// mostly rebuilding vertex rings; meshoptimizer takes 0.54 s.
 
 #include "recon/mesh.h"
 #include "recon/operation_counts.h"
