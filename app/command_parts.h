@@ -75,6 +75,8 @@ struct ReconstructCommandOptions {
   std::string method = "refined";
   double tile_size = 0.0;           ///< --tile-size: work in tiles (tiled.h)
   std::filesystem::path tmpdir;     ///< --tmpdir: where the tiles go (default: the output's folder)
+  std::string simplify;             ///< --simplify: a triangle count, a ratio below 1, or a percentage (empty: off)
+  std::optional<double> max_error;  ///< --max-error: multiple of rho
 };
 
 

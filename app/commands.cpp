@@ -29,6 +29,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 namespace recon::cli {
 
@@ -196,6 +197,8 @@ ReconstructionOptions reconstruction_options(const ReconstructCommandOptions& o)
   options.max_memory = o.phases.max_memory;
   // GLB always has them (viewers shade with them); other formats when asked.
   options.vertex_normals = o.normals || writes_glb(o.output);
+  if (!o.simplify.empty()) std::tie(options.simplify.triangles, options.simplify.ratio) = simplify_target_of(o.simplify);
+  options.simplify.max_error = o.max_error.value_or(0.0);
   // Without a report only the counts are reported; the report draws the
   // graph and the evaluated corners.
   options.keep_graph = !o.report.empty();
@@ -277,6 +280,14 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::Range(1, 1 << 20))
       ->excludes(cell);
   app.add_flag("--use-normals", o->use_normals, "Use the input's own normals (skips phase II)");
+  app.add_option("--simplify", o->simplify,
+                 "Simplify the mesh to this many triangles, or this ratio or percentage of them (5000, 0.1, 10%), "
+                 "keeping creases, corners, open boundaries and separate objects")
+      ->check(simplify_target());
+  app.add_option("--max-error", o->max_error,
+                 "Simplify keeping every vertex of the unsimplified mesh within this multiple of rho of the result "
+                 "(with --simplify: stop at whichever comes first)")
+      ->check(positive_length());
   app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
   app.add_flag("--normals", o->normals,
                "Write vertex normals (PLY nx ny nz, OBJ vn): the fitted surface's where phase V has one, the "

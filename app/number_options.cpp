@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace recon::cli {
 namespace {
@@ -59,6 +60,28 @@ CLI::Validator finite_within(double low, double high) {
 CLI::Validator whole_number_up_to(double most) {
   return number_check("a whole number from 0 to " + bound_text(most),
                       [most](double v) { return v >= 0.0 && v <= most && std::floor(v) == v; });
+}
+
+std::pair<std::size_t, double> simplify_target_of(const std::string& text) {
+  const bool percent = !text.empty() && text.back() == '%';
+  const std::optional<double> value = number_in(percent ? text.substr(0, text.size() - 1) : text);
+  if (!value || !std::isfinite(*value)) return {0, 0.0};
+  if (percent) return {0, *value > 0.0 && *value < 100.0 ? *value / 100.0 : 0.0};
+  if (*value > 0.0 && *value < 1.0) return {0, *value};
+  if (*value >= 1.0 && *value <= 4e9 && std::floor(*value) == *value) return {static_cast<std::size_t>(*value), 0.0};
+  return {0, 0.0};
+}
+
+CLI::Validator simplify_target() {
+  const std::string expected = "a triangle count (a whole number of 1 or more), a ratio between 0 and 1, or a "
+                               "percentage below 100% (e.g. 5000, 0.1, 10%)";
+  return CLI::Validator(
+      [expected](std::string& text) -> std::string {
+        const auto [count, ratio] = simplify_target_of(text);
+        if (count > 0 || ratio > 0.0) return {};
+        return "expected " + expected + ", found '" + text + "'";
+      },
+      "TARGET");
 }
 
 }  // namespace recon::cli

@@ -22,4 +22,11 @@ namespace recon::cli {
 /// A whole number from 0 to `most` (--threads, the lab's point limits).
 [[nodiscard]] CLI::Validator whole_number_up_to(double most);
 
+/// --simplify's value: a whole number of 1 or more (a triangle count), a
+/// number between 0 and 1 (a ratio), or a percentage between 0 and 100
+/// ("10%"), both exclusive; the check refuses anything else in one line.
+[[nodiscard]] CLI::Validator simplify_target();
+/// The count (first) or ratio (second) a checked --simplify value gives.
+[[nodiscard]] std::pair<std::size_t, double> simplify_target_of(const std::string& text);
+
 }  // namespace recon::cli

@@ -187,6 +187,27 @@ StepReport refinement_report(const Refinement& r) {
   return report;
 }
 
+// Phase VI: triangles before and after, and the bound measured on the
+// unsimplified mesh's vertices (in rho's units, as --max-error takes it).
+StepReport simplification_report(const Simplification& s, double rho) {
+  std::ostringstream line;
+  line << "phase VI  simplification: " << s.triangles_before << " -> " << plural(s.triangles_after, "triangle") << " ("
+       << plural(s.collapses, "collapse") << ", " << plural(s.corner_vertices, "fixed vertex") << ", "
+       << plural(s.crease_vertices, "crease or boundary vertex") << " moved along their lines only";
+  if (s.vertex_error > 0.0) line << "; vertices within " << format_length(s.vertex_error / rho) << " rho";
+  line << ") (" << format_seconds(s.seconds) << ")";
+  StepReport report{{line.str()}, {}};
+  Json& j = report.stats;
+  j["triangles_before"] = s.triangles_before;
+  j["triangles_after"] = s.triangles_after;
+  j["collapses"] = s.collapses;
+  j["fixed_vertices"] = s.corner_vertices;
+  j["line_vertices"] = s.crease_vertices;
+  j["vertex_error_rho"] = s.vertex_error / rho;
+  j["seconds"] = s.seconds;
+  return report;
+}
+
 // The mesh's colours (when the input had some).
 StepReport colors_report(const VertexColorOptions& options, double seconds) {
   std::ostringstream line;
@@ -240,6 +261,7 @@ void say_what_the_report_leaves_out(const Reconstruction& r, Summary& summary) {
 
 void release_all_but_the_mesh(Reconstruction& r) {
   if (r.refinement) r.contour.mesh = {};
+  if (r.simplification && r.refinement) r.refinement->mesh = {};
   r.origin_tree = {};
   r.planes = {};
   r.quadrics.reset();
@@ -272,6 +294,7 @@ void report_reconstruction(Reconstruction& r, const ReconstructionOptions& optio
   summary.add(phase_4_report(c, r.clusters), "contouring");
   if (keep_all && !r.clusters.empty()) say_what_the_report_leaves_out(r, summary);
   if (r.refinement) summary.add(refinement_report(*r.refinement), "refinement");
+  if (r.simplification) summary.add(simplification_report(*r.simplification, r.planes.rho), "simplification");
   if (r.mesh().has_colors()) summary.add(colors_report(options.colors, r.seconds_colors), "colors");
   if (!keep_all) release_all_but_the_mesh(r);
   summary.add(mesh_report(r.mesh()), "mesh");

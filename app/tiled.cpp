@@ -61,6 +61,8 @@ void refuse_what_tiles_do_not_do(const ReconstructCommandOptions& o) {
   if (o.ascii) refuse("write binary PLY: drop --ascii");
   if (o.use_normals) refuse("estimate and orient the normals: drop --use-normals");
   if (!o.report.empty()) refuse("write no report: drop --report");
+  // The stitched mesh goes straight to the file, never whole in memory.
+  if (!o.simplify.empty() || o.max_error) refuse("do not simplify (the mesh is never whole in memory): drop --simplify and --max-error");
 }
 
 StepReport plan_report(const TilePlan& plan, const std::string& why) {

@@ -48,6 +48,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <memory>
@@ -354,6 +355,7 @@ struct ReconstructParameters {
   std::optional<int> threads;
   std::optional<std::filesystem::path> report;
   py::object progress = py::none();
+  SimplifyStep simplify{};
 
   [[nodiscard]] ReconstructionOptions options(bool use_normals) const {
     ReconstructionOptions o;
@@ -373,9 +375,35 @@ struct ReconstructParameters {
     o.max_memory = phases.max_memory;
     o.keep_graph = report.has_value();
     o.keep_corners = report.has_value();
+    o.simplify = simplify;
     return o;
   }
 };
+
+// simplify= and max_error=: an int is a triangle count, a float below 1 a
+// ratio (the program's --simplify also takes "10%").
+SimplifyStep simplify_step(const py::object& target, std::optional<double> max_error) {
+  SimplifyStep step;
+  const std::string expected = "simplify: expected a triangle count (an int of 1 or more) or a ratio (a float between 0 and 1)";
+  if (py::isinstance<py::bool_>(target)) throw InvalidInputError(expected + ", got a bool");
+  if (py::isinstance<py::int_>(target)) {
+    const auto n = target.cast<long long>();
+    if (n < 1) throw InvalidInputError(expected + ", got " + std::to_string(n));
+    step.triangles = static_cast<std::size_t>(n);
+  } else if (py::isinstance<py::float_>(target)) {
+    const auto r = target.cast<double>();
+    if (!(r > 0.0 && r < 1.0)) throw InvalidInputError(expected + ", got " + std::to_string(r));
+    step.ratio = r;
+  } else if (!target.is_none()) {
+    throw InvalidInputError(expected);
+  }
+  if (max_error) {
+    if (!(*max_error > 0.0) || !std::isfinite(*max_error))
+      throw InvalidInputError("max_error: expected a finite multiple of rho greater than 0, got " + std::to_string(*max_error));
+    step.max_error = *max_error;
+  }
+  return step;
+}
 
 // The parameters reconstruct() and the tiled plan share.
 ReconstructParameters reconstruct_parameters(std::optional<std::int64_t> k, std::optional<double> rho,
@@ -414,7 +442,9 @@ std::unique_ptr<PyMesh> run_reconstruct(const CloudArrays& input, const Reconstr
     summary.stats()["threads"] = thread_count();
     summary.stats()["seconds_total"] = total.elapsed();
     if (p.report) cli::write_run_report(*p.report, report_input(r), "recon.reconstruct", summary);
-    if (r.refinement) {
+    if (r.simplification) {
+      result->mesh = std::move(r.simplification->mesh);
+    } else if (r.refinement) {
       result->mesh = std::move(r.refinement->mesh);
     } else {
       result->mesh = std::move(r.contour.mesh);
@@ -657,9 +687,11 @@ void bind_runs(py::module_& m) {
            std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
            std::optional<std::int64_t> resolution, const std::string& method, bool keep_fragments,
            const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
-           const py::object& progress, bool vertex_normals) {
+           const py::object& progress, bool vertex_normals,
+           const py::object& simplify, std::optional<double> max_error) {
           const CloudArrays in(points, normals, colors);
           ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
+          p.simplify = simplify_step(simplify, max_error);
           p.keep_fragments = keep_fragments;
           p.vertex_normals = vertex_normals;
           p.threads = threads;
@@ -671,7 +703,8 @@ void bind_runs(py::module_& m) {
         py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
         py::arg("resolution") = py::none(), py::arg("method") = "refined", py::arg("keep_fragments") = false,
         py::arg("max_memory") = py::none(), py::arg("threads") = py::none(), py::arg("report") = py::none(),
-        py::arg("progress") = py::none(), py::arg("vertex_normals") = false);
+        py::arg("progress") = py::none(), py::arg("vertex_normals") = false,
+        py::arg("simplify") = py::none(), py::arg("max_error") = py::none());
 
   // For the tests: the address of the data the library would read for
   // `points` (equal to the array's own when no copy was made).

@@ -10,18 +10,22 @@
 #include "recon/list_heap.h"
 #include "recon/local_quadrics.h"
 #include "recon/pairing_heap.h"
+#include "recon/reconstruct.h"
+#include "recon/simplification.h"
 #include "recon/timer.h"
 #include "recon/uniform_grid.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 namespace recon {
 namespace {
 
-constexpr std::array<std::string_view, 4> kind_names = {"search", "queue", "mst", "graph"};
+constexpr std::array<std::string_view, 5> kind_names = {"search", "queue", "mst", "graph", "simplify"};
 
 std::string count_text(std::size_t n) { return std::to_string(n); }
 
@@ -285,6 +289,38 @@ void run_graphs(const TangentPlanes<3>& planes, std::span<const Vec3> truth, con
   result.runs.push_back(refined_walk_run(planes, truth, result));
 }
 
+// Phase VI on each of its queues, over the mesh of the cloud's default
+// reconstruction; every queue's mesh must be the binary heap's.
+void run_simplify_queues(std::span<const Vec3> points, const LabOptions& options, LabResult& result) {
+  PointCloud cloud;
+  cloud.positions.assign(points.begin(), points.end());
+  ReconstructionOptions reconstruction;
+  reconstruction.planes = options.planes;
+  const Mesh mesh = reconstruct(std::move(cloud), reconstruction).mesh();
+  SimplifyOptions simplify_options;
+  simplify_options.ratio = 0.1;
+  std::optional<Mesh> reference;
+  for (const auto& [name, queue] : {std::pair{"binary-heap", SimplifyQueue::binary_heap},
+                                    std::pair{"pairing-heap", SimplifyQueue::pairing_heap},
+                                    std::pair{"lazy-queue", SimplifyQueue::lazy}}) {
+    LabRun run = make_run(std::string("simplify/") + name, LabKind::simplify, "mesh");
+    simplify_options.queue = queue;
+    Simplification s = simplify(mesh, simplify_options);
+    if (options.spoil == run.name && !s.mesh.triangles.empty()) std::swap(s.mesh.triangles[0][0], s.mesh.triangles[0][1]);
+    run.seconds = s.seconds;
+    run.counts = s.counts;
+    run.triangles = s.mesh.triangles.size();
+    if (!reference) {
+      reference = std::move(s.mesh);
+    } else if (s.mesh.triangles != reference->triangles || s.mesh.vertices != reference->vertices) {
+      throw LabDisagreementError("lab: simplify on the " + std::string(name) + " gives " + count_text(run.triangles) +
+                                 " triangles, not the binary heap's mesh of " +
+                                 count_text(reference->triangles.size()) + " (or other ones)");
+    }
+    result.runs.push_back(std::move(run));
+  }
+}
+
 // Reached only when no check threw: a spoiled run that nothing caught.
 void check_spoil_caught(const LabResult& result, const LabOptions& options) {
   if (options.spoil.empty()) return;
@@ -320,6 +356,7 @@ LabResult run_lab(std::span<const Vec3> points, const LabOptions& options) {
   run_queues(g, options, result);
   run_msts(g, options, result);
   run_euclidean_msts(points, options, result);
+  if (options.simplify) run_simplify_queues(points, options, result);
   check_spoil_caught(result, options);
   return result;
 }

@@ -226,10 +226,21 @@ void check_length_option(const char* name, const std::optional<double>& value) {
   throw InvalidInputError(message.str());
 }
 
+// Phase VI's values, before anything runs: a bad one found after an hour
+// of phases I-V would waste the hour.
+void check_simplify_step(const SimplifyStep& step) {
+  if (step.ratio != 0.0 && !(step.ratio > 0.0 && step.ratio < 1.0))
+    throw InvalidInputError("simplify: a ratio must lie between 0 and 1 (exclusive), not " + std::to_string(step.ratio));
+  if (!(step.max_error >= 0.0) || !std::isfinite(step.max_error))
+    throw InvalidInputError("simplify: the error bound must be a finite multiple of rho >= 0, not " +
+                            std::to_string(step.max_error));
+}
+
 void check_cloud(PointCloudView cloud, const ReconstructionOptions& options) {
   check_length_option("rho", options.planes.rho);
   check_length_option("a cell", options.cell);
   check_length_option("delta", options.distance.delta);
+  check_simplify_step(options.simplify);
   if (options.use_input_normals && !cloud.has_normals())
     throw InvalidInputError("the input has no normals to use; run without the option to estimate them");
   if (cloud.has_colors() && cloud.colors.size() != cloud.size())
@@ -402,13 +413,30 @@ void phase_5(Reconstruction& r, const Run& run, const SignedDistance<3>& f, doub
   r.refinement = refine_mesh(r.contour.mesh, refinement_input_of(r, f), options);
 }
 
+// Phase VI: the final mesh simplified, its bound in rho's units turned into
+// a distance. The vertices keep their places, so the colours given after
+// are those the unsimplified mesh would have had there.
+void phase_6(Reconstruction& r, const Run& run) {
+  run.starting("simplification");
+  const SimplifyStep& step = run.options.simplify;
+  const Mesh& mesh = r.mesh();
+  if (step.triangles > mesh.triangles.size())
+    throw InvalidInputError("simplify to " + std::to_string(step.triangles) + " triangles: the mesh has only " +
+                            std::to_string(mesh.triangles.size()));
+  SimplifyOptions options;
+  options.target_triangles = step.triangles;
+  options.ratio = step.ratio;
+  options.max_error = step.max_error * r.planes.rho;
+  r.simplification = simplify(mesh, options);
+}
+
 // The final mesh's colours from the samples' (vertex_colors.h). Called
 // before the mesh moves back to the input's coordinates: its vertices and
 // phase I's tree over the samples are both in working coordinates then.
 void color_mesh(Reconstruction& r, const Run& run) {
   run.starting("colours");
   Timer timer;
-  Mesh& mesh = r.refinement ? r.refinement->mesh : r.contour.mesh;
+  Mesh& mesh = r.mesh();
   mesh.colors = vertex_colors(mesh.vertices, r.planes.point_tree, r.colors, run.options.colors);
   r.seconds_colors = timer.elapsed();
 }
@@ -418,6 +446,8 @@ void move_back_to_input_coordinates(Reconstruction& r) {
   for (Vec3& v : r.contour.mesh.vertices) v += r.offset;
   if (r.refinement)
     for (Vec3& v : r.refinement->mesh.vertices) v += r.offset;
+  if (r.simplification)
+    for (Vec3& v : r.simplification->mesh.vertices) v += r.offset;
 }
 
 // ---------------------------------------------------------------------------
@@ -584,10 +614,11 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   }
   refuse_an_empty_contour(r, options, cell);
   if (run.refined()) phase_5(r, run, f, cell);
+  if (options.simplify.requested()) phase_6(r, run);
   if (options.mesh_colors && !r.colors.empty()) color_mesh(r, run);
   move_back_to_input_coordinates(r);
   // Last, in the input's coordinates (as a tiled run's stitched mesh has them).
-  if (options.vertex_normals) r.face_normals = fill_face_normals(r.refinement ? r.refinement->mesh : r.contour.mesh);
+  if (options.vertex_normals) r.face_normals = fill_face_normals(r.mesh());
   return r;
 }
 

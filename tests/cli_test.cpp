@@ -1719,3 +1719,34 @@ TEST_F(CliStreams, ColumnsAreRefusedWhereTheyWouldBeIgnored) {
 
 }  // namespace
 }  // namespace recon
+
+namespace recon {
+namespace {
+
+// --simplify and --max-error: bad values refused in one line naming the
+// option, before anything is written; a tiled run refuses them (its mesh is
+// never whole in memory); a good run reports before and after in --stats.
+TEST_F(CliErrors, SimplifyRefusesBadValues) {
+  generate("box", 3000, "box.ply");
+  for (const char* bad : {"0", "-5", "1.5", "100%", "0%", "nan", "inf", "many"})
+    EXPECT_TRUE(option_refused(recon({"reconstruct", "box.ply", "-o", "out.ply", "--simplify", bad}), "--simplify",
+                               "expected a triangle count")) << bad;
+  for (const char* bad : {"0", "-1", "nan"})
+    EXPECT_TRUE(option_refused(recon({"reconstruct", "box.ply", "-o", "out.ply", "--max-error", bad}), "--max-error",
+                               "greater than 0")) << bad;
+  EXPECT_TRUE(refused(recon({"reconstruct", "box.ply", "-o", "out.ply", "--simplify", "99999999"}),
+                      {"simplify to 99999999 triangles", "the mesh has only"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "box.ply", "-o", "out.ply", "--simplify", "0.1", "--tile-size", "0.5"}),
+                      {"tiled runs", "--simplify"}));
+  EXPECT_FALSE(fs::exists(at("out.ply")));
+  const RunResult run = recon({"reconstruct", "box.ply", "-o", "out.ply", "--simplify", "10%", "--max-error", "0.5",
+                               "--stats", "stats.json", "-q"});
+  ASSERT_TRUE(succeeded(run));
+  const std::string stats = read_bytes(at("stats.json"));
+  EXPECT_NE(stats.find("\"triangles_before\""), std::string::npos);
+  EXPECT_NE(stats.find("\"triangles_after\""), std::string::npos);
+  EXPECT_NE(stats.find("\"vertex_error_rho\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace recon

@@ -55,6 +55,10 @@ class Oracle {
     set_.clear();
     std::fill(queued_.begin(), queued_.end(), false);
   }
+  void erase(std::uint32_t item) {
+    set_.erase({key_of_[item], item});
+    queued_[item] = false;
+  }
 
  private:
   std::set<std::pair<double, std::uint32_t>> set_;
@@ -420,6 +424,77 @@ TEST(PriorityQueueCounts, FibonacciComparesLessThanBinaryOnDecreaseKeys) {
   EXPECT_LE(fibonacci_made, 6u * m);
   EXPECT_LE(pairing_made, 2u * m);
   EXPECT_GT(binary_made, fibonacci_made);
+}
+
+}  // namespace
+}  // namespace recon
+
+namespace recon {
+namespace {
+
+// The heaps that also raise keys and remove items (mesh simplification,
+// simplification.h): update_key either way and erase, against the oracle.
+template <class Queue>
+class UpdatableQueue : public ::testing::Test {};
+using UpdatableQueues = ::testing::Types<IndexedBinaryHeap<double>, PairingHeap<double>>;
+TYPED_TEST_SUITE(UpdatableQueue, UpdatableQueues);
+
+TYPED_TEST(UpdatableQueue, UpdateAndEraseMatchTheOracle) {
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    std::mt19937 rng(seed);
+    const std::uint32_t capacity = 1 + seed * 53;
+    TypeParam queue(capacity);
+    Oracle oracle(capacity);
+    std::uniform_int_distribution<int> small_key(0, 20);
+    for (int step = 0; step < 20000; ++step) {
+      const auto op = rng() % 100;
+      const std::uint32_t item = static_cast<std::uint32_t>(rng() % capacity);
+      const double k = small_key(rng);
+      if (op < 30) {
+        if (!oracle.contains(item)) {
+          queue.push(item, k);
+          oracle.push(item, k);
+        }
+      } else if (op < 50) {
+        if (!oracle.empty()) {
+          ASSERT_EQ(queue.pop(), oracle.pop()) << "step " << step;
+        }
+      } else if (op < 80) {
+        if (oracle.contains(item)) {
+          queue.update_key(item, k);  // up or down
+          oracle.decrease_key(item, k);
+        }
+      } else if (oracle.contains(item)) {
+        queue.erase(item);
+        oracle.erase(item);
+      }
+      ASSERT_TRUE(agrees(queue, oracle, item)) << "step " << step;
+      if (step % 500 == 0) {
+        ASSERT_TRUE(agrees_on_every_item(queue, oracle)) << "step " << step;
+      }
+    }
+    while (!oracle.empty()) ASSERT_EQ(queue.pop(), oracle.pop());
+  }
+}
+
+TYPED_TEST(UpdatableQueue, EraseTheTopTheLastAndTheOnlyItem) {
+  TypeParam queue(4);
+  queue.push(0, 1.0);
+  queue.erase(0);
+  EXPECT_TRUE(queue.empty());
+  queue.push(1, 1.0);
+  queue.push(2, 2.0);
+  queue.push(3, 3.0);
+  queue.erase(1);  // the top
+  EXPECT_EQ(queue.top(), 2u);
+  queue.erase(3);
+  EXPECT_EQ(queue.pop(), 2u);
+  EXPECT_TRUE(queue.empty());
+  queue.push(1, 5.0);
+  queue.push(2, 6.0);
+  queue.update_key(1, 7.0);  // raised past 2
+  EXPECT_EQ(queue.pop(), 2u);
+  EXPECT_EQ(queue.pop(), 1u);
 }
 
 }  // namespace

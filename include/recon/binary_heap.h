@@ -10,7 +10,12 @@
 // Order: by key, then by item, so that equal keys leave in a fixed order and
 // every run is deterministic.
 //
-// Costs: push, pop, decrease_key O(log n); top, contains, key O(1);
+// Mesh simplification (simplification.h) also needs the other direction: a
+// collapse raises the costs of the vertices around it, and a vertex that can
+// no longer move leaves the queue. update_key sifts an item up or down from
+// its slot, erase fills its slot with the last entry and sifts that.
+//
+// Costs: push, pop, decrease_key, update_key, erase O(log n); top, contains, key O(1);
 // memory 2 ints per possible item plus a key per queued item.
 
 #include <cstdint>
@@ -70,6 +75,27 @@ class IndexedBinaryHeap {
     if (!less(key, item, this->key(item), item)) return false;
     decrease_key(item, key);
     return true;
+  }
+
+  /// Gives an item a new key, larger or smaller. Precondition: contains(item).
+  void update_key(std::uint32_t item, Key key) {
+    const std::size_t s = slot_[item];
+    heap_[s].key = std::move(key);
+    sift_up(s);
+    sift_down(slot_[item]);
+  }
+
+  /// Removes an item wherever it is. Precondition: contains(item).
+  void erase(std::uint32_t item) {
+    const std::size_t s = slot_[item];
+    slot_[item] = absent;
+    Entry last = std::move(heap_.back());
+    heap_.pop_back();
+    if (s == heap_.size()) return;  // it was the last entry
+    const std::uint32_t moved = last.item;
+    move_to(s, std::move(last));
+    sift_up(s);
+    sift_down(slot_[moved]);
   }
 
   void clear() {

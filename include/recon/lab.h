@@ -22,6 +22,13 @@
 //     more run walks the Riemannian graph as the refined method does
 //     (quadric fits, crease and facing-sheet rules, orientation.h), so that
 //     what the graph decides and what the walk decides can be told apart.
+//   - simplify (with LabOptions::simplify, `recon lab --simplify`): phase
+//     VI's queue, "a priority queue with decrease-key again, now on a
+//     mesh": the cloud is reconstructed (the default method) and its mesh
+//     simplified to a tenth on the indexed binary heap (update_key, erase),
+//     the pairing heap (the same), and a lazy queue (std::priority_queue,
+//     a new entry per new key, stale ones skipped when they surface). Ties
+//     are broken alike, so they must give the same mesh.
 // A disagreement is not a row: run_lab throws LabDisagreementError.
 // What would take too long is skipped, with the reason in the row
 // (the complete graph, brute force and the list heap are quadratic).
@@ -50,8 +57,8 @@ class LabDisagreementError : public Error {
   using Error::Error;
 };
 
-enum class LabKind { search, queue, mst, graph };
-/// "search", "queue", "mst", "graph".
+enum class LabKind { search, queue, mst, graph, simplify };
+/// "search", "queue", "mst", "graph", "simplify".
 [[nodiscard]] std::string_view name_of(LabKind kind);
 
 struct LabRun {
@@ -68,6 +75,8 @@ struct LabRun {
   std::size_t flips = 0;              ///< normals reversed from the PCA ones
   double agree_default = 0.0;         ///< share of normals on the default run's side
   std::optional<double> agree_truth;  ///< share on the true side, where it is known
+  // simplify runs
+  std::size_t triangles = 0;          ///< triangles left
 };
 
 struct LabOptions {
@@ -79,6 +88,7 @@ struct LabOptions {
   std::size_t max_points_brute_force = 20'000;  ///< beyond: brute-force search is skipped (n^2 distances)
   std::size_t max_points_list_heap = 100'000;   ///< beyond: the list heap is skipped (a scan per pop)
   bool keep_graphs = false;                  ///< keep every graph's orientation (the report draws them)
+  bool simplify = false;                     ///< also the simplify runs (a reconstruction first: off by default)
   /// Test hook: the run of this name has its result deliberately spoiled,
   /// so that the agreement checks must catch it. Empty in real use.
   std::string spoil;

@@ -19,7 +19,12 @@
 // both give the same sequence of pops and Prim the same tree. Keys are
 // compared with operator< alone.
 //
-// Costs: push O(1); pop O(log n) amortized; decrease_key O(1) work, but its
+// Mesh simplification (simplification.h) also raises keys and removes
+// items: erase cuts the item out, melds its children into one tree (pop's
+// two passes) and melds that with the root; update_key is decrease_key when
+// the key falls, erase and push when it rises.
+//
+// Costs: push O(1); erase and a rising update_key O(log n) amortized, as pop; pop O(log n) amortized; decrease_key O(1) work, but its
 // amortized cost is only known to lie between Omega(log log n) (Fredman
 // 1999) and O(2^(2 sqrt(log log n))) (Pettie 2005), in practice close to
 // O(1); top, contains, key O(1); clear O(n). Memory: a node per possible item
@@ -86,6 +91,30 @@ class PairingHeap {
     if (!less(key, item, this->key(item), item)) return false;
     decrease_key(item, key);
     return true;
+  }
+
+  /// Removes an item wherever it is. Precondition: contains(item).
+  void erase(std::uint32_t item) {
+    if (item == root_) {
+      pop();
+      return;
+    }
+    cut(item);
+    const std::uint32_t children = merge_children(item);
+    nodes_[item].child = absent;
+    nodes_[item].queued = false;
+    --size_;
+    if (children != absent) root_ = meld(root_, children);
+  }
+
+  /// Gives an item a new key, larger or smaller. Precondition: contains(item).
+  void update_key(std::uint32_t item, Key key) {
+    if (!less(nodes_[item].key, item, key, item)) {
+      decrease_key(item, std::move(key));
+      return;
+    }
+    erase(item);
+    push(item, std::move(key));
   }
 
   void clear() {

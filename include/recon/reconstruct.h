@@ -18,6 +18,7 @@
 #include "recon/refinement.h"
 #include "recon/resource_usage.h"  // default_memory_limit
 #include "recon/signed_distance.h"
+#include "recon/simplification.h"
 #include "recon/tangent_planes.h"
 #include "recon/vertex_colors.h"
 #include "recon/vertex_normals.h"
@@ -29,6 +30,17 @@
 #include <string_view>
 
 namespace recon {
+
+/// Phase VI, optional (simplification.h): what reconstruct() asks of
+/// simplify() after phase V (phase IV in hoppe92), before the colours. Off
+/// unless one of the three is given; with several, it stops at whichever
+/// comes first.
+struct SimplifyStep {
+  std::size_t triangles = 0;  ///< stop at this many triangles (0: none)
+  double ratio = 0.0;         ///< or at this fraction of them (0 < ratio < 1; 0: none)
+  double max_error = 0.0;     ///< a bound on the distance of the unsimplified mesh's vertices, a multiple of rho (0: none)
+  [[nodiscard]] bool requested() const { return triangles > 0 || ratio != 0.0 || max_error != 0.0; }
+};
 
 /// Which pipeline runs.
 /// - refined (the default): phase I fits a quadric per neighbourhood and
@@ -46,6 +58,7 @@ struct ReconstructionOptions {
   SignedDistanceOptions distance{};        ///< phase III: delta
   LocalQuadricOptions quadrics{};          ///< phase I's second-order fits (refined only)
   RefinementOptions refinement{};          ///< phase V (refined only)
+  SimplifyStep simplify{};                 ///< phase VI, optional (off by default)
   std::optional<double> cell;              ///< phase IV cube side; default rho (hoppe92, as in the paper), rho / sqrt 2 (refined)
   std::optional<int> resolution;           ///< or: cubes along the longest side of the bounding box
   bool use_input_normals = false;          ///< orient with the cloud's own normals, skipping phase II
@@ -72,7 +85,8 @@ struct ReconstructionOptions {
   bool vertex_normals = false;
   /// Called as each phase starts, with its name ("tangent planes",
   /// "orientation", "signed distance", "contouring", "refinement" in the
-  /// refined method, and "colours" when the mesh is coloured): for progress
+  /// refined method, "simplification" when asked, and "colours" when the
+  /// mesh is coloured): for progress
   /// displays.
   std::function<void(const char* phase)> on_phase;
   /// Counts each phase's work as it runs, for a display to read (see
@@ -148,8 +162,15 @@ struct Reconstruction {
   /// lattice's own).
   std::vector<ClusterLattice> clusters;
   std::optional<Refinement> refinement;        ///< phase V's mesh (input coordinates), refined only
-  /// The result: phase V's mesh when there is one, phase IV's otherwise.
-  [[nodiscard]] const Mesh& mesh() const { return refinement ? refinement->mesh : contour.mesh; }
+  /// Phase VI's mesh (input coordinates), when options.simplify asked for
+  /// it; its vertex_error is in input units (divide by planes.rho for the
+  /// multiple of rho).
+  std::optional<Simplification> simplification;
+  /// The result: phase VI's mesh when there is one, else phase V's, else phase IV's.
+  [[nodiscard]] const Mesh& mesh() const {
+    return simplification ? simplification->mesh : refinement ? refinement->mesh : contour.mesh;
+  }
+  [[nodiscard]] Mesh& mesh() { return simplification ? simplification->mesh : refinement ? refinement->mesh : contour.mesh; }
   /// Phase III's time outside phase II: f's set-up, and the first wave's
   /// corners still to evaluate once the orientation was done.
   double seconds_distance_setup = 0.0;
@@ -189,6 +210,9 @@ struct Reconstruction {
 /// not computed beside it then (it lays one lattice).
 ///
 /// Throws what the phases throw (InvalidInputError for unusable data or
+/// parameters, a simplify step's bad values included, checked before phase
+/// I; a triangle target above the mesh's triangles once it is known), and
+/// as before (InvalidInputError for unusable data or
 /// parameters, ResourceLimitError for a lattice too large: when one of the
 /// clusters alone is too wide for one lattice, the message says so), and
 /// InvalidInputError when use_input_normals is set but the cloud has none,

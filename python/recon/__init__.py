@@ -260,6 +260,8 @@ def reconstruct(
     report: Optional[PathLike] = None,
     progress: Optional[Progress] = None,
     vertex_normals: bool = False,
+    simplify: Union[None, int, float] = None,
+    max_error: Optional[float] = None,
 ) -> Mesh:
     """Phases I-IV (and V for the refined method): a triangle mesh of the
     surface the points sample, as ``recon reconstruct`` makes it.
@@ -272,7 +274,10 @@ def reconstruct(
     and ``max_memory`` (bytes, or "8G") mean what the program's options of
     the same names mean, with the same defaults. ``report`` writes the HTML
     report of every phase. ``progress(phase)`` is called as each phase
-    starts. The result's ``stats`` holds what ``--stats`` records.
+    starts. ``simplify`` (an int: a triangle count; a float below 1: a
+    ratio) and ``max_error`` (a multiple of rho) simplify the mesh keeping
+    creases, corners, boundaries and separate objects, as ``--simplify`` and
+    ``--max-error`` do. The result's ``stats`` holds what ``--stats`` records.
     ``vertex_normals=True`` gives the mesh unit vertex normals
     (``mesh.normals``, as ``--normals``: the fitted surface's where phase V
     has one, the faces' area-weighted mean elsewhere); ``normals`` is the
@@ -280,6 +285,6 @@ def reconstruct(
     points, normals, colors = _cloud_arrays(points, normals, colors)
     made = _recon.reconstruct(points, normals, _colors_as_bytes(colors, _rows(points)), k, rho, delta, cell, resolution,
                               method, keep_fragments, max_memory, threads,
-                              None if report is None else os.fspath(report), progress, vertex_normals)
+                              None if report is None else os.fspath(report), progress, vertex_normals, simplify, max_error)
     return Mesh._of(made)
 

@@ -225,3 +225,21 @@ def test_vertex_normals_are_the_programs_and_reach_every_format(torus_file, tmp_
     assert (tmp_path / "again.ply").read_bytes() == (tmp_path / "package.ply").read_bytes()
     with pytest.raises(ValueError, match="normals"):
         recon.Mesh(mesh.vertices, mesh.faces, normals=mesh.normals[:-1])
+
+
+def test_simplify_keeps_the_sphere_closed_and_refuses_bad_targets():
+    points = sphere(4000, seed=5)
+    full = recon.reconstruct(points)
+    simple = recon.reconstruct(points, simplify=0.1, max_error=1.0)
+    assert len(simple.faces) <= len(full.faces) // 10 + 1
+    stats = simple.stats["simplification"]
+    assert stats["triangles_before"] == len(full.faces)
+    assert stats["triangles_after"] == len(simple.faces)
+    assert 0 < stats["vertex_error_rho"] <= 1.0
+    by_count = recon.reconstruct(points, simplify=500)
+    assert len(by_count.faces) <= 500
+    for bad in (0, -3, 1.0, 1.5, float("nan"), True, "10%"):
+        with pytest.raises(ValueError, match="simplify"):
+            recon.reconstruct(points, simplify=bad)
+    with pytest.raises(ValueError, match="max_error"):
+        recon.reconstruct(points, max_error=-1.0)

@@ -1,0 +1,680 @@
+#include "recon/simplification.h"
+
+#include "recon/binary_heap.h"
+#include "recon/errors.h"
+#include "recon/pairing_heap.h"
+#include "recon/timer.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <queue>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace recon {
+namespace {
+
+constexpr std::uint32_t none = UINT32_MAX;
+
+// ---------------------------------------------------------------------------
+// Quadrics: the sum of w (n . x + d)^2 over planes, as a symmetric 4x4 form
+// (A = sum w n n^T, b = sum w d n, c = sum w d^2).
+
+struct Quadric {
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0, x = 0, y = 0, z = 0, c = 0;
+  double weight = 0;  // the planes' total weight (an area): scales the tie-break term
+
+  void add_plane(const Vec3& n, double d, double w) {
+    xx += w * n.x() * n.x();
+    xy += w * n.x() * n.y();
+    xz += w * n.x() * n.z();
+    yy += w * n.y() * n.y();
+    yz += w * n.y() * n.z();
+    zz += w * n.z() * n.z();
+    x += w * d * n.x();
+    y += w * d * n.y();
+    z += w * d * n.z();
+    c += w * d * d;
+    weight += w;
+  }
+  Quadric& operator+=(const Quadric& q) {
+    xx += q.xx, xy += q.xy, xz += q.xz, yy += q.yy, yz += q.yz, zz += q.zz;
+    x += q.x, y += q.y, z += q.z, c += q.c, weight += q.weight;
+    return *this;
+  }
+  // The sum of the weighted squared distances from p to the planes.
+  [[nodiscard]] double at(const Vec3& p) const {
+    const double px = p.x(), py = p.y(), pz = p.z();
+    const double quadratic = xx * px * px + yy * py * py + zz * pz * pz +
+                             2.0 * (xy * px * py + xz * px * pz + yz * py * pz);
+    return std::max(0.0, quadratic + 2.0 * (x * px + y * py + z * pz) + c);
+  }
+};
+
+// Ties of flat ground (a quadric error of 0) go to the shortest edge.
+constexpr double tie_break = 1e-4;
+
+// ---------------------------------------------------------------------------
+// The three queues, one interface: push, update (either way), erase, pop
+// the smallest (cost, vertex). Each counts its operations.
+
+class HeapQueue {
+ public:
+  explicit HeapQueue(std::size_t n) : heap_(n) {}
+  [[nodiscard]] bool contains(std::uint32_t v) const { return heap_.contains(v); }
+  void set(std::uint32_t v, double cost, OperationCounts& counts) {
+    if (heap_.contains(v)) {
+      ++counts.decrease_keys;
+      heap_.update_key(v, cost);
+    } else {
+      ++counts.pushes;
+      heap_.push(v, cost);
+    }
+  }
+  void erase(std::uint32_t v) {
+    if (heap_.contains(v)) heap_.erase(v);
+  }
+  [[nodiscard]] bool empty() { return heap_.empty(); }
+  std::uint32_t pop(OperationCounts& counts) {
+    ++counts.pops;
+    return heap_.pop();
+  }
+
+ private:
+  IndexedBinaryHeap<double> heap_;
+};
+
+class PairingQueue {
+ public:
+  explicit PairingQueue(std::size_t n) : heap_(n) {}
+  [[nodiscard]] bool contains(std::uint32_t v) const { return heap_.contains(v); }
+  void set(std::uint32_t v, double cost, OperationCounts& counts) {
+    if (heap_.contains(v)) {
+      ++counts.decrease_keys;
+      heap_.update_key(v, cost);
+    } else {
+      ++counts.pushes;
+      heap_.push(v, cost);
+    }
+  }
+  void erase(std::uint32_t v) {
+    if (heap_.contains(v)) heap_.erase(v);
+  }
+  [[nodiscard]] bool empty() { return heap_.empty(); }
+  std::uint32_t pop(OperationCounts& counts) {
+    ++counts.pops;
+    return heap_.pop();
+  }
+
+ private:
+  PairingHeap<double> heap_;
+};
+
+// No update at all: a new key is a new entry, and the old ones are left in
+// the queue, recognised as stale when they surface (their version is old).
+class LazyQueue {
+ public:
+  explicit LazyQueue(std::size_t n) : version_(n, 0), queued_(n, 0) {}
+  [[nodiscard]] bool contains(std::uint32_t v) const { return queued_[v] != 0; }
+  void set(std::uint32_t v, double cost, OperationCounts& counts) {
+    ++counts.pushes;
+    queued_[v] = 1;
+    entries_.push({cost, v, ++version_[v]});
+  }
+  void erase(std::uint32_t v) {
+    queued_[v] = 0;
+    ++version_[v];
+  }
+  [[nodiscard]] bool empty() {
+    drop_stale();
+    return entries_.empty();
+  }
+  std::uint32_t pop(OperationCounts& counts) {
+    drop_stale();
+    ++counts.pops;
+    const std::uint32_t v = entries_.top().vertex;
+    entries_.pop();
+    queued_[v] = 0;
+    ++version_[v];
+    return v;
+  }
+
+ private:
+  struct Entry {
+    double cost;
+    std::uint32_t vertex;
+    std::uint32_t version;
+    // std::priority_queue pops its largest: the larger entry is the later one.
+    bool operator<(const Entry& o) const { return o.cost < cost || (!(cost < o.cost) && o.vertex < vertex); }
+  };
+  void drop_stale() {
+    while (!entries_.empty() && entries_.top().version != version_[entries_.top().vertex]) {
+      entries_.pop();
+    }
+  }
+  std::priority_queue<Entry> entries_;
+  std::vector<std::uint32_t> version_;
+  std::vector<std::uint8_t> queued_;
+};
+
+// ---------------------------------------------------------------------------
+// The checked options: how many triangles to stop at.
+
+std::size_t target_of(const Mesh& mesh, const SimplifyOptions& options) {
+  const std::size_t n = mesh.triangles.size();
+  const bool by_count = options.target_triangles > 0, by_ratio = options.ratio != 0.0;
+  const bool bounded = options.max_error != 0.0;
+  if (!(options.max_error >= 0.0) || !std::isfinite(options.max_error))
+    throw InvalidInputError("simplify: the error bound must be a finite distance >= 0, not " +
+                            std::to_string(options.max_error));
+  if (by_ratio && !(options.ratio > 0.0 && options.ratio < 1.0))
+    throw InvalidInputError("simplify: the ratio must lie between 0 and 1 (exclusive), not " +
+                            std::to_string(options.ratio));
+  if (by_count && options.target_triangles > n)
+    throw InvalidInputError("simplify: the target of " + std::to_string(options.target_triangles) +
+                            " triangles exceeds the mesh's " + std::to_string(n));
+  if (!by_count && !by_ratio && !bounded)
+    throw InvalidInputError("simplify: give a triangle count, a ratio or an error bound");
+  std::size_t target = 0;
+  if (by_count) target = options.target_triangles;
+  if (by_ratio) {
+    const auto of_ratio = static_cast<std::size_t>(std::llround(options.ratio * static_cast<double>(n)));
+    target = by_count ? std::min(target, of_ratio) : of_ratio;
+  }
+  return target;
+}
+
+void check_indices(const Mesh& mesh) {
+  const std::size_t n = mesh.vertices.size();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (const std::uint32_t v : mesh.triangles[t])
+      if (v >= n)
+        throw InvalidInputError("simplify: triangle " + std::to_string(t) + " uses vertex " + std::to_string(v) +
+                                " of " + std::to_string(n));
+}
+
+Vec3 cross_of(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
+
+// ---------------------------------------------------------------------------
+// The collapses, on any of the queues.
+
+enum Kind : std::uint8_t { free_vertex = 0, line_vertex = 1, fixed_vertex = 2 };
+enum PlaneShape : std::uint8_t { flat = 0, crease = 1, corner = 2 };
+
+// A second eigenvalue of the normals' moment over this: the planes around a
+// vertex span two directions, a crease. Two planes at phase V's 25 degree
+// crease angle, of equal areas, give 0.047; phase V's slivers along a
+// crease a few thousandths.
+constexpr double second_direction = 0.02;
+// A third eigenvalue over this: a corner (three planes of equal areas give
+// 1/3). At 0.1, one of the eight corners of phase V's box (unequal areas
+// around it) moved along a crease at 100x fewer triangles; at 0.03 none did.
+constexpr double third_direction = 0.03;
+
+// A triangle whose doubled area is below this fraction of the sum of its
+// squared edges is a sliver (an equilateral one has 0.58; this is about a
+// 2 degree smallest angle).
+constexpr double sliver_ratio = 0.05;
+
+template <class Queue>
+class Collapser {
+ public:
+  Collapser(const Mesh& mesh, const SimplifyOptions& options)
+      : p_(mesh.vertices),
+        options_(options),
+        queue_(mesh.vertices.size()),
+        cos_turn_(std::cos(options.max_normal_turn_degrees * std::numbers::pi / 180.0)) {
+    load_triangles(mesh);
+    build_quadrics();
+    find_features();
+    add_boundary_planes();
+    if (options_.max_error > 0.0) kept_.resize(tris_.size());
+    best_.assign(p_.size(), none);
+  }
+
+  void run(std::size_t target, Simplification& out) {
+    for (std::uint32_t v = 0; v < p_.size(); ++v) requeue(v);
+    while (alive_ > target && !queue_.empty()) {
+      const std::uint32_t u = queue_.pop(out.counts);
+      const std::uint32_t v = best_[u];
+      if (allowed(u, v)) {
+        collapse(u, v);
+        ++out.collapses;
+        continue;
+      }
+      ++out.refused;
+      retry(u, out.counts);
+    }
+  }
+
+  [[nodiscard]] Mesh result(const Mesh& mesh, Simplification& out) const {
+    out.crease_vertices = static_cast<std::size_t>(std::count(kind0_.begin(), kind0_.end(), line_vertex));
+    out.corner_vertices = static_cast<std::size_t>(std::count(kind0_.begin(), kind0_.end(), fixed_vertex));
+    out.vertex_error = vertex_error_;
+    Mesh m;
+    std::vector<std::uint32_t> index(p_.size(), none);
+    for (std::size_t t = 0; t < tris_.size(); ++t)
+      if (alive_tri_[t])
+        for (const std::uint32_t v : tris_[t]) index[v] = 0;
+    for (std::uint32_t v = 0; v < p_.size(); ++v) {
+      if (index[v] == none) continue;
+      index[v] = static_cast<std::uint32_t>(m.vertices.size());
+      m.vertices.push_back(p_[v]);
+      if (mesh.has_colors()) m.colors.push_back(mesh.colors[v]);
+      if (mesh.has_normals()) m.normals.push_back(mesh.normals[v]);
+    }
+    for (std::size_t t = 0; t < tris_.size(); ++t)
+      if (alive_tri_[t]) m.triangles.push_back({index[tris_[t][0]], index[tris_[t][1]], index[tris_[t][2]]});
+    return m;
+  }
+
+ private:
+  // Step 0: triangles and, per vertex, the triangles around it. A triangle
+  // with a repeated vertex has no area and no plane: it is left out.
+  void load_triangles(const Mesh& mesh) {
+    tris_.reserve(mesh.triangles.size());
+    faces_.resize(p_.size());
+    for (const auto& t : mesh.triangles) {
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+      const auto f = static_cast<std::uint32_t>(tris_.size());
+      tris_.push_back(t);
+      for (const std::uint32_t v : t) faces_[v].push_back(f);
+    }
+    alive_tri_.assign(tris_.size(), 1);
+    alive_ = tris_.size();
+  }
+
+  // Step 1: the area-weighted planes of the triangles around each vertex.
+  void build_quadrics() {
+    q_.assign(p_.size(), {});
+    for (std::size_t t = 0; t < tris_.size(); ++t) {
+      const auto& f = tris_[t];
+      const Vec3 n2 = cross_of(p_[f[0]], p_[f[1]], p_[f[2]]);
+      const double twice_area = n2.norm();
+      if (!(twice_area > 0.0)) continue;
+      const Vec3 n = n2 / twice_area;
+      for (const std::uint32_t v : f) q_[v].add_plane(n, -n.dot(p_[f[0]]), 0.5 * twice_area);
+    }
+  }
+
+  // Step 2: what each vertex's planes say of it, by the eigenvalues of
+  // their normals' second moment (area-weighted, so that the slivers phase V
+  // leaves along a crease hardly count): one direction, flat ground; two, a
+  // crease, along the third eigenvector; three, a corner.
+  void shape_of_planes() {
+    plane_shape_.assign(p_.size(), flat);
+    crease_direction_.assign(p_.size(), Vec3::Zero());
+    for (std::uint32_t v = 0; v < p_.size(); ++v) {
+      const Quadric& q = q_[v];
+      if (!(q.weight > 0.0) || planar_fan(v)) continue;
+      Eigen::Matrix3d a;
+      a << q.xx, q.xy, q.xz, q.xy, q.yy, q.yz, q.xz, q.yz, q.zz;
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(a / q.weight);
+      const Vec3 lambda = solver.eigenvalues();  // ascending
+      if (lambda[0] > third_direction) {
+        plane_shape_[v] = corner;
+      } else if (lambda[1] > second_direction) {
+        plane_shape_[v] = crease;
+        crease_direction_[v] = solver.eigenvectors().col(0);
+      }
+    }
+  }
+
+  // All the triangles around v face within 10 degrees of the first: flat
+  // ground, no eigenvalues needed (most vertices).
+  [[nodiscard]] bool planar_fan(std::uint32_t v) const {
+    if (faces_[v].empty()) return true;
+    const Vec3 first = normal(faces_[v][0]).normalized();
+    for (const std::uint32_t f : faces_[v])
+      if (normal(f).normalized().dot(first) < 0.985) return false;
+    return true;
+  }
+
+  // Step 3: each vertex's kind. A crease vertex (by its planes) moves
+  // along the crease: onto a neighbour also on a crease or a corner, the
+  // edge between them along the crease at both ends (crease_edge). A vertex
+  // on an open boundary (two boundary edges, flat planes) moves along the
+  // boundary. Fixed: corners, boundary vertices on a crease, vertices on
+  // more than two boundary edges or on a non-manifold edge.
+  void find_features() {
+    shape_of_planes();
+    kind_.assign(p_.size(), free_vertex);
+    for (std::uint32_t a = 0; a < p_.size(); ++a) {
+      neighbours(a, ring_);
+      std::size_t open = 0;
+      bool non_manifold = false;
+      for (const std::uint32_t b : ring_) {
+        const std::size_t n = faces_on(a, b).second;
+        if (n == 1) {
+          ++open;
+          if (b > a) boundary_edges_.push_back({a, b});
+        }
+        non_manifold = non_manifold || n > 2;
+      }
+      const PlaneShape shape = static_cast<PlaneShape>(plane_shape_[a]);
+      if (non_manifold || shape == corner || (open > 0 && (open != 2 || shape != flat))) {
+        kind_[a] = fixed_vertex;
+      } else if (open == 2 || shape == crease) {
+        kind_[a] = line_vertex;
+      }
+    }
+    kind0_ = kind_;
+  }
+
+  // Whether u -> v runs along a crease: v on a crease or a corner, the edge
+  // within 35 degrees of the crease direction at each crease end.
+  [[nodiscard]] bool crease_edge(std::uint32_t u, std::uint32_t v) const {
+    return plane_shape_[v] != flat && along_crease(u, v) && along_crease(v, u);
+  }
+
+  // Whether edge ab, seen from a, runs along a crease a lies on.
+  [[nodiscard]] bool along_crease(std::uint32_t a, std::uint32_t b) const {
+    if (plane_shape_[a] == corner) return true;
+    if (plane_shape_[a] == flat) return false;
+    const Vec3 e = p_[b] - p_[a];
+    return std::abs(crease_direction_[a].dot(e)) > 0.82 * e.norm();
+  }
+
+  // Step 4: a plane through each boundary edge perpendicular to its
+  // triangle, so that moving along a curved boundary costs its deviation.
+  void add_boundary_planes() {
+    for (const auto& [a, b] : boundary_edges_) {
+      const std::uint32_t f = faces_on(a, b).first;
+      const Vec3 along = p_[b] - p_[a];
+      Vec3 m = along.cross(normal(f));
+      if (!(m.norm() > 0.0)) continue;
+      m.normalize();
+      const double w = along.squaredNorm();
+      q_[a].add_plane(m, -m.dot(p_[a]), w);
+      q_[b].add_plane(m, -m.dot(p_[a]), w);
+    }
+  }
+
+  // ---- small queries ----
+  [[nodiscard]] bool has(std::uint32_t f, std::uint32_t v) const {
+    return tris_[f][0] == v || tris_[f][1] == v || tris_[f][2] == v;
+  }
+  [[nodiscard]] bool traverses(std::uint32_t f, std::uint32_t a, std::uint32_t b) const {
+    const auto& t = tris_[f];
+    return (t[0] == a && t[1] == b) || (t[1] == a && t[2] == b) || (t[2] == a && t[0] == b);
+  }
+  [[nodiscard]] Vec3 normal(std::uint32_t f) const { return cross_of(p_[tris_[f][0]], p_[tris_[f][1]], p_[tris_[f][2]]); }
+  [[nodiscard]] std::uint32_t third(std::uint32_t f, std::uint32_t a, std::uint32_t b) const {
+    for (const std::uint32_t v : tris_[f])
+      if (v != a && v != b) return v;
+    return none;
+  }
+  // The first triangle on edge ab and how many there are.
+  [[nodiscard]] std::pair<std::uint32_t, std::size_t> faces_on(std::uint32_t a, std::uint32_t b) const {
+    std::pair<std::uint32_t, std::size_t> r{none, 0};
+    for (const std::uint32_t f : faces_[a])
+      if (has(f, b)) {
+        if (r.second == 0) r.first = f;
+        ++r.second;
+      }
+    return r;
+  }
+  // The vertices sharing a triangle with v, sorted, once each.
+  void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    for (const std::uint32_t f : faces_[v])
+      for (const std::uint32_t w : tris_[f])
+        if (w != v) out.push_back(w);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+  [[nodiscard]] double cost(std::uint32_t u, std::uint32_t v) const {
+    return q_[u].at(p_[v]) + tie_break * q_[u].weight * (p_[v] - p_[u]).squaredNorm();
+  }
+
+  // The moves u may make by the feature rules: anywhere for a free vertex,
+  // along its crease or boundary for a line vertex, none for a fixed one.
+  void moves(std::uint32_t u, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (kind_[u] == fixed_vertex) return;
+    neighbours(u, out);
+    if (kind_[u] == free_vertex) return;
+    const bool on_boundary = plane_shape_[u] == flat;
+    std::erase_if(out, [&](std::uint32_t v) {
+      return on_boundary ? faces_on(u, v).second != 1 : !crease_edge(u, v);
+    });
+  }
+
+  // ---- the queue ----
+  // u's cheapest move by cost alone (validity is checked when it surfaces).
+  void requeue(std::uint32_t u) {
+    moves(u, moves_);
+    double best = std::numeric_limits<double>::infinity();
+    std::uint32_t to = none;
+    for (const std::uint32_t v : moves_) {
+      const double c = cost(u, v);
+      if (c < best) best = c, to = v;
+    }
+    place(u, to, best);
+  }
+
+  // u's cheapest move that is allowed now: after the cheapest was refused.
+  void retry(std::uint32_t u, OperationCounts& counts) {
+    moves(u, moves_);
+    std::vector<std::pair<double, std::uint32_t>> ranked;
+    for (const std::uint32_t v : moves_) ranked.emplace_back(cost(u, v), v);
+    std::sort(ranked.begin(), ranked.end());
+    for (const auto& [c, v] : ranked)
+      if (allowed(u, v)) {
+        best_[u] = v;
+        queue_.set(u, c, counts);
+        return;
+      }
+  }
+
+  void place(std::uint32_t u, std::uint32_t to, double c) {
+    best_[u] = to;
+    if (to == none) {
+      queue_.erase(u);
+    } else {
+      queue_.set(u, c, counts_);
+    }
+  }
+
+  // ---- validity ----
+  [[nodiscard]] bool allowed(std::uint32_t u, std::uint32_t v) {
+    return link_holds(u, v) && lines_stay(u, v) && no_fold(u, v) && within_bound(u, v);
+  }
+
+  // The vertices u and v share must be exactly the far corners of the
+  // triangles on uv: else the collapse glues two sheets along an edge.
+  bool link_holds(std::uint32_t u, std::uint32_t v) {
+    neighbours(u, ring_);
+    neighbours(v, ring2_);
+    std::size_t shared = 0;
+    for (std::size_t i = 0, j = 0; i < ring_.size() && j < ring2_.size();) {
+      if (ring_[i] < ring2_[j]) {
+        ++i;
+      } else if (ring2_[j] < ring_[i]) {
+        ++j;
+      } else {
+        ++shared, ++i, ++j;
+      }
+    }
+    std::size_t far = 0;
+    for (const std::uint32_t f : faces_[u])
+      if (has(f, v)) ++far;
+    return far > 0 && shared == far;
+  }
+
+  // A boundary loop of three (a triangular hole) would become an edge.
+  bool lines_stay(std::uint32_t u, std::uint32_t v) {
+    if (kind_[u] != line_vertex || plane_shape_[u] != flat || faces_on(u, v).second != 1) return true;
+    neighbours(u, ring_);
+    for (const std::uint32_t w : ring_)
+      if (w != v && faces_on(u, w).second == 1 && faces_on(v, w).second == 1) return false;
+    return true;
+  }
+
+  // No triangle turns by more than the limit or loses its area, and no two
+  // triangles end on the same three vertices.
+  bool no_fold(std::uint32_t u, std::uint32_t v) const {
+    Vec3 fan = Vec3::Zero();
+    for (const std::uint32_t f : faces_[u]) fan += normal(f);
+    for (const std::uint32_t f : faces_[u]) {
+      if (has(f, v)) continue;
+      const Vec3 before = normal(f);
+      std::array<Vec3, 3> c{};
+      for (std::size_t i = 0; i < 3; ++i) c[i] = tris_[f][i] == u ? p_[v] : p_[tris_[f][i]];
+      const Vec3 after = (c[1] - c[0]).cross(c[2] - c[0]);
+      const double scale = (c[1] - c[0]).squaredNorm() + (c[2] - c[1]).squaredNorm() + (c[0] - c[2]).squaredNorm();
+      if (!(after.norm() > 1e-10 * scale)) return false;
+      // A sliver's normal (three vertices nearly in a row, as along phase
+      // V's creases) says nothing: only a real triangle's turn is checked.
+      const double scale_before = (p_[tris_[f][1]] - p_[tris_[f][0]]).squaredNorm() +
+                                  (p_[tris_[f][2]] - p_[tris_[f][1]]).squaredNorm() +
+                                  (p_[tris_[f][0]] - p_[tris_[f][2]]).squaredNorm();
+      const bool sliver = before.norm() < sliver_ratio * scale_before;
+      if (!sliver && before.dot(after) < cos_turn_ * before.norm() * after.norm()) return false;
+      // A sliver may turn, but not fold over: it must still face the side
+      // u's triangles face together.
+      if (sliver && !(fan.dot(after) > 0.0)) return false;
+      if (duplicates(f, u, v)) return false;
+    }
+    return true;
+  }
+
+  // Whether triangle f, with u moved onto v, has the vertices of a triangle of v.
+  [[nodiscard]] bool duplicates(std::uint32_t f, std::uint32_t u, std::uint32_t v) const {
+    std::uint32_t a = none, b = none;
+    for (const std::uint32_t w : tris_[f])
+      if (w != u) (a == none ? a : b) = w;
+    for (const std::uint32_t g : faces_[v])
+      if (has(g, a) && has(g, b)) return true;
+    return false;
+  }
+
+  // With a bound: the input vertices kept by u's triangles, and u itself,
+  // each within max_error of one of the triangles around v after the move.
+  bool within_bound(std::uint32_t u, std::uint32_t v) {
+    if (kept_.empty()) return true;
+    handed_.clear();
+    handed_.push_back(u);
+    for (const std::uint32_t f : faces_[u]) handed_.insert(handed_.end(), kept_[f].begin(), kept_[f].end());
+    keepers_.clear();
+    for (const std::uint32_t f : faces_[u])
+      if (!has(f, v)) keepers_.push_back(f);
+    nearest_.clear();
+    for (const std::uint32_t x : handed_) {
+      double best = std::numeric_limits<double>::infinity();
+      std::uint32_t keeper = none;
+      for (const std::uint32_t f : keepers_) {
+        const auto& t = tris_[f];
+        const auto at = [&](std::uint32_t w) -> const Vec3& { return w == u ? p_[v] : p_[w]; };
+        const double d = point_triangle_distance(p_[x], at(t[0]), at(t[1]), at(t[2]));
+        if (d < best) best = d, keeper = f;
+      }
+      if (!(best <= options_.max_error)) return false;
+      nearest_.push_back({keeper, best});
+    }
+    return true;
+  }
+
+  // ---- the collapse ----
+  void collapse(std::uint32_t u, std::uint32_t v) {
+    if (!kept_.empty()) hand_over(u);
+    for (const std::uint32_t f : faces_[u]) {
+      if (has(f, v)) {
+        remove_triangle(f, u);
+      } else {
+        for (std::uint32_t& w : tris_[f])
+          if (w == u) w = v;
+        faces_[v].push_back(f);
+      }
+    }
+    faces_[u].clear();
+    q_[v] += q_[u];
+    kind_[u] = fixed_vertex;
+    queue_.erase(u);
+    neighbours(v, around_);
+    requeue(v);
+    for (const std::uint32_t w : around_) requeue(w);
+  }
+
+  // within_bound just found each handed vertex's nearest keeper.
+  void hand_over(std::uint32_t u) {  // before u's triangles change
+    for (const std::uint32_t f : faces_[u]) kept_[f].clear();
+    for (std::size_t i = 0; i < handed_.size(); ++i) {
+      kept_[nearest_[i].first].push_back(handed_[i]);
+      vertex_error_ = std::max(vertex_error_, nearest_[i].second);
+    }
+  }
+
+  void remove_triangle(std::uint32_t f, std::uint32_t u) {
+    alive_tri_[f] = 0;
+    --alive_;
+    for (const std::uint32_t w : tris_[f]) {
+      if (w == u) continue;
+      auto& list = faces_[w];
+      list.erase(std::find(list.begin(), list.end(), f));
+    }
+  }
+
+ public:
+  OperationCounts counts_;
+
+ private:
+  const std::vector<Vec3>& p_;
+  const SimplifyOptions& options_;
+  Queue queue_;
+  double cos_turn_;
+  std::vector<std::array<std::uint32_t, 3>> tris_;
+  std::vector<std::uint8_t> alive_tri_;
+  std::size_t alive_ = 0;
+  std::vector<std::vector<std::uint32_t>> faces_;
+  std::vector<Quadric> q_;
+  std::vector<std::uint8_t> kind_, kind0_;
+  std::vector<std::uint8_t> plane_shape_;
+  std::vector<Vec3> crease_direction_;
+  std::vector<std::array<std::uint32_t, 2>> boundary_edges_;
+  std::vector<std::uint32_t> best_;
+  std::vector<std::vector<std::uint32_t>> kept_;
+  double vertex_error_ = 0.0;
+  // scratch
+  std::vector<std::uint32_t> ring_, ring2_, moves_, around_, handed_, keepers_;
+  std::vector<std::pair<std::uint32_t, double>> nearest_;
+};
+
+template <class Queue>
+Simplification simplify_on(const Mesh& mesh, const SimplifyOptions& options, std::size_t target) {
+  Simplification out;
+  Timer timer;
+  Collapser<Queue> collapser(mesh, options);
+  collapser.run(target, out);
+  out.mesh = collapser.result(mesh, out);
+  out.counts += collapser.counts_;
+  out.triangles_before = mesh.triangles.size();
+  out.triangles_after = out.mesh.triangles.size();
+  out.seconds = timer.elapsed();
+  return out;
+}
+
+}  // namespace
+
+Simplification simplify(const Mesh& mesh, const SimplifyOptions& options) {
+  const std::size_t target = target_of(mesh, options);
+  check_indices(mesh);
+  switch (options.queue) {
+    case SimplifyQueue::pairing_heap: return simplify_on<PairingQueue>(mesh, options, target);
+    case SimplifyQueue::lazy: return simplify_on<LazyQueue>(mesh, options, target);
+    case SimplifyQueue::binary_heap: break;
+  }
+  return simplify_on<HeapQueue>(mesh, options, target);
+}
+
+}  // namespace recon

@@ -1,0 +1,366 @@
+// Phase VI, simplification: what phase V found stays (creases, corners,
+// boundary loops, separate objects), the error bound holds, the queues agree.
+#include "recon/simplification.h"
+
+#include "recon/errors.h"
+#include "recon/mesh.h"
+#include "recon/parallel.h"
+#include "recon/reconstruct.h"
+#include "recon/shapes.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <set>
+#include <vector>
+
+namespace recon {
+namespace {
+
+// ---- small meshes with a known truth ----
+
+// A box [-1, 1]^3 with an n x n grid on each face, vertices shared.
+Mesh grid_box(int n) {
+  Mesh m;
+  std::map<std::array<long, 3>, std::uint32_t> index;
+  const auto vertex = [&](const Vec3& p) {
+    const std::array<long, 3> key{std::lround(p.x() * 1e6), std::lround(p.y() * 1e6), std::lround(p.z() * 1e6)};
+    const auto [it, added] = index.emplace(key, static_cast<std::uint32_t>(m.vertices.size()));
+    if (added) m.vertices.push_back(p);
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (const int side : {-1, 1}) {
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          std::array<std::uint32_t, 4> q{};
+          for (std::size_t c = 0; c < 4; ++c) {
+            Vec3 p;
+            p[axis] = side;
+            p[a] = -1.0 + 2.0 * (i + (c == 1 || c == 2)) / n;
+            p[b] = -1.0 + 2.0 * (j + (c >= 2)) / n;
+            q[c] = vertex(p);
+          }
+          // (a, b, axis) is right-handed: counter-clockwise in (a, b) faces +axis.
+          if (side > 0) {
+            m.triangles.push_back({q[0], q[1], q[2]});
+            m.triangles.push_back({q[0], q[2], q[3]});
+          } else {
+            m.triangles.push_back({q[0], q[2], q[1]});
+            m.triangles.push_back({q[0], q[3], q[2]});
+          }
+        }
+    }
+  return m;
+}
+
+// A latitude-longitude sphere (closed) or its upper half (open at z = 0).
+Mesh lat_long(int rings, int sectors, bool upper_half, double centre_x = 0.0, double radius = 1.0) {
+  const auto point = [&](double x, double y, double z) { return Vec3(centre_x + radius * x, radius * y, radius * z); };
+  Mesh m;
+  const int last = upper_half ? rings / 2 : rings;  // rings of vertices below the pole
+  const auto at = [&](int ring, int sector) {
+    const double theta = std::numbers::pi * ring / rings, phi = 2.0 * std::numbers::pi * sector / sectors;
+    return point(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  };
+  m.vertices.push_back(point(0, 0, 1));  // the north pole
+  for (int r = 1; r <= last; ++r)
+    for (int s = 0; s < sectors; ++s) m.vertices.push_back(at(r, s));
+  const auto id = [&](int r, int s) { return static_cast<std::uint32_t>(1 + (r - 1) * sectors + (s % sectors)); };
+  for (int s = 0; s < sectors; ++s) m.triangles.push_back({0, id(1, s), id(1, s + 1)});
+  for (int r = 1; r < std::min(last, rings - 1); ++r)
+    for (int s = 0; s < sectors; ++s) {
+      m.triangles.push_back({id(r, s), id(r + 1, s), id(r + 1, s + 1)});
+      m.triangles.push_back({id(r, s), id(r + 1, s + 1), id(r, s + 1)});
+    }
+  if (!upper_half) {
+    const auto south = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.push_back(point(0, 0, -1));
+    for (int s = 0; s < sectors; ++s) m.triangles.push_back({id(rings - 1, s), south, id(rings - 1, s + 1)});
+  }
+  return m;
+}
+
+Mesh joined(const Mesh& a, const Mesh& b) {
+  Mesh m = a;
+  const auto first = static_cast<std::uint32_t>(a.vertices.size());
+  m.vertices.insert(m.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (auto t : b.triangles) m.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+  return m;
+}
+
+// ---- the test's own feature count (not the library's) ----
+
+struct Features {
+  std::set<std::uint64_t> crease_edges;  // dihedral over 25 degrees
+  std::vector<int> on;                   // per vertex: crease and boundary edges on it
+  std::size_t corners = 0;               // vertices on 1 or 3+ feature edges
+};
+
+Features features(const Mesh& m) {
+  std::map<std::uint64_t, std::vector<std::uint32_t>> faces;
+  for (std::uint32_t f = 0; f < m.triangles.size(); ++f)
+    for (std::size_t e = 0; e < 3; ++e) faces[edge_key(m.triangles[f][e], m.triangles[f][(e + 1) % 3])].push_back(f);
+  const auto normal = [&](std::uint32_t f) {
+    const auto& t = m.triangles[f];
+    return (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).normalized();
+  };
+  Features out;
+  out.on.assign(m.vertices.size(), 0);
+  for (const auto& [key, list] : faces) {
+    const bool feature =
+        list.size() != 2 || normal(list[0]).dot(normal(list[1])) < std::cos(25.0 * std::numbers::pi / 180.0);
+    if (!feature) continue;
+    if (list.size() == 2) out.crease_edges.insert(key);
+    ++out.on[key >> 32];
+    ++out.on[key & 0xffffffffu];
+  }
+  for (const int n : out.on) out.corners += n == 1 || n > 2;
+  return out;
+}
+
+SimplifyOptions to_ratio(double ratio) {
+  SimplifyOptions o;
+  o.ratio = ratio;
+  return o;
+}
+
+double distance_to_mesh(const Mesh& m, const Vec3& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : m.triangles)
+    best = std::min(best, point_triangle_distance(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
+  return best;
+}
+
+// ---- tests ----
+
+// The box keeps its eight corners and nothing else: two triangles a face.
+TEST(Simplification, BoxBecomesTwelveTrianglesOnItsCorners) {
+  const Mesh box = grid_box(8);
+  SimplifyOptions o;
+  o.target_triangles = 1;
+  const Simplification s = simplify(box, o);
+  EXPECT_EQ(s.mesh.triangles.size(), 12u);
+  EXPECT_EQ(s.mesh.vertices.size(), 8u);
+  for (const Vec3& v : s.mesh.vertices) EXPECT_DOUBLE_EQ(v.cwiseAbs().minCoeff(), 1.0) << v.transpose();
+  const MeshTopology t = analyze_topology(s.mesh);
+  EXPECT_TRUE(t.watertight());
+  EXPECT_EQ(t.degenerate_triangles, 0u);
+  EXPECT_NEAR(t.signed_volume, 8.0, 1e-12);
+  EXPECT_EQ(s.corner_vertices, 8u);
+}
+
+// At a tenth of its triangles the box's crease vertices that survive are on
+// its edges, every corner is there, and its faces are flat.
+TEST(Simplification, BoxCreaseVerticesStayOnTheEdges) {
+  const Mesh box = grid_box(12);
+  const Features before = features(box);
+  const Simplification s = simplify(box, to_ratio(0.1));
+  EXPECT_LE(s.mesh.triangles.size(), box.triangles.size() / 10);
+  const Features after = features(s.mesh);
+  EXPECT_EQ(after.corners, before.corners);
+  for (std::size_t v = 0; v < s.mesh.vertices.size(); ++v) {
+    const Vec3 a = s.mesh.vertices[v].cwiseAbs();
+    const int at_one = (a.x() == 1.0) + (a.y() == 1.0) + (a.z() == 1.0);
+    EXPECT_GE(at_one, 1) << "off the box";
+    if (after.on[v] == 2) {
+      EXPECT_GE(at_one, 2) << "a crease vertex off the box's edges";
+    }
+  }
+  EXPECT_NEAR(analyze_topology(s.mesh).signed_volume, 8.0, 1e-12);
+}
+
+// An open hemisphere: one boundary loop before and after, every boundary
+// vertex on the original circle, and the boundary polygon close to it.
+TEST(Simplification, HemisphereKeepsItsBoundaryLoop) {
+  const Mesh dome = lat_long(40, 64, true);
+  const Simplification s = simplify(dome, to_ratio(0.1));
+  const MeshTopology t = analyze_topology(s.mesh);
+  EXPECT_LE(s.mesh.triangles.size(), dome.triangles.size() / 10 + 1);
+  EXPECT_EQ(t.boundary_loops, 1u);
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+  EXPECT_EQ(t.euler_characteristic, 1);
+  const auto rim = boundary_edges(s.mesh);
+  for (const auto& e : rim) EXPECT_NEAR(s.mesh.vertices[e[0]].z(), 0.0, 1e-12);
+  // The polygon's sag from the circle: 1 - cos(pi / n) for n sides. With
+  // the boundary planes the rim keeps at least a third of its 64 vertices.
+  EXPECT_GE(rim.size(), 21u);
+}
+
+// Separate objects stay separate, each keeps its genus, no edge turns
+// non-manifold, however far it goes.
+TEST(Simplification, SeparateObjectsStaySeparateAndKeepTheirGenus) {
+  const Mesh two = joined(lat_long(20, 30, false), lat_long(20, 30, false, 2.05));
+  SimplifyOptions o;
+  o.target_triangles = 1;
+  const Simplification s = simplify(two, o);
+  const MeshTopology t = analyze_topology(s.mesh);
+  EXPECT_EQ(t.components, 2u);
+  EXPECT_TRUE(t.watertight());
+  EXPECT_EQ(t.degenerate_triangles, 0u);
+  for (const auto& c : t.component_list) {
+    EXPECT_EQ(c.euler_characteristic, 2);
+    EXPECT_GE(c.triangles, 4u);
+  }
+}
+
+// A torus as a grid of rings: its hole stays however far it goes (the link
+// condition refuses the collapses that would pinch the handle).
+Mesh grid_torus(int rings, int sectors) {
+  Mesh m;
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const double a = 2.0 * std::numbers::pi * i / rings, b = 2.0 * std::numbers::pi * j / sectors;
+      m.vertices.emplace_back((1.0 + 0.3 * std::cos(b)) * std::cos(a), (1.0 + 0.3 * std::cos(b)) * std::sin(a),
+                              0.3 * std::sin(b));
+    }
+  const auto id = [&](int i, int j) { return static_cast<std::uint32_t>((i % rings) * sectors + (j % sectors)); };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+TEST(Simplification, TorusKeepsItsHole) {
+  // Thin ones too: a tube of three sides, a ring of three sections, where
+  // collapses would glue sheets (every edge has a third shared neighbour).
+  for (const auto& [rings, sectors] : {std::pair{40, 16}, std::pair{30, 3}, std::pair{3, 16}, std::pair{4, 4}}) {
+    const Mesh torus = grid_torus(rings, sectors);
+    SimplifyOptions o;
+    o.target_triangles = 1;
+    const Simplification s = simplify(torus, o);
+    const MeshTopology t = analyze_topology(s.mesh);
+    EXPECT_EQ(t.euler_characteristic, 0) << rings << " x " << sectors;
+    EXPECT_EQ(t.non_manifold_edges, 0u) << rings << " x " << sectors;
+    EXPECT_TRUE(t.watertight()) << rings << " x " << sectors;
+    EXPECT_EQ(t.degenerate_triangles, 0u) << rings << " x " << sectors;
+  }
+}
+
+// Every input vertex lies within max_error of the simplified mesh.
+TEST(Simplification, ErrorBoundHolds) {
+  const Mesh dome = lat_long(40, 64, true);
+  for (const double bound : {0.002, 0.02}) {
+    SimplifyOptions o;
+    o.max_error = bound;
+    const Simplification s = simplify(dome, o);
+    EXPECT_LT(s.mesh.triangles.size(), dome.triangles.size() * 4 / 5) << bound;
+    double worst = 0.0;
+    for (const Vec3& v : dome.vertices) worst = std::max(worst, distance_to_mesh(s.mesh, v));
+    EXPECT_LE(worst, bound);
+    EXPECT_LE(worst, s.vertex_error + 1e-15);
+    EXPECT_LE(s.vertex_error, bound);
+  }
+}
+
+// The three queues make the same collapses: the same mesh.
+TEST(Simplification, QueuesGiveTheSameMesh) {
+  const Mesh two = joined(lat_long(30, 40, true), grid_box(6));
+  SimplifyOptions o = to_ratio(0.15);
+  o.max_error = 0.01;
+  const Simplification heap = simplify(two, o);
+  for (const SimplifyQueue q : {SimplifyQueue::pairing_heap, SimplifyQueue::lazy}) {
+    o.queue = q;
+    const Simplification other = simplify(two, o);
+    EXPECT_EQ(other.mesh.triangles, heap.mesh.triangles);
+    EXPECT_EQ(other.mesh.vertices, heap.mesh.vertices);
+    EXPECT_EQ(other.collapses, heap.collapses);
+  }
+}
+
+TEST(Simplification, RefusesBadTargets) {
+  const Mesh box = grid_box(2);
+  const auto refuses = [&](SimplifyOptions o) { EXPECT_THROW((void)simplify(box, o), InvalidInputError); };
+  refuses({});
+  SimplifyOptions o;
+  o.target_triangles = box.triangles.size() + 1;
+  refuses(o);
+  for (const double r : {-0.5, 1.0, 1.5, std::numeric_limits<double>::quiet_NaN()}) refuses(to_ratio(r));
+  for (const double e : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    SimplifyOptions b;
+    b.max_error = e;
+    refuses(b);
+  }
+  Mesh bad = box;
+  bad.triangles[0][1] = 99;
+  EXPECT_THROW((void)simplify(bad, to_ratio(0.5)), InvalidInputError);
+}
+
+// Colours travel with their vertices.
+TEST(Simplification, ColoursStayWithTheirVertices) {
+  Mesh dome = lat_long(20, 24, true);
+  for (const Vec3& v : dome.vertices)
+    dome.colors.push_back({static_cast<std::uint8_t>(100 + 100 * v.x()), static_cast<std::uint8_t>(100 + 100 * v.y()),
+                           static_cast<std::uint8_t>(200 * v.z())});
+  const Simplification s = simplify(dome, to_ratio(0.2));
+  ASSERT_EQ(s.mesh.colors.size(), s.mesh.vertices.size());
+  for (std::size_t i = 0; i < s.mesh.vertices.size(); ++i) {
+    const Vec3& v = s.mesh.vertices[i];
+    EXPECT_EQ(s.mesh.colors[i][0], static_cast<std::uint8_t>(100 + 100 * v.x()));
+  }
+}
+
+// Phase VI after phase V on the fandisk-like part: a tenth of the triangles,
+// the same topology, every sharp edge left (over 60 degrees) between
+// vertices that lay on phase V's creases (over 25 degrees) at exactly their
+// places; and the same mesh for 1 and 4 threads.
+TEST(Simplification, PartKeepsItsCreasesForAnyThreadCount) {
+  PointCloud cloud = make_shape("part")->sample(20000, 3);
+  cloud.normals.clear();
+  ReconstructionOptions options;
+  options.simplify.ratio = 0.1;
+  const int threads = thread_count();
+  set_thread_count(1);
+  const Reconstruction one = reconstruct(cloud, options);
+  set_thread_count(4);
+  const Reconstruction four = reconstruct(cloud, options);
+  set_thread_count(threads);
+  EXPECT_TRUE(one.mesh().vertices == four.mesh().vertices);
+  EXPECT_TRUE(one.mesh().triangles == four.mesh().triangles);
+
+  ASSERT_TRUE(one.refinement && one.simplification);
+  const Mesh& before = one.refinement->mesh;
+  const Mesh& after = one.mesh();
+  EXPECT_LE(after.triangles.size(), before.triangles.size() / 10 + 1);
+  const MeshTopology tb = analyze_topology(before), ta = analyze_topology(after);
+  EXPECT_EQ(ta.components, tb.components);
+  EXPECT_EQ(ta.euler_characteristic, tb.euler_characteristic);
+  EXPECT_TRUE(ta.watertight());
+  EXPECT_EQ(ta.degenerate_triangles, 0u);
+
+  const Features creases = features(before);
+  std::set<std::array<double, 3>> on_crease;
+  for (std::size_t v = 0; v < before.vertices.size(); ++v)
+    if (creases.on[v] > 0) on_crease.insert({before.vertices[v].x(), before.vertices[v].y(), before.vertices[v].z()});
+  std::map<std::uint64_t, std::vector<std::size_t>> faces;
+  for (std::size_t f = 0; f < after.triangles.size(); ++f)
+    for (std::size_t e = 0; e < 3; ++e) faces[edge_key(after.triangles[f][e], after.triangles[f][(e + 1) % 3])].push_back(f);
+  const auto normal = [&](std::size_t f) {
+    const auto& t = after.triangles[f];
+    return (after.vertices[t[1]] - after.vertices[t[0]]).cross(after.vertices[t[2]] - after.vertices[t[0]]).normalized();
+  };
+  std::size_t sharp = 0, off = 0;
+  for (const auto& [key, list] : faces) {
+    if (list.size() != 2 || normal(list[0]).dot(normal(list[1])) > 0.5) continue;
+    ++sharp;
+    for (const std::uint64_t v : {key >> 32, key & 0xffffffffu}) {
+      const Vec3& p = after.vertices[v];
+      const bool missing = on_crease.count({p.x(), p.y(), p.z()}) == 0;
+      off += missing;
+      if (missing) ADD_FAILURE() << "cos " << normal(list[0]).dot(normal(list[1])) << " at " << p.transpose();
+    }
+  }
+  EXPECT_GT(sharp, 100u);
+  EXPECT_EQ(off, 0u) << "ends of sharp edges that were not on phase V's creases";
+}
+
+}  // namespace
+}  // namespace recon
