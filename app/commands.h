@@ -20,5 +20,6 @@ Command add_normals(CLI::App& app, const GlobalOptions& global);
 Command add_reconstruct(CLI::App& app, const GlobalOptions& global);
 Command add_generate(CLI::App& app, const GlobalOptions& global);
 Command add_lab(CLI::App& app, const GlobalOptions& global);
+Command add_simplify(CLI::App& app, const GlobalOptions& global);  // simplify.cpp
 
 }  // namespace recon::cli

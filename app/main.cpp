@@ -137,6 +137,10 @@ int main(int argc, char** argv) {
   add("generate",
       "Write a point sample of a known shape (sphere, torus, ellipsoid, box, two, terrain, part, handle, conics)",
       recon::cli::add_generate);
+  add("simplify",
+      "Simplify a mesh (phase VI alone: for a tiled run's mesh, or another program's), keeping creases, corners, "
+      "open boundaries and separate objects",
+      recon::cli::add_simplify);
   add("lab",
       "Run every alternative of phases I-II (searches, priority queues, MST algorithms, graphs) on one cloud, "
       "timed, counted and checked against each other",

@@ -62,7 +62,7 @@ void refuse_what_tiles_do_not_do(const ReconstructCommandOptions& o) {
   if (o.use_normals) refuse("estimate and orient the normals: drop --use-normals");
   if (!o.report.empty()) refuse("write no report: drop --report");
   // The stitched mesh goes straight to the file, never whole in memory.
-  if (!o.simplify.empty() || o.max_error) refuse("do not simplify (the mesh is never whole in memory): drop --simplify and --max-error");
+  if (!o.simplify.empty() || o.max_error) refuse("do not simplify (the mesh is never whole in memory): drop --simplify and --max-error, and simplify the tiled mesh afterwards with `recon simplify MESH -o OUT --to T`");
 }
 
 StepReport plan_report(const TilePlan& plan, const std::string& why) {

@@ -15,9 +15,11 @@
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <queue>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace recon {
@@ -664,17 +666,53 @@ Simplification simplify_on(const Mesh& mesh, const SimplifyOptions& options, std
   return out;
 }
 
+// The mesh renumbered by its geometry alone: vertices in the order of
+// their positions (x, then y, then z; the old index only between
+// coincident ones), each triangle starting at its smallest index (its
+// orientation kept), triangles sorted. The collapses break their ties by
+// index, so without this the result would depend on how the vertices
+// happen to be numbered: a tiled run's stitch numbers them otherwise than
+// the run in memory, for the same triangles. Cost O(V log V + F log F).
+Mesh in_canonical_order(const Mesh& mesh) {
+  const std::size_t n = mesh.vertices.size();
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0U);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3& p = mesh.vertices[a];
+    const Vec3& q = mesh.vertices[b];
+    return std::tie(p.x(), p.y(), p.z(), a) < std::tie(q.x(), q.y(), q.z(), b);
+  });
+  Mesh out;
+  std::vector<std::uint32_t> renumber(n);
+  out.vertices.reserve(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    renumber[order[i]] = i;
+    out.vertices.push_back(mesh.vertices[order[i]]);
+    if (mesh.has_colors()) out.colors.push_back(mesh.colors[order[i]]);
+    if (mesh.has_normals()) out.normals.push_back(mesh.normals[order[i]]);
+  }
+  out.triangles.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    std::array<std::uint32_t, 3> r{renumber[t[0]], renumber[t[1]], renumber[t[2]]};
+    std::rotate(r.begin(), std::min_element(r.begin(), r.end()), r.end());
+    out.triangles.push_back(r);
+  }
+  std::sort(out.triangles.begin(), out.triangles.end());
+  return out;
+}
+
 }  // namespace
 
 Simplification simplify(const Mesh& mesh, const SimplifyOptions& options) {
   const std::size_t target = target_of(mesh, options);
   check_indices(mesh);
+  const Mesh canonical = in_canonical_order(mesh);
   switch (options.queue) {
-    case SimplifyQueue::pairing_heap: return simplify_on<PairingQueue>(mesh, options, target);
-    case SimplifyQueue::lazy: return simplify_on<LazyQueue>(mesh, options, target);
+    case SimplifyQueue::pairing_heap: return simplify_on<PairingQueue>(canonical, options, target);
+    case SimplifyQueue::lazy: return simplify_on<LazyQueue>(canonical, options, target);
     case SimplifyQueue::binary_heap: break;
   }
-  return simplify_on<HeapQueue>(mesh, options, target);
+  return simplify_on<HeapQueue>(canonical, options, target);
 }
 
 }  // namespace recon

@@ -1748,5 +1748,51 @@ TEST_F(CliErrors, SimplifyRefusesBadValues) {
   EXPECT_NE(stats.find("\"vertex_error_rho\""), std::string::npos);
 }
 
+// `recon simplify` is phase VI alone, on a mesh read from a file: a mesh
+// reconstructed and then simplified is, byte for byte, the one
+// `reconstruct --simplify` writes; and a tiled run's mesh (never whole in
+// memory, so `reconstruct` refuses to simplify it) simplifies to the
+// in-memory run's simplified mesh, though the stitch numbers its vertices
+// otherwise (simplify() works on a numbering of its own).
+class CliSimplify : public CliTest {};
+
+TEST_F(CliSimplify, AMeshFromAFileSimplifiesAsInReconstruct) {
+  ASSERT_NO_FATAL_FAILURE(generate("box", 6000, "box.ply"));
+  ASSERT_TRUE(succeeded(recon({"-q", "reconstruct", "box.ply", "-o", "direct.ply", "--simplify", "300"})));
+  ASSERT_TRUE(succeeded(recon({"-q", "reconstruct", "box.ply", "-o", "full.ply"})));
+  const RunResult run = recon({"simplify", "full.ply", "-o", "after.ply", "--to", "300", "--stats", "s.json"});
+  ASSERT_TRUE(succeeded(run)) << describe(run);
+  EXPECT_NE(run.out.find("simplify  "), std::string::npos) << run.out;
+  EXPECT_EQ(read_bytes(at("after.ply")), read_bytes(at("direct.ply")));
+  const std::string json = read_bytes(at("s.json"));
+  EXPECT_LE(stat(json, "simplification", "triangles_after").value_or(1e9), 300.0);
+  EXPECT_EQ(stat(json, "read", "triangles"), static_cast<double>(io::read_mesh(at("full.ply")).triangles.size()));
+}
+
+TEST_F(CliSimplify, ATiledMeshSimplifiesToTheInMemoryOne) {
+  ASSERT_NO_FATAL_FAILURE(generate("terrain", 15000, "t.ply"));
+  ASSERT_TRUE(succeeded(recon({"-q", "reconstruct", "t.ply", "-o", "whole.ply", "--simplify", "10%"})));
+  ASSERT_TRUE(succeeded(recon({"-q", "reconstruct", "t.ply", "-o", "tiled.ply", "--tile-size", "0.5"})));
+  ASSERT_TRUE(succeeded(recon({"-q", "simplify", "tiled.ply", "-o", "after.ply", "--to", "10%"})));
+  EXPECT_TRUE(same_mesh(io::read_mesh(at("after.ply")), io::read_mesh(at("whole.ply")), 0.0));
+}
+
+TEST_F(CliSimplify, BadRequestsAreOneLineErrorsAndWriteNothing) {
+  ASSERT_NO_FATAL_FAILURE(generate("box", 3000, "box.ply"));
+  ASSERT_TRUE(succeeded(recon({"-q", "reconstruct", "box.ply", "-o", "m.ply"})));
+  EXPECT_TRUE(refused(recon({"simplify", "m.ply", "-o", "out.ply"}), {"give --to", "--max-distance"}));
+  EXPECT_TRUE(refused(recon({"simplify", "m.ply", "-o", "out.ply", "--to", "99999999"}),
+                      {"m.ply", "cannot simplify to 99999999 triangles", "the mesh has only"}));
+  EXPECT_TRUE(option_refused(recon({"simplify", "m.ply", "-o", "out.ply", "--to", "0"}), "--to", "expected a triangle count"));
+  EXPECT_TRUE(option_refused(recon({"simplify", "m.ply", "-o", "out.ply", "--max-distance", "-1"}), "--max-distance",
+                             "greater than 0"));
+  EXPECT_TRUE(refused(recon({"simplify", "missing.ply", "-o", "out.ply", "--to", "10"}), {"missing.ply"}));
+  EXPECT_TRUE(refused(recon({"simplify", "box.ply", "-o", "out.ply", "--to", "10"}), {"box.ply"}));  // points, no faces
+  EXPECT_TRUE(refused(recon({"simplify", "m.ply", "-o", "m.ply", "--to", "10"}), {"m.ply"}));         // the input
+  EXPECT_FALSE(fs::exists(at("out.ply")));
+  EXPECT_TRUE(refused(recon({"reconstruct", "box.ply", "-o", "t.ply", "--simplify", "10", "--tile-size", "0.5"}),
+                      {"recon simplify"}));
+}
+
 }  // namespace
 }  // namespace recon

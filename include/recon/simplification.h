@@ -52,8 +52,10 @@
 //     docs/benchmarks.md): the distance from the simplified mesh's interior
 //     points back to the input.
 //
-// Determinism: one thread; ties in the queue are broken by vertex index, so
-// the output is the same for any thread count of the run before it.
+// Determinism: one thread; ties in the queue are broken by vertex index,
+// after the vertices are renumbered by their positions, so the output is
+// the same for any thread count and for any numbering of the same
+// triangles (a tiled run's stitched mesh simplifies to the in-memory one).
 //
 // Cost: textbook O(F log F) for F triangles. Here the same, times the
 // vertex degree for the re-costing and checks; with max_error, also the
@@ -86,7 +88,7 @@ struct SimplifyOptions {
 };
 
 struct Simplification {
-  Mesh mesh;                          ///< the simplified mesh: a subset of the input's vertices (in their order), colours carried
+  Mesh mesh;                          ///< the simplified mesh: a subset of the input's vertices (ordered by position: x, y, z), colours and normals carried
   std::size_t triangles_before = 0;
   std::size_t triangles_after = 0;
   std::size_t collapses = 0;
