@@ -466,7 +466,9 @@ class Collapser {
         std::size_t i = out.size();
         while (i > 0 && out[i - 1] > w) --i;
         if (i > 0 && out[i - 1] == w) continue;
-        out.insert(out.begin() + static_cast<std::ptrdiff_t>(i), w);
+        out.push_back(w);
+        for (std::size_t j = out.size() - 1; j > i; --j) out[j] = out[j - 1];
+        out[i] = w;
       }
   }
 
@@ -674,9 +676,22 @@ class Collapser {
     q_[v] += q_[u];
     kind_[u] = fixed_vertex;
     queue_.erase(u);
-    neighbours(v, around_);
-    requeue(v);
-    for (const std::uint32_t w : around_) requeue(w);
+    requeue_around(v);
+  }
+
+  // v and its ring, each once or more (requeue is idempotent, and the
+  // queues' order does not depend on the order of the updates).
+  void requeue_around(std::uint32_t v) {
+    if constexpr (loop == Loop::plain) {
+      neighbours(v, around_);
+      requeue(v);
+      for (const std::uint32_t w : around_) requeue(w);
+    } else {
+      requeue(v);
+      for (const std::uint32_t f : faces_[v])
+        for (const std::uint32_t w : tris_[f])
+          if (w != v) requeue(w);
+    }
   }
 
   // within_bound just found each handed vertex's nearest keeper.
