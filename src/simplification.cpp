@@ -309,6 +309,7 @@ class Collapser {
     }
     alive_tri_.assign(tris_.size(), 1);
     alive_ = tris_.size();
+    if (loop == Loop::fast) rings_.assign(p_.size(), RingMemo{});
   }
 
   // Step 1: the area-weighted planes of the triangles around each vertex.
@@ -457,8 +458,24 @@ class Collapser {
     return r;
   }
   // The vertices sharing a triangle with v, sorted, once each.
-  // (An insertion into a short sorted list: a ring has about six.)
+  // The fast loop keeps each ring it gathers (up to RingMemo's capacity)
+  // until a collapse changes v's triangles (collapse() marks it stale).
+  // Called on all threads only by first_costs, each vertex alone.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    if (rings_.empty()) return gather_ring(v, out);
+    RingMemo& memo = rings_[v];
+    if (memo.size <= memo.ring.size()) {
+      out.assign(memo.ring.begin(), memo.ring.begin() + memo.size);
+      return;
+    }
+    gather_ring(v, out);
+    if (out.size() > memo.ring.size()) return;
+    std::copy(out.begin(), out.end(), memo.ring.begin());
+    memo.size = static_cast<std::uint32_t>(out.size());
+  }
+
+  // (An insertion into a short sorted list: a ring has about six.)
+  void gather_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
     for (const std::uint32_t f : faces_[v])
       for (const std::uint32_t w : tris_[f]) {
@@ -662,7 +679,10 @@ class Collapser {
   void collapse(std::uint32_t u, std::uint32_t v) {
     if (!kept_.empty()) hand_over(u);
     for (const std::uint32_t f : faces_[u])
-      for (const std::uint32_t w : tris_[f]) fresh_[w] = 0;
+      for (const std::uint32_t w : tris_[f]) {
+        fresh_[w] = 0;
+        if (!rings_.empty()) rings_[w] = RingMemo{};
+      }
     for (const std::uint32_t f : faces_[u]) {
       if (has(f, v)) {
         remove_triangle(f, u);
@@ -734,6 +754,13 @@ class Collapser {
   std::vector<double> key_;                                 // u's key in the queue, when queued
   std::vector<std::pair<std::uint32_t, double>> cheap_;     // u's cheapest move by cost (cheapest())
   std::vector<std::uint8_t> fresh_;                         // whether cheap_[u] still holds
+  // A vertex's sorted ring as neighbours() last gathered it; size over the
+  // capacity: stale or too long to keep (one cache line a vertex).
+  struct RingMemo {
+    std::uint32_t size = UINT32_MAX;
+    std::array<std::uint32_t, 15> ring{};
+  };
+  mutable std::vector<RingMemo> rings_;  // fast loop only: a cache, not state
   std::vector<std::vector<std::uint32_t>> kept_;
   double vertex_error_ = 0.0;
   // scratch
