@@ -460,7 +460,8 @@ class Collapser {
   // The vertices sharing a triangle with v, sorted, once each.
   // The fast loop keeps each ring it gathers (up to RingMemo's capacity)
   // until a collapse changes v's triangles (collapse() marks it stale).
-  // Called on all threads only by first_costs, each vertex alone.
+  // On all threads (first_costs) it only reads what is kept: whatever
+  // vertices a rule asks about, no two threads write.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     if (rings_.empty()) return gather_ring(v, out);
     RingMemo& memo = rings_[v];
@@ -469,7 +470,7 @@ class Collapser {
       return;
     }
     gather_ring(v, out);
-    if (out.size() > memo.ring.size()) return;
+    if (out.size() > memo.ring.size() || on_all_threads_) return;
     std::copy(out.begin(), out.end(), memo.ring.begin());
     memo.size = static_cast<std::uint32_t>(out.size());
   }
@@ -525,6 +526,7 @@ class Collapser {
     cheap_.assign(p_.size(), {none, 0.0});
     fresh_.assign(p_.size(), 0);
     if constexpr (loop == Loop::plain) return;
+    on_all_threads_ = true;
     constexpr std::size_t block = 4096;
     detail::parallel_for_dynamic((p_.size() + block - 1) / block, 1, [&](std::size_t b) {
       std::vector<std::uint32_t> scratch;
@@ -533,6 +535,7 @@ class Collapser {
         fresh_[v] = 1;
       }
     });
+    on_all_threads_ = false;
   }
 
   // Queues u by its cheapest move, from the cache while u's triangles and
@@ -761,6 +764,7 @@ class Collapser {
     std::array<std::uint32_t, 15> ring{};
   };
   mutable std::vector<RingMemo> rings_;  // fast loop only: a cache, not state
+  bool on_all_threads_ = false;          // rings_ read-only while true
   std::vector<std::vector<std::uint32_t>> kept_;
   double vertex_error_ = 0.0;
   // scratch
