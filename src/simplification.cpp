@@ -1,6 +1,8 @@
 #include "recon/simplification.h"
 
 #include "recon/binary_heap.h"
+#include "recon/detail/parallel_for.h"
+#include "recon/detail/simplify_plain.h"
 #include "recon/errors.h"
 #include "recon/pairing_heap.h"
 #include "recon/timer.h"
@@ -11,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -227,7 +230,20 @@ constexpr double third_direction = 0.03;
 // 2 degree smallest angle).
 constexpr double sliver_ratio = 0.05;
 
-template <class Queue>
+// The loop comes two ways over the same rules. Fast (simplify): each
+// vertex's cheapest move by cost is cached and recomputed only when the
+// vertex's triangles or quadric change (a collapse u -> v touches only u's
+// ring, v included), the start (quadrics, plane shapes, first costs) runs
+// on all threads, and the queue is not touched when a key stays the same.
+// Plain (detail::simplify_plain, the reference the tests hold the fast way
+// to): every re-costing gathers the ring again, one thread, as the
+// textbook loop reads. Both give the same mesh because the cache holds
+// exactly what a re-costing would find: moves(w) and cost(w, .) read only
+// w's triangles, w's quadric and what never changes (positions, plane
+// shapes, kinds of the living vertices).
+enum class Loop { fast, plain };
+
+template <class Queue, Loop loop = Loop::fast>
 class Collapser {
  public:
   Collapser(const Mesh& mesh, const SimplifyOptions& options)
@@ -241,9 +257,11 @@ class Collapser {
     add_boundary_planes();
     if (options_.max_error > 0.0) kept_.resize(tris_.size());
     best_.assign(p_.size(), none);
+    key_.assign(p_.size(), 0.0);
   }
 
   void run(std::size_t target, Simplification& out) {
+    first_costs();
     for (std::uint32_t v = 0; v < p_.size(); ++v) requeue(v);
     while (alive_ > target && !queue_.empty()) {
       const std::uint32_t u = queue_.pop(out.counts);
@@ -293,19 +311,34 @@ class Collapser {
     }
     alive_tri_.assign(tris_.size(), 1);
     alive_ = tris_.size();
+    if (loop == Loop::fast) rings_.assign(p_.size(), RingMemo{});
   }
 
   // Step 1: the area-weighted planes of the triangles around each vertex.
+  // Each vertex sums its triangles' planes in the order of its triangle
+  // list (the triangles' order), so the sums are the same on any threads.
   void build_quadrics() {
-    q_.assign(p_.size(), {});
-    for (std::size_t t = 0; t < tris_.size(); ++t) {
+    struct Plane {
+      Vec3 n;
+      double d, w;  // w = 0: no area, no plane
+    };
+    std::vector<Plane> planes(tris_.size());
+    detail::parallel_for(tris_.size(), [&](std::size_t t) {
       const auto& f = tris_[t];
       const Vec3 n2 = cross_of(p_[f[0]], p_[f[1]], p_[f[2]]);
       const double twice_area = n2.norm();
-      if (!(twice_area > 0.0)) continue;
+      if (!(twice_area > 0.0)) {
+        planes[t] = {Vec3::Zero(), 0.0, 0.0};
+        return;
+      }
       const Vec3 n = n2 / twice_area;
-      for (const std::uint32_t v : f) q_[v].add_plane(n, -n.dot(p_[f[0]]), 0.5 * twice_area);
-    }
+      planes[t] = {n, -n.dot(p_[f[0]]), 0.5 * twice_area};
+    });
+    q_.assign(p_.size(), {});
+    detail::parallel_for(p_.size(), [&](std::size_t v) {
+      for (const std::uint32_t f : faces_[v])
+        if (planes[f].w > 0.0) q_[v].add_plane(planes[f].n, planes[f].d, planes[f].w);
+    });
   }
 
   // Step 2: what each vertex's planes say of it, by the eigenvalues of
@@ -315,9 +348,10 @@ class Collapser {
   void shape_of_planes() {
     plane_shape_.assign(p_.size(), flat);
     crease_direction_.assign(p_.size(), Vec3::Zero());
-    for (std::uint32_t v = 0; v < p_.size(); ++v) {
+    detail::parallel_for_dynamic(p_.size(), 4096, [&](std::size_t i) {  // each vertex alone: any threads
+      const auto v = static_cast<std::uint32_t>(i);
       const Quadric& q = q_[v];
-      if (!(q.weight > 0.0) || planar_fan(v)) continue;
+      if (!(q.weight > 0.0) || planar_fan(v)) return;
       Eigen::Matrix3d a;
       a << q.xx, q.xy, q.xz, q.xy, q.yy, q.yz, q.xz, q.yz, q.zz;
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(a / q.weight);
@@ -328,7 +362,7 @@ class Collapser {
         plane_shape_[v] = crease;
         crease_direction_[v] = solver.eigenvectors().col(0);
       }
-    }
+    });
   }
 
   // All the triangles around v face within 10 degrees of the first: flat
@@ -426,13 +460,36 @@ class Collapser {
     return r;
   }
   // The vertices sharing a triangle with v, sorted, once each.
+  // The fast loop keeps each ring it gathers (up to RingMemo's capacity)
+  // until a collapse changes v's triangles (collapse() marks it stale).
+  // On all threads (first_costs) it only reads what is kept: whatever
+  // vertices a rule asks about, no two threads write.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    if (rings_.empty()) return gather_ring(v, out);
+    RingMemo& memo = rings_[v];
+    if (memo.size <= memo.ring.size()) {
+      out.assign(memo.ring.begin(), memo.ring.begin() + memo.size);
+      return;
+    }
+    gather_ring(v, out);
+    if (out.size() > memo.ring.size() || on_all_threads_) return;
+    std::copy(out.begin(), out.end(), memo.ring.begin());
+    memo.size = static_cast<std::uint32_t>(out.size());
+  }
+
+  // (An insertion into a short sorted list: a ring has about six.)
+  void gather_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
     for (const std::uint32_t f : faces_[v])
-      for (const std::uint32_t w : tris_[f])
-        if (w != v) out.push_back(w);
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+      for (const std::uint32_t w : tris_[f]) {
+        if (w == v) continue;
+        std::size_t i = out.size();
+        while (i > 0 && out[i - 1] > w) --i;
+        if (i > 0 && out[i - 1] == w) continue;
+        out.push_back(w);
+        for (std::size_t j = out.size() - 1; j > i; --j) out[j] = out[j - 1];
+        out[i] = w;
+      }
   }
 
   [[nodiscard]] double cost(std::uint32_t u, std::uint32_t v) const {
@@ -453,39 +510,73 @@ class Collapser {
   }
 
   // ---- the queue ----
-  // u's cheapest move by cost alone (validity is checked when it surfaces).
-  void requeue(std::uint32_t u) {
-    moves(u, moves_);
+  // u's cheapest move by cost alone (validity is checked when it surfaces):
+  // the neighbour and the cost, none and infinity when u may not move.
+  [[nodiscard]] std::pair<std::uint32_t, double> cheapest(std::uint32_t u, std::vector<std::uint32_t>& scratch) const {
+    moves(u, scratch);
     double best = std::numeric_limits<double>::infinity();
     std::uint32_t to = none;
-    for (const std::uint32_t v : moves_) {
+    for (const std::uint32_t v : scratch) {
       const double c = cost(u, v);
       if (c < best) best = c, to = v;
     }
-    place(u, to, best);
+    return {to, best};
+  }
+
+  // Every vertex's first cheapest move, on all threads (each vertex alone).
+  void first_costs() {
+    cheap_.assign(p_.size(), {none, 0.0});
+    fresh_.assign(p_.size(), 0);
+    if constexpr (loop == Loop::plain) return;
+    on_all_threads_ = true;
+    constexpr std::size_t block = 4096;
+    detail::parallel_for_dynamic((p_.size() + block - 1) / block, 1, [&](std::size_t b) {
+      std::vector<std::uint32_t> scratch;
+      for (std::size_t v = b * block; v < std::min(p_.size(), (b + 1) * block); ++v) {
+        cheap_[v] = cheapest(static_cast<std::uint32_t>(v), scratch);
+        fresh_[v] = 1;
+      }
+    });
+    on_all_threads_ = false;
+  }
+
+  // Queues u by its cheapest move, from the cache while u's triangles and
+  // quadric are unchanged.
+  void requeue(std::uint32_t u) {
+    if (!fresh_[u]) {
+      cheap_[u] = cheapest(u, moves_);
+      fresh_[u] = loop == Loop::fast;
+    }
+    place(u, cheap_[u].first, cheap_[u].second);
   }
 
   // u's cheapest move that is allowed now: after the cheapest was refused.
   void retry(std::uint32_t u, OperationCounts& counts) {
     moves(u, moves_);
-    std::vector<std::pair<double, std::uint32_t>> ranked;
-    for (const std::uint32_t v : moves_) ranked.emplace_back(cost(u, v), v);
-    std::sort(ranked.begin(), ranked.end());
-    for (const auto& [c, v] : ranked)
+    ranked_.clear();
+    for (const std::uint32_t v : moves_) ranked_.emplace_back(cost(u, v), v);
+    std::sort(ranked_.begin(), ranked_.end());
+    for (const auto& [c, v] : ranked_)
       if (allowed(u, v)) {
         best_[u] = v;
+        key_[u] = c;
         queue_.set(u, c, counts);
         return;
       }
   }
 
+  // (A key the queue already holds is left alone: the queues order by
+  // (cost, vertex), so the order is the same, and the heap is spared.)
   void place(std::uint32_t u, std::uint32_t to, double c) {
-    best_[u] = to;
     if (to == none) {
+      best_[u] = to;
       queue_.erase(u);
-    } else {
-      queue_.set(u, c, counts_);
+      return;
     }
+    if (loop == Loop::fast && best_[u] == to && key_[u] == c && queue_.contains(u)) return;
+    best_[u] = to;
+    key_[u] = c;
+    queue_.set(u, c, counts_);
   }
 
   // ---- validity ----
@@ -588,8 +679,15 @@ class Collapser {
   }
 
   // ---- the collapse ----
+  // Only u's ring (v included) changes triangles or quadric: their cached
+  // moves are stale; the rest of v's ring is re-queued from the cache.
   void collapse(std::uint32_t u, std::uint32_t v) {
     if (!kept_.empty()) hand_over(u);
+    for (const std::uint32_t f : faces_[u])
+      for (const std::uint32_t w : tris_[f]) {
+        fresh_[w] = 0;
+        if (!rings_.empty()) rings_[w] = RingMemo{};
+      }
     for (const std::uint32_t f : faces_[u]) {
       if (has(f, v)) {
         remove_triangle(f, u);
@@ -603,9 +701,22 @@ class Collapser {
     q_[v] += q_[u];
     kind_[u] = fixed_vertex;
     queue_.erase(u);
-    neighbours(v, around_);
-    requeue(v);
-    for (const std::uint32_t w : around_) requeue(w);
+    requeue_around(v);
+  }
+
+  // v and its ring, each once or more (requeue is idempotent, and the
+  // queues' order does not depend on the order of the updates).
+  void requeue_around(std::uint32_t v) {
+    if constexpr (loop == Loop::plain) {
+      neighbours(v, around_);
+      requeue(v);
+      for (const std::uint32_t w : around_) requeue(w);
+    } else {
+      requeue(v);
+      for (const std::uint32_t f : faces_[v])
+        for (const std::uint32_t w : tris_[f])
+          if (w != v) requeue(w);
+    }
   }
 
   // within_bound just found each handed vertex's nearest keeper.
@@ -645,18 +756,30 @@ class Collapser {
   std::vector<Vec3> crease_direction_;
   std::vector<std::array<std::uint32_t, 2>> boundary_edges_;
   std::vector<std::uint32_t> best_;
+  std::vector<double> key_;                                 // u's key in the queue, when queued
+  std::vector<std::pair<std::uint32_t, double>> cheap_;     // u's cheapest move by cost (cheapest())
+  std::vector<std::uint8_t> fresh_;                         // whether cheap_[u] still holds
+  // A vertex's sorted ring as neighbours() last gathered it; size over the
+  // capacity: stale or too long to keep (one cache line a vertex).
+  struct RingMemo {
+    std::uint32_t size = UINT32_MAX;
+    std::array<std::uint32_t, 15> ring{};
+  };
+  mutable std::vector<RingMemo> rings_;  // fast loop only: a cache, not state
+  bool on_all_threads_ = false;          // rings_ read-only while true
   std::vector<std::vector<std::uint32_t>> kept_;
   double vertex_error_ = 0.0;
   // scratch
   std::vector<std::uint32_t> ring_, ring2_, moves_, around_, handed_, keepers_;
   std::vector<std::pair<std::uint32_t, double>> nearest_;
+  std::vector<std::pair<double, std::uint32_t>> ranked_;
 };
 
-template <class Queue>
+template <class Queue, Loop loop = Loop::fast>
 Simplification simplify_on(const Mesh& mesh, const SimplifyOptions& options, std::size_t target) {
   Simplification out;
   Timer timer;
-  Collapser<Queue> collapser(mesh, options);
+  Collapser<Queue, loop> collapser(mesh, options);
   collapser.run(target, out);
   out.mesh = collapser.result(mesh, out);
   out.counts += collapser.counts_;
@@ -715,4 +838,13 @@ Simplification simplify(const Mesh& mesh, const SimplifyOptions& options) {
   return simplify_on<HeapQueue>(canonical, options, target);
 }
 
+namespace detail {
+
+Simplification simplify_plain(const Mesh& mesh, const SimplifyOptions& options) {
+  const std::size_t target = target_of(mesh, options);
+  check_indices(mesh);
+  return simplify_on<HeapQueue, Loop::plain>(in_canonical_order(mesh), options, target);
+}
+
+}  // namespace detail
 }  // namespace recon

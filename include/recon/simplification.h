@@ -52,17 +52,27 @@
 //     docs/benchmarks.md): the distance from the simplified mesh's interior
 //     points back to the input.
 //
-// Determinism: one thread; ties in the queue are broken by vertex index,
-// after the vertices are renumbered by their positions, so the output is
-// the same for any thread count and for any numbering of the same
-// triangles (a tiled run's stitched mesh simplifies to the in-memory one).
+//   - Caches: each vertex's cheapest move by cost and its ring are kept
+//     until a collapse changes its triangles or quadric (only the ring of
+//     the vertex that moves), and a key the queue holds is not set again.
+//     detail/simplify_plain.h is the loop without them; the tests hold the
+//     two to the same mesh.
+//
+// Determinism: the collapses run on one thread, in the queue's order; the
+// start (quadrics, plane shapes, first costs) on all, each vertex alone,
+// its sums in its triangles' order. Ties in the queue are broken by vertex
+// index, after the vertices are renumbered by their positions. So the
+// output is the same for any thread count, and for any numbering of the
+// same triangles (a tiled run's stitched mesh simplifies to the in-memory
+// run's).
 //
 // Cost: textbook O(F log F) for F triangles. Here the same, times the
 // vertex degree for the re-costing and checks; with max_error, also the
 // input vertices handed on per collapse (a few per triangle). Memory: a
-// quadric (10 doubles), a triangle list and a heap slot per vertex.
-// Measured: 3.4 s for 973,520 triangles to a tenth (docs/benchmarks.md),
-// mostly rebuilding vertex rings; meshoptimizer takes 0.54 s.
+// quadric (11 doubles), a triangle list, a ring (64 bytes) and a heap slot
+// per vertex. Measured: 2.4 s for 973,520 triangles to a tenth (3.3 s
+// before the caches; docs/benchmarks.md), mostly cache misses in the
+// queue's random order; meshoptimizer takes 0.54 s.
 
 #include "recon/mesh.h"
 #include "recon/operation_counts.h"
