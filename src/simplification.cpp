@@ -4,6 +4,7 @@
 #include "recon/errors.h"
 #include "recon/pairing_heap.h"
 #include "recon/timer.h"
+#include "recon/union_find.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -219,6 +220,10 @@ constexpr double second_direction = 0.02;
 // 1/3). At 0.1, one of the eight corners of phase V's box (unequal areas
 // around it) moved along a crease at 100x fewer triangles; at 0.03 none did.
 constexpr double third_direction = 0.03;
+// A corner by its own fan is confirmed by the planes within this many of
+// its longest edges, if their third eigenvalue is over third_direction_wide.
+constexpr double corner_reach = 3.0;
+constexpr double third_direction_wide = 0.05;
 
 // A triangle whose doubled area is below this fraction of the sum of its
 // squared edges is a sliver (an equilateral one has 0.58; this is about a
@@ -309,16 +314,15 @@ class Collapser {
   // Step 2: what each vertex's planes say of it, by the eigenvalues of
   // their normals' second moment (area-weighted, so that the slivers phase V
   // leaves along a crease hardly count): one direction, flat ground; two, a
-  // crease, along the third eigenvector; three, a corner.
+  // crease, along the third eigenvector; three, a corner. A corner is then
+  // confirmed over a wider ball, one per corner (confirm_corners).
   void shape_of_planes() {
     plane_shape_.assign(p_.size(), flat);
     crease_direction_.assign(p_.size(), Vec3::Zero());
     for (std::uint32_t v = 0; v < p_.size(); ++v) {
       const Quadric& q = q_[v];
       if (!(q.weight > 0.0) || planar_fan(v)) continue;
-      Eigen::Matrix3d a;
-      a << q.xx, q.xy, q.xz, q.xy, q.yy, q.yz, q.xz, q.yz, q.zz;
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(a / q.weight);
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(moment_of(q));
       const Vec3 lambda = solver.eigenvalues();  // ascending
       if (lambda[0] > third_direction) {
         plane_shape_[v] = corner;
@@ -327,6 +331,167 @@ class Collapser {
         crease_direction_[v] = solver.eigenvectors().col(0);
       }
     }
+    std::vector<std::uint32_t> creases;
+    for (std::uint32_t v = 0; v < p_.size(); ++v)
+      if (plane_shape_[v] == crease) creases.push_back(v);
+    confirm_corners();
+    confirm_creases(creases);
+    drop_lone_creases();
+  }
+
+  // A crease by its own fan is confirmed, and given its direction, by the
+  // planes within the same ball as a corner's: a triangle phase V left
+  // across a crease tilts a fan near it, and the direction its fan gives
+  // with it (across the crease, not along). Near a corner (the ball spans
+  // three directions) the fan's own direction stays.
+  void confirm_creases(const std::vector<std::uint32_t>& creases) {
+    for (const std::uint32_t v : creases) {
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(moment_of(planes_in_ball(v, ball_)));
+      const Vec3 lambda = solver.eigenvalues();
+      if (!(lambda[1] > second_direction)) {
+        plane_shape_[v] = flat;
+      } else if (!(lambda[0] > third_direction_wide)) {
+        crease_direction_[v] = solver.eigenvectors().col(0);
+      }
+    }
+  }
+
+  // A crease vertex none of whose neighbours continues its crease (by
+  // crease_edge) lies on no crease: a face vertex near a crease whose fan
+  // phase V tilted with a triangle across it, or a fold. It would have no
+  // move at all; it is flat ground. Dropping one can leave another alone,
+  // hence the passes, until none changes.
+  void drop_lone_creases() {
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::uint32_t v = 0; v < p_.size(); ++v) {
+        if (plane_shape_[v] != crease) continue;
+        neighbours(v, ring_);
+        if (std::none_of(ring_.begin(), ring_.end(), [&](std::uint32_t w) { return crease_edge(v, w); })) {
+          plane_shape_[v] = flat;
+          changed = true;
+        }
+      }
+    }
+  }
+
+  // The planes' normals' second moment per unit weight (A / weight).
+  [[nodiscard]] static Eigen::Matrix3d moment_of(const Quadric& q) {
+    Eigen::Matrix3d a;
+    a << q.xx, q.xy, q.xz, q.xy, q.yy, q.yz, q.xz, q.yz, q.zz;
+    return a / q.weight;
+  }
+
+  // A fan can span three directions without a corner: where phase V left a
+  // triangle across a crease (its normal is neither face's) or a fold, and
+  // around a corner, several vertices near it do. So a corner by its own
+  // fan is kept only when (1) the planes of the triangles within a ball of
+  // corner_reach times its longest edge also span three directions (the
+  // faces' areas there outweigh a few stray triangles), and (2) it is the
+  // one of its cluster (candidates in each other's balls) nearest the point
+  // where the ball's planes meet (the corner itself). The others become
+  // crease vertices whose line runs through that corner: so they move
+  // along their crease into it (or straight into it), never off it.
+  void confirm_corners() {
+    std::vector<std::uint32_t> candidates;
+    for (std::uint32_t v = 0; v < p_.size(); ++v)
+      if (plane_shape_[v] == corner) candidates.push_back(v);
+    std::vector<std::uint32_t> index(p_.size(), none);  // per vertex: its place in candidates
+    for (std::uint32_t i = 0; i < candidates.size(); ++i) index[candidates[i]] = i;
+    UnionFind clusters(candidates.size());
+    std::vector<Quadric> wide(candidates.size());
+    std::vector<std::uint8_t> confirmed(candidates.size(), 0);
+    for (std::uint32_t i = 0; i < candidates.size(); ++i) {
+      const std::uint32_t v = candidates[i];
+      wide[i] = planes_in_ball(v, ball_);
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(moment_of(wide[i]));
+      if (!(solver.eigenvalues()[0] > third_direction_wide)) {
+        demote_by_wide_planes(v, solver);
+        continue;
+      }
+      confirmed[i] = 1;
+      for (const std::uint32_t w : ball_)  // a confirmed candidate in the ball: the same corner
+        if (index[w] != none && index[w] < i && confirmed[index[w]]) clusters.unite(i, index[w]);
+    }
+    keep_one_per_cluster(candidates, confirmed, clusters, wide);
+  }
+
+  // A candidate whose wider planes are not a corner: a crease or flat
+  // ground, as those planes say.
+  void demote_by_wide_planes(std::uint32_t v, const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>& wide) {
+    if (wide.eigenvalues()[1] > second_direction) {
+      plane_shape_[v] = crease;
+      crease_direction_[v] = wide.eigenvectors().col(0);
+    } else {
+      plane_shape_[v] = flat;
+    }
+  }
+
+  // Per cluster, the candidate nearest where its planes meet stays a
+  // corner; the others become creases pointing at it.
+  void keep_one_per_cluster(const std::vector<std::uint32_t>& candidates, const std::vector<std::uint8_t>& confirmed,
+                            UnionFind& clusters, const std::vector<Quadric>& wide) {
+    const std::size_t n = candidates.size();
+    std::vector<std::uint32_t> root(n, none);
+    std::vector<Quadric> planes(n);  // per root: its cluster's planes
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (confirmed[i]) {
+        root[i] = clusters.find(i);
+        planes[root[i]] += wide[i];
+      }
+    std::vector<std::uint32_t> keeper(n, none);  // per root: the candidate kept
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (root[i] == none) continue;
+      const Vec3 meet = meeting_point(planes[root[i]]);
+      std::uint32_t& k = keeper[root[i]];
+      if (k == none || (p_[candidates[i]] - meet).squaredNorm() < (p_[candidates[k]] - meet).squaredNorm()) k = i;
+    }
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (root[i] == none || keeper[root[i]] == i) continue;
+      const Vec3 line = p_[candidates[i]] - p_[candidates[keeper[root[i]]]];
+      plane_shape_[candidates[i]] = crease;
+      crease_direction_[candidates[i]] = line.norm() > 0.0 ? Vec3(line.normalized()) : Vec3::UnitX();
+    }
+  }
+
+  // The point nearest all of q's planes (q spans three directions).
+  [[nodiscard]] static Vec3 meeting_point(const Quadric& q) {
+    Eigen::Matrix3d a;
+    a << q.xx, q.xy, q.xz, q.xy, q.yy, q.yz, q.xz, q.yz, q.zz;
+    return a.ldlt().solve(-Vec3(q.x, q.y, q.z));
+  }
+
+  // The planes of the triangles around the vertices within corner_reach
+  // times v's longest edge of it (reached through the mesh); `inside` gets
+  // those vertices.
+  Quadric planes_in_ball(std::uint32_t v, std::vector<std::uint32_t>& inside) {
+    double longest = 0.0;
+    neighbours(v, ring_);
+    for (const std::uint32_t w : ring_) longest = std::max(longest, (p_[w] - p_[v]).squaredNorm());
+    const double reach2 = corner_reach * corner_reach * longest;
+    inside.assign(1, v);
+    seen_.resize(p_.size(), 0);
+    seen_[v] = 1;
+    Quadric q;
+    for (std::size_t next = 0; next < inside.size(); ++next)
+      for (const std::uint32_t f : faces_[inside[next]])
+        for (const std::uint32_t w : tris_[f])
+          if (!seen_[w] && (p_[w] - p_[v]).squaredNorm() <= reach2) {
+            seen_[w] = 1;
+            inside.push_back(w);
+          }
+    counted_.clear();
+    for (const std::uint32_t w : inside)
+      for (const std::uint32_t f : faces_[w]) counted_.push_back(f);
+    std::sort(counted_.begin(), counted_.end());
+    counted_.erase(std::unique(counted_.begin(), counted_.end()), counted_.end());
+    for (const std::uint32_t f : counted_) {
+      const Vec3 n2 = normal(f);
+      const double twice_area = n2.norm();
+      if (twice_area > 0.0) q.add_plane(n2 / twice_area, -n2.dot(p_[tris_[f][0]]) / twice_area, 0.5 * twice_area);
+    }
+    for (const std::uint32_t w : inside) seen_[w] = 0;
+    return q;
   }
 
   // All the triangles around v face within 10 degrees of the first: flat
@@ -646,7 +811,8 @@ class Collapser {
   std::vector<std::vector<std::uint32_t>> kept_;
   double vertex_error_ = 0.0;
   // scratch
-  std::vector<std::uint32_t> ring_, ring2_, moves_, around_, handed_, keepers_;
+  std::vector<std::uint32_t> ring_, ring2_, moves_, around_, handed_, keepers_, ball_, counted_;
+  std::vector<std::uint8_t> seen_;
   std::vector<std::pair<std::uint32_t, double>> nearest_;
 };
 
