@@ -221,9 +221,14 @@ constexpr double second_direction = 0.02;
 // around it) moved along a crease at 100x fewer triangles; at 0.03 none did.
 constexpr double third_direction = 0.03;
 // A corner by its own fan is confirmed by the planes within this many of
-// its longest edges, if their third eigenvalue is over third_direction_wide.
+// its mean edges, if their third eigenvalue is over third_direction_wide.
 constexpr double corner_reach = 3.0;
 constexpr double third_direction_wide = 0.05;
+// A crease vertex lies within this fraction of the segment between its two
+// crease neighbours from it: phase V's crease vertices lie on the line (a
+// curved crease's sag is |e| / 8R of it), a face vertex near a crease
+// usually a tenth or more.
+constexpr double line_tolerance = 0.05;
 
 // A triangle whose doubled area is below this fraction of the sum of its
 // squared edges is a sliver (an equilateral one has 0.58; this is about a
@@ -331,48 +336,39 @@ class Collapser {
         crease_direction_[v] = solver.eigenvectors().col(0);
       }
     }
-    std::vector<std::uint32_t> creases;
-    for (std::uint32_t v = 0; v < p_.size(); ++v)
-      if (plane_shape_[v] == crease) creases.push_back(v);
     confirm_corners();
-    confirm_creases(creases);
-    drop_lone_creases();
+    drop_off_line_creases();
   }
 
-  // A crease by its own fan is confirmed, and given its direction, by the
-  // planes within the same ball as a corner's: a triangle phase V left
-  // across a crease tilts a fan near it, and the direction its fan gives
-  // with it (across the crease, not along). Near a corner (the ball spans
-  // three directions) the fan's own direction stays.
-  void confirm_creases(const std::vector<std::uint32_t>& creases) {
-    for (const std::uint32_t v : creases) {
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(moment_of(planes_in_ball(v, ball_)));
-      const Vec3 lambda = solver.eigenvalues();
-      if (!(lambda[1] > second_direction)) {
-        plane_shape_[v] = flat;
-      } else if (!(lambda[0] > third_direction_wide)) {
-        crease_direction_[v] = solver.eigenvectors().col(0);
-      }
-    }
-  }
-
-  // A crease vertex none of whose neighbours continues its crease (by
-  // crease_edge) lies on no crease: a face vertex near a crease whose fan
-  // phase V tilted with a triangle across it, or a fold. It would have no
-  // move at all; it is flat ground. Dropping one can leave another alone,
-  // hence the passes, until none changes.
-  void drop_lone_creases() {
+  // A crease vertex lies between two neighbours on its crease (by
+  // crease_edge), within line_tolerance of the segment joining them, as
+  // the vertices phase V puts on a crease line do. One that does not is a
+  // face vertex near a crease whose fan phase V tilted with a triangle
+  // across the crease, or a fold: it is flat ground, and so moves off the
+  // crease line's way. Dropping one can strand another, hence the passes.
+  void drop_off_line_creases() {
     for (bool changed = true; changed;) {
       changed = false;
       for (std::uint32_t v = 0; v < p_.size(); ++v) {
-        if (plane_shape_[v] != crease) continue;
-        neighbours(v, ring_);
-        if (std::none_of(ring_.begin(), ring_.end(), [&](std::uint32_t w) { return crease_edge(v, w); })) {
-          plane_shape_[v] = flat;
-          changed = true;
-        }
+        if (plane_shape_[v] != crease || on_line(v)) continue;
+        plane_shape_[v] = flat;
+        changed = true;
       }
     }
+  }
+
+  // Whether v lies between two of its crease neighbours, on the segment
+  // joining them (within line_tolerance of its length).
+  [[nodiscard]] bool on_line(std::uint32_t v) {
+    neighbours(v, ring_);
+    std::erase_if(ring_, [&](std::uint32_t w) { return !crease_edge(v, w); });
+    for (std::size_t i = 0; i < ring_.size(); ++i)
+      for (std::size_t j = i + 1; j < ring_.size(); ++j) {
+        const Vec3 a = p_[ring_[i]], ab = p_[ring_[j]] - a, av = p_[v] - a;
+        const double t = av.dot(ab) / ab.squaredNorm();
+        if (t > 0.0 && t < 1.0 && (av - t * ab).norm() <= line_tolerance * ab.norm()) return true;
+      }
+    return false;
   }
 
   // The planes' normals' second moment per unit weight (A / weight).
@@ -395,12 +391,13 @@ class Collapser {
   void confirm_corners() {
     std::vector<std::uint32_t> candidates;
     for (std::uint32_t v = 0; v < p_.size(); ++v)
-      if (plane_shape_[v] == corner) candidates.push_back(v);
+      if (plane_shape_[v] != flat) candidates.push_back(v);
     std::vector<std::uint32_t> index(p_.size(), none);  // per vertex: its place in candidates
     for (std::uint32_t i = 0; i < candidates.size(); ++i) index[candidates[i]] = i;
     UnionFind clusters(candidates.size());
     std::vector<Quadric> wide(candidates.size());
     std::vector<std::uint8_t> confirmed(candidates.size(), 0);
+    std::vector<Vec3> meet(candidates.size(), Vec3::Zero());
     for (std::uint32_t i = 0; i < candidates.size(); ++i) {
       const std::uint32_t v = candidates[i];
       wide[i] = planes_in_ball(v, ball_);
@@ -410,8 +407,14 @@ class Collapser {
         continue;
       }
       confirmed[i] = 1;
-      for (const std::uint32_t w : ball_)  // a confirmed candidate in the ball: the same corner
-        if (index[w] != none && index[w] < i && confirmed[index[w]]) clusters.unite(i, index[w]);
+      meet[i] = meeting_point(wide[i]);
+      // A confirmed candidate in the ball whose planes meet at the same
+      // point (within v's mean edge): the same corner.
+      const double same = mean_edge(v);
+      for (const std::uint32_t w : ball_) {
+        const std::uint32_t j = index[w];
+        if (j != none && j < i && confirmed[j] && (meet[j] - meet[i]).norm() <= same) clusters.unite(i, j);
+      }
     }
     keep_one_per_cluster(candidates, confirmed, clusters, wide);
   }
@@ -447,11 +450,23 @@ class Collapser {
       if (k == none || (p_[candidates[i]] - meet).squaredNorm() < (p_[candidates[k]] - meet).squaredNorm()) k = i;
     }
     for (std::uint32_t i = 0; i < n; ++i) {
-      if (root[i] == none || keeper[root[i]] == i) continue;
+      if (root[i] == none) continue;
+      if (keeper[root[i]] == i) {
+        plane_shape_[candidates[i]] = corner;
+        continue;
+      }
       const Vec3 line = p_[candidates[i]] - p_[candidates[keeper[root[i]]]];
       plane_shape_[candidates[i]] = crease;
       crease_direction_[candidates[i]] = line.norm() > 0.0 ? Vec3(line.normalized()) : Vec3::UnitX();
     }
+  }
+
+  // The mean length of the edges around v.
+  [[nodiscard]] double mean_edge(std::uint32_t v) {
+    neighbours(v, ring_);
+    double sum = 0.0;
+    for (const std::uint32_t w : ring_) sum += (p_[w] - p_[v]).norm();
+    return ring_.empty() ? 0.0 : sum / static_cast<double>(ring_.size());
   }
 
   // The point nearest all of q's planes (q spans three directions).
@@ -462,13 +477,11 @@ class Collapser {
   }
 
   // The planes of the triangles around the vertices within corner_reach
-  // times v's longest edge of it (reached through the mesh); `inside` gets
+  // times v's mean edge of it (reached through the mesh); `inside` gets
   // those vertices.
   Quadric planes_in_ball(std::uint32_t v, std::vector<std::uint32_t>& inside) {
-    double longest = 0.0;
-    neighbours(v, ring_);
-    for (const std::uint32_t w : ring_) longest = std::max(longest, (p_[w] - p_[v]).squaredNorm());
-    const double reach2 = corner_reach * corner_reach * longest;
+    const double reach = corner_reach * mean_edge(v);
+    const double reach2 = reach * reach;
     inside.assign(1, v);
     seen_.resize(p_.size(), 0);
     seen_[v] = 1;
@@ -709,6 +722,10 @@ class Collapser {
       // A sliver may turn, but not fold over: it must still face the side
       // u's triangles face together.
       if (sliver && !(fan.dot(after) > 0.0)) return false;
+      // Nor may a real triangle become a sliver: its normal would say
+      // nothing more, and it could stand across the surface (a sharp edge
+      // in the middle of a face).
+      if (!sliver && after.norm() < sliver_ratio * scale) return false;
       if (duplicates(f, u, v)) return false;
     }
     return true;
