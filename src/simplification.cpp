@@ -223,7 +223,13 @@ constexpr double third_direction = 0.03;
 // A corner by its own fan is confirmed by the planes within this many of
 // its mean edges, if their third eigenvalue is over third_direction_wide.
 constexpr double corner_reach = 3.0;
-constexpr double third_direction_wide = 0.05;
+constexpr double third_direction_wide = 0.1;
+// And a cluster of them is a corner when one of them has a ball whose third
+// eigenvalue is over this. Three faces at right angles give 1/3, a
+// hexagonal prism's corner 1/6; phase V's part, by its corners 0.29 to
+// 0.33, and 0.12 where a ball of the coarse mesh on a hole's wall reached
+// the rim (the wall's curvature makes its third direction).
+constexpr double corner_strength = 0.15;
 // A crease vertex lies within this fraction of the segment between its two
 // crease neighbours from it: phase V's crease vertices lie on the line (a
 // curved crease's sag is |e| / 8R of it), a face vertex near a crease
@@ -398,6 +404,7 @@ class Collapser {
     std::vector<Quadric> wide(candidates.size());
     std::vector<std::uint8_t> confirmed(candidates.size(), 0);
     std::vector<Vec3> meet(candidates.size(), Vec3::Zero());
+    std::vector<double> strength(candidates.size(), 0.0);  // the ball's third eigenvalue
     for (std::uint32_t i = 0; i < candidates.size(); ++i) {
       const std::uint32_t v = candidates[i];
       wide[i] = planes_in_ball(v, ball_);
@@ -408,6 +415,7 @@ class Collapser {
       }
       confirmed[i] = 1;
       meet[i] = meeting_point(wide[i]);
+      strength[i] = solver.eigenvalues()[0];
       // A confirmed candidate in the ball whose planes meet at the same
       // point (within v's mean edge): the same corner.
       const double same = mean_edge(v);
@@ -416,7 +424,7 @@ class Collapser {
         if (j != none && j < i && confirmed[j] && (meet[j] - meet[i]).norm() <= same) clusters.unite(i, j);
       }
     }
-    keep_one_per_cluster(candidates, confirmed, clusters, wide);
+    keep_one_per_cluster(candidates, confirmed, clusters, wide, strength);
   }
 
   // A candidate whose wider planes are not a corner: a crease or flat
@@ -433,7 +441,8 @@ class Collapser {
   // Per cluster, the candidate nearest where its planes meet stays a
   // corner; the others become creases pointing at it.
   void keep_one_per_cluster(const std::vector<std::uint32_t>& candidates, const std::vector<std::uint8_t>& confirmed,
-                            UnionFind& clusters, const std::vector<Quadric>& wide) {
+                            UnionFind& clusters, const std::vector<Quadric>& wide,
+                            const std::vector<double>& strength) {
     const std::size_t n = candidates.size();
     std::vector<std::uint32_t> root(n, none);
     std::vector<Quadric> planes(n);  // per root: its cluster's planes
@@ -441,6 +450,14 @@ class Collapser {
       if (confirmed[i]) {
         root[i] = clusters.find(i);
         planes[root[i]] += wide[i];
+      }
+    std::vector<double> strongest(n, 0.0);  // per root: its members' largest third eigenvalue
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (root[i] != none) strongest[root[i]] = std::max(strongest[root[i]], strength[i]);
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (root[i] != none && !(strongest[root[i]] > corner_strength)) {
+        demote_by_wide_planes(candidates[i], Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(moment_of(wide[i])));
+        root[i] = none;
       }
     std::vector<std::uint32_t> keeper(n, none);  // per root: the candidate kept
     for (std::uint32_t i = 0; i < n; ++i) {
