@@ -350,17 +350,15 @@ class Collapser {
   // crease_edge), within line_tolerance of the segment joining them, as
   // the vertices phase V puts on a crease line do. One that does not is a
   // face vertex near a crease whose fan phase V tilted with a triangle
-  // across the crease, or a fold: it is flat ground, and so moves off the
-  // crease line's way. Dropping one can strand another, hence the passes.
+  // across the crease, or a fold: it is flat ground, and so moves out of
+  // the crease line's way. One pass, judged on the classification before
+  // it: passes until nothing changes would wear a crease away from any gap
+  // in it, one end vertex at a time.
   void drop_off_line_creases() {
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (std::uint32_t v = 0; v < p_.size(); ++v) {
-        if (plane_shape_[v] != crease || on_line(v)) continue;
-        plane_shape_[v] = flat;
-        changed = true;
-      }
-    }
+    std::vector<std::uint32_t> off;
+    for (std::uint32_t v = 0; v < p_.size(); ++v)
+      if (plane_shape_[v] == crease && !on_line(v)) off.push_back(v);
+    for (const std::uint32_t v : off) plane_shape_[v] = flat;
   }
 
   // Whether v lies between two of its crease neighbours, on the segment
