@@ -444,6 +444,13 @@ TEST(Simplification, PhaseFiveBoxBecomesTwelveTrianglesOnItsCorners) {
   EXPECT_EQ(t.degenerate_triangles, 0u);
   EXPECT_NEAR(t.signed_volume, 0.48, 0.48 * 0.02);
   EXPECT_EQ(r.simplification->corner_vertices, 8u);
+  // The crease rule holds the vertices phase V put on the edges: nearly all
+  // of them move only along their edge (those left are next to gaps in
+  // phase V's crease lines), and hardly any other.
+  std::size_t on_edges = 0;
+  for (const Vec3& v : r.refinement->mesh.vertices) on_edges += box.to_edge(v) < 1e-6 * box.diagonal();
+  EXPECT_GT(r.simplification->crease_vertices, on_edges * 7 / 10) << on_edges << " on the edges";
+  EXPECT_LT(r.simplification->crease_vertices, on_edges * 11 / 10) << on_edges << " on the edges";
 }
 
 // The fandisk-like part at a hundredth of phase V's triangles: every end of
