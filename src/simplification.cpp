@@ -220,8 +220,10 @@ constexpr double second_direction = 0.02;
 // 1/3). At 0.1, one of the eight corners of phase V's box (unequal areas
 // around it) moved along a crease at 100x fewer triangles; at 0.03 none did.
 constexpr double third_direction = 0.03;
-// A corner by its own fan is confirmed by the planes within this many of
-// its mean edges, if their third eigenvalue is over third_direction_wide.
+// A vertex whose fan is not flat is judged by the planes within this many
+// of its mean edges: near a corner if their third eigenvalue is over
+// third_direction_wide (phase V's part from 20,000 samples: 0.10 to 0.33
+// for the candidates near its corners; a straight crease's ball has none).
 constexpr double corner_reach = 3.0;
 constexpr double third_direction_wide = 0.1;
 // And a cluster of them is a corner when one of them has a ball whose third
@@ -325,8 +327,10 @@ class Collapser {
   // Step 2: what each vertex's planes say of it, by the eigenvalues of
   // their normals' second moment (area-weighted, so that the slivers phase V
   // leaves along a crease hardly count): one direction, flat ground; two, a
-  // crease, along the third eigenvector; three, a corner. A corner is then
-  // confirmed over a wider ball, one per corner (confirm_corners).
+  // crease, along the third eigenvector; three, a corner. The fan only
+  // nominates: the planes of a wider ball decide, one vertex per corner
+  // (confirm_corners), and a crease vertex must lie on its crease line
+  // (drop_off_line_creases).
   void shape_of_planes() {
     plane_shape_.assign(p_.size(), flat);
     crease_direction_.assign(p_.size(), Vec3::Zero());
@@ -369,6 +373,7 @@ class Collapser {
     for (std::size_t i = 0; i < ring_.size(); ++i)
       for (std::size_t j = i + 1; j < ring_.size(); ++j) {
         const Vec3 a = p_[ring_[i]], ab = p_[ring_[j]] - a, av = p_[v] - a;
+        if (!(ab.squaredNorm() > 0.0)) continue;
         const double t = av.dot(ab) / ab.squaredNorm();
         if (t > 0.0 && t < 1.0 && (av - t * ab).norm() <= line_tolerance * ab.norm()) return true;
       }
@@ -384,14 +389,19 @@ class Collapser {
 
   // A fan can span three directions without a corner: where phase V left a
   // triangle across a crease (its normal is neither face's) or a fold, and
-  // around a corner, several vertices near it do. So a corner by its own
-  // fan is kept only when (1) the planes of the triangles within a ball of
-  // corner_reach times its longest edge also span three directions (the
-  // faces' areas there outweigh a few stray triangles), and (2) it is the
-  // one of its cluster (candidates in each other's balls) nearest the point
-  // where the ball's planes meet (the corner itself). The others become
-  // crease vertices whose line runs through that corner: so they move
-  // along their crease into it (or straight into it), never off it.
+  // around a corner, several vertices near it do; and a corner vertex's fan
+  // can be all but flat on one of its faces. So every vertex whose fan is
+  // not flat is a candidate, and the planes of the triangles within
+  // corner_reach of its mean edges decide (the faces' areas there outweigh
+  // a few stray triangles): (1) three directions (third_direction_wide):
+  // the candidate is near a corner; else it is a crease or flat ground by
+  // those planes (demote_by_wide_planes). (2) Near-corner candidates in
+  // each other's balls whose planes meet at the same point are one
+  // cluster; a cluster whose strongest ball is weak (corner_strength) is
+  // no corner (a curved crease's curvature gives its third direction).
+  // (3) The member nearest where the cluster's planes meet (the corner
+  // itself) is the corner; the others become crease vertices whose line
+  // runs through it: they move along their crease into it, never off it.
   void confirm_corners() {
     std::vector<std::uint32_t> candidates;
     for (std::uint32_t v = 0; v < p_.size(); ++v)
