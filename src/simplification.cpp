@@ -519,11 +519,15 @@ class Collapser {
             inside.push_back(w);
           }
     counted_.clear();
+    counted_face_.resize(tris_.size(), 0);
     for (const std::uint32_t w : inside)
-      for (const std::uint32_t f : faces_[w]) counted_.push_back(f);
-    std::sort(counted_.begin(), counted_.end());
-    counted_.erase(std::unique(counted_.begin(), counted_.end()), counted_.end());
+      for (const std::uint32_t f : faces_[w])
+        if (!counted_face_[f]) {
+          counted_face_[f] = 1;
+          counted_.push_back(f);
+        }
     for (const std::uint32_t f : counted_) {
+      counted_face_[f] = 0;
       const Vec3 n2 = normal(f);
       const double twice_area = n2.norm();
       if (twice_area > 0.0) q.add_plane(n2 / twice_area, -n2.dot(p_[tris_[f][0]]) / twice_area, 0.5 * twice_area);
@@ -854,7 +858,7 @@ class Collapser {
   double vertex_error_ = 0.0;
   // scratch
   std::vector<std::uint32_t> ring_, ring2_, moves_, around_, handed_, keepers_, ball_, counted_;
-  std::vector<std::uint8_t> seen_;
+  std::vector<std::uint8_t> seen_, counted_face_;
   std::vector<std::pair<std::uint32_t, double>> nearest_;
 };
 
