@@ -26,13 +26,20 @@
 //     eigenvalues of their normals' second moment (area-weighted, so that
 //     the slivers phase V leaves along a crease hardly count) say whether
 //     they span one direction (flat ground), two (a crease, running along
-//     the third eigenvector) or three (a corner). A flat vertex moves
+//     the third eigenvector) or three (a corner). A fan says too much on
+//     phase V's meshes: a triangle left across a crease tilts the fans next
+//     to it, and several vertices near a corner span three directions. So
+//     a vertex's fan only nominates it; the planes in a ball of a few edges
+//     around it decide: three directions make it a corner candidate, and
+//     candidates whose planes meet at one point are one corner, kept at the
+//     candidate nearest that point (the others move along their line into
+//     it); two directions make it a crease, along their direction, if it
+//     also lies between two neighbours on its crease. A flat vertex moves
 //     freely; a crease vertex only onto a neighbour on a crease or corner
 //     along the crease direction; a vertex on an open boundary only along
 //     it; a corner, a crease meeting a boundary, a non-manifold vertex
-//     never. Phase V knows its crease vertices too, but its slivers and
-//     brought-back vertices make its labels a poorer guide than the planes,
-//     and this way meshes from elsewhere (hoppe92's) are treated alike.
+//     never. Phase V's own labels are not used, so that meshes from
+//     elsewhere (hoppe92's) are treated alike.
 //     Boundary edges add a constraint plane (through the edge,
 //     perpendicular to its triangle) to their ends' quadrics, so that a
 //     curved boundary costs what it deviates.
@@ -41,8 +48,9 @@
 //     corners of the triangles on uv: otherwise an edge turns non-manifold,
 //     or a handle or a separate part pinches), when it would make two
 //     triangles on the same three vertices (a tetrahedron folding flat),
-//     when a moved triangle's normal turns by more than max_normal_turn or
-//     its area (nearly) vanishes.
+//     when a moved triangle's normal turns by more than max_normal_turn,
+//     or it becomes a sliver (a sliver's normal says nothing, and one
+//     standing across a face is a sharp edge in its middle).
 //   - The error bound: every vertex of the input is kept by one triangle
 //     (first its own vertex's, then the triangle it is handed to when its
 //     triangle changes: the nearest of those around v after the move); a
