@@ -11,11 +11,14 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <random>
-#include <regex>
 #include <string>
+#include <vector>
 
 namespace recon::io {
 namespace {
@@ -50,6 +53,49 @@ struct Glb {
   std::vector<Accessor> accessors;
 };
 
+// The JSON is read with plain string searches (std::regex trips GCC 12's
+// -Wmaybe-uninitialized in the sanitizer build): each object that starts
+// with `start`, up to its first '}' (the writer's objects of views and
+// accessors hold no nested object before their fields end).
+std::vector<std::string> objects_from(const std::string& json, const std::string& start) {
+  std::vector<std::string> objects;
+  for (std::size_t at = json.find(start); at != std::string::npos; at = json.find(start, at + 1))
+    objects.push_back(json.substr(at, json.find('}', at) - at));
+  return objects;
+}
+
+// The number after "key": in `object` (0 when the key is absent).
+double number_of(const std::string& object, const std::string& key) {
+  const std::size_t at = object.find("\"" + key + "\":");
+  return at == std::string::npos ? 0.0 : std::strtod(object.c_str() + at + key.size() + 3, nullptr);
+}
+std::size_t whole(const std::string& object, const std::string& key) {
+  return static_cast<std::size_t>(number_of(object, key));
+}
+
+// The string after "key": in `object`.
+std::string text_of(const std::string& object, const std::string& key) {
+  const std::size_t at = object.find("\"" + key + "\":\"");
+  if (at == std::string::npos) return {};
+  const std::size_t from = at + key.size() + 4;
+  return object.substr(from, object.find('"', from) - from);
+}
+
+// The three numbers of the array after "key":[ in `json`.
+std::array<double, 3> triple_of(const std::string& json, const std::string& key) {
+  std::array<double, 3> values{};
+  const std::size_t at = json.find("\"" + key + "\":[");
+  EXPECT_NE(at, std::string::npos) << key;
+  if (at == std::string::npos) return values;
+  const char* p = json.c_str() + at + key.size() + 4;
+  for (double& v : values) {
+    char* end = nullptr;
+    v = std::strtod(p, &end);
+    p = end + 1;  // past the ',' or ']'
+  }
+  return values;
+}
+
 Glb parse(const std::string& file) {
   Glb g;
   EXPECT_GE(file.size(), 20u);
@@ -68,12 +114,11 @@ Glb parse(const std::string& file) {
     EXPECT_EQ(bin_at + 8 + bin_length, file.size());
     g.bin = file.substr(bin_at + 8, bin_length);
   }
-  const std::regex view(R"re(\{"buffer":0,"byteOffset":(\d+),"byteLength":(\d+)(,"byteStride":(\d+))?)re");
-  for (std::sregex_iterator m(g.json.begin(), g.json.end(), view), end; m != end; ++m)
-    g.views.push_back({std::stoul((*m)[1]), std::stoul((*m)[2]), (*m)[4].matched ? std::stoul((*m)[4]) : 0});
-  const std::regex accessor(R"re(\{"bufferView":(\d+),"componentType":(\d+),"count":(\d+),"type":"(\w+)")re");
-  for (std::sregex_iterator m(g.json.begin(), g.json.end(), accessor), end; m != end; ++m)
-    g.accessors.push_back({std::stoul((*m)[1]), std::stoul((*m)[2]), std::stoul((*m)[3]), (*m)[4]});
+  for (const std::string& view : objects_from(g.json, "{\"buffer\":0,"))
+    g.views.push_back({whole(view, "byteOffset"), whole(view, "byteLength"), whole(view, "byteStride")});
+  for (const std::string& accessor : objects_from(g.json, "{\"bufferView\":"))
+    g.accessors.push_back({whole(accessor, "bufferView"), whole(accessor, "componentType"), whole(accessor, "count"),
+                           text_of(accessor, "type")});
   return g;
 }
 
@@ -136,12 +181,10 @@ void expect_glb_holds(const Glb& g, const Mesh& mesh, const std::vector<Vec3>& n
       low[k] = std::min(low[k], x);
       high[k] = std::max(high[k], x);
     }
-  const std::regex bounds(R"re("min":\[([^,]+),([^,]+),([^\]]+)\],"max":\[([^,]+),([^,]+),([^\]]+)\])re");
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(g.json, m, bounds));
+  const std::array<double, 3> min = triple_of(g.json, "min"), max = triple_of(g.json, "max");
   for (std::size_t k = 0; k < 3; ++k) {
-    EXPECT_EQ(std::stod(m[1 + k]), static_cast<double>(low[k]));
-    EXPECT_EQ(std::stod(m[4 + k]), static_cast<double>(high[k]));
+    EXPECT_EQ(min[k], static_cast<double>(low[k]));
+    EXPECT_EQ(max[k], static_cast<double>(high[k]));
   }
   EXPECT_EQ(g.views[0].length, 12 * n);
   EXPECT_EQ(g.views[1].length, 12 * n);
