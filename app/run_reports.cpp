@@ -187,26 +187,6 @@ StepReport refinement_report(const Refinement& r) {
   return report;
 }
 
-// Phase VI: triangles before and after, and the bound measured on the
-// unsimplified mesh's vertices (in rho's units, as --max-error takes it).
-StepReport simplification_report(const Simplification& s, double rho) {
-  std::ostringstream line;
-  line << "phase VI  simplification: " << s.triangles_before << " -> " << plural(s.triangles_after, "triangle") << " ("
-       << plural(s.collapses, "collapse") << ", " << plural(s.corner_vertices, "fixed vertex") << ", "
-       << plural(s.crease_vertices, "crease or boundary vertex") << " moved along their lines only";
-  if (s.vertex_error > 0.0) line << "; vertices within " << format_length(s.vertex_error / rho) << " rho";
-  line << ") (" << format_seconds(s.seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  Json& j = report.stats;
-  j["triangles_before"] = s.triangles_before;
-  j["triangles_after"] = s.triangles_after;
-  j["collapses"] = s.collapses;
-  j["fixed_vertices"] = s.corner_vertices;
-  j["line_vertices"] = s.crease_vertices;
-  j["vertex_error_rho"] = s.vertex_error / rho;
-  j["seconds"] = s.seconds;
-  return report;
-}
 
 // The mesh's colours (when the input had some).
 StepReport colors_report(const VertexColorOptions& options, double seconds) {
@@ -271,6 +251,33 @@ void release_all_but_the_mesh(Reconstruction& r) {
 }
 
 }  // namespace
+
+// Phase VI: triangles before and after, and the bound measured on the
+// unsimplified mesh's vertices: in rho's units when the run has a rho (as
+// --max-error takes it), else in the mesh's own (recon simplify).
+StepReport simplification_report(const Simplification& s, std::optional<double> rho) {
+  std::ostringstream line;
+  line << "phase VI  simplification: " << s.triangles_before << " -> " << plural(s.triangles_after, "triangle") << " ("
+       << plural(s.collapses, "collapse") << ", " << plural(s.corner_vertices, "fixed vertex") << ", "
+       << plural(s.crease_vertices, "crease or boundary vertex") << " moved along their lines only";
+  if (s.vertex_error > 0.0)
+    line << "; vertices within " << (rho ? format_length(s.vertex_error / *rho) + " rho" : format_length(s.vertex_error));
+  line << ") (" << format_seconds(s.seconds) << ")";
+  StepReport report{{line.str()}, {}};
+  Json& j = report.stats;
+  j["triangles_before"] = s.triangles_before;
+  j["triangles_after"] = s.triangles_after;
+  j["collapses"] = s.collapses;
+  j["fixed_vertices"] = s.corner_vertices;
+  j["line_vertices"] = s.crease_vertices;
+  if (rho) {
+    j["vertex_error_rho"] = s.vertex_error / *rho;
+  } else {
+    j["vertex_error"] = s.vertex_error;
+  }
+  j["seconds"] = s.seconds;
+  return report;
+}
 
 template StepReport phase_1_report<2>(const TangentPlanes<2>&, std::size_t);
 template StepReport phase_1_report<3>(const TangentPlanes<3>&, std::size_t);

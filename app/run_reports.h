@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 
 namespace recon::cli {
@@ -37,6 +38,9 @@ struct SignedDistanceFigures {
 };
 /// Phase III ("signed_distance").
 [[nodiscard]] StepReport phase_3_report(const SignedDistanceFigures& figures);
+/// Phase VI ("simplification"): the vertices' bound in rho's units when
+/// `rho` is given (reconstruct), else in the mesh's own (recon simplify).
+[[nodiscard]] StepReport simplification_report(const Simplification& s, std::optional<double> rho);
 /// A lattice's cubes (or squares) along each axis, as a JSON array.
 [[nodiscard]] Json lattice_size_json(std::span<const std::int32_t> size);
 

@@ -45,27 +45,6 @@ StepReport read_report(const std::filesystem::path& path, const Mesh& mesh, doub
   return report;
 }
 
-// Phase VI's line and figures, the bound in the mesh's own units (there is
-// no rho here).
-StepReport simplified_report(const Simplification& s) {
-  std::ostringstream line;
-  line << "simplify  " << s.triangles_before << " -> " << plural(s.triangles_after, "triangle") << " ("
-       << plural(s.collapses, "collapse") << ", " << plural(s.corner_vertices, "fixed vertex") << ", "
-       << plural(s.crease_vertices, "crease or boundary vertex") << " moved along their lines only";
-  if (s.vertex_error > 0.0) line << "; vertices within " << format_length(s.vertex_error);
-  line << ") (" << format_seconds(s.seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  Json& j = report.stats;
-  j["triangles_before"] = s.triangles_before;
-  j["triangles_after"] = s.triangles_after;
-  j["collapses"] = s.collapses;
-  j["fixed_vertices"] = s.corner_vertices;
-  j["line_vertices"] = s.crease_vertices;
-  j["vertex_error"] = s.vertex_error;
-  j["seconds"] = s.seconds;
-  return report;
-}
-
 SimplifyOptions simplify_options(const SimplifyCommandOptions& o) {
   SimplifyOptions options;
   if (!o.target.empty()) std::tie(options.target_triangles, options.ratio) = simplify_target_of(o.target);
@@ -90,7 +69,7 @@ void run_simplify(const SimplifyCommandOptions& o, const GlobalOptions& global) 
     throw InvalidInputError(o.input.string() + ": cannot simplify to " + std::to_string(options.target_triangles) +
                             " triangles: the mesh has only " + std::to_string(mesh.triangles.size()));
   Simplification s = simplify(mesh, options);
-  summary.add(simplified_report(s), "simplification");
+  summary.add(simplification_report(s, std::nullopt), "simplification");
   // A GLB always has normals; the others when asked. The input's own
   // normals travel with their vertices; without them, the faces' mean.
   const bool glb = write_options.format == io::MeshFormat::glb;
