@@ -1050,13 +1050,19 @@ Simplification simplify_on(const Mesh& mesh, const SimplifyOptions& options, std
 // Cost O(V log V + F log F).
 Mesh in_canonical_order(const Mesh& mesh) {
   const std::size_t n = mesh.vertices.size();
-  std::vector<std::uint32_t> by_position(n);
-  std::iota(by_position.begin(), by_position.end(), 0U);
-  std::sort(by_position.begin(), by_position.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const Vec3& p = mesh.vertices[a];
-    const Vec3& q = mesh.vertices[b];
-    return std::tie(p.x(), p.y(), p.z(), a) < std::tie(q.x(), q.y(), q.z(), b);
+  // Sorted with the coordinates beside each index, not looked up through
+  // it: the same order (x, y, z, index), without a cache miss a comparison.
+  struct Keyed {
+    double x, y, z;
+    std::uint32_t index;
+  };
+  std::vector<Keyed> keyed(n);
+  for (std::uint32_t i = 0; i < n; ++i) keyed[i] = {mesh.vertices[i].x(), mesh.vertices[i].y(), mesh.vertices[i].z(), i};
+  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+    return std::tie(a.x, a.y, a.z, a.index) < std::tie(b.x, b.y, b.z, b.index);
   });
+  std::vector<std::uint32_t> by_position(n);
+  for (std::size_t i = 0; i < n; ++i) by_position[i] = keyed[i].index;
   // spatial_order keeps the order it is given within a cell: by position.
   const std::vector<Vec3> sorted = permuted<Vec3>(mesh.vertices, by_position);
   std::vector<std::uint32_t> order = spatial_order(sorted);
