@@ -78,9 +78,10 @@
 // vertex degree for the re-costing and checks; with max_error, also the
 // input vertices handed on per collapse (a few per triangle). Memory: a
 // quadric (11 doubles), a triangle list, a ring (64 bytes) and a heap slot
-// per vertex. Measured: 2.4 s for 973,520 triangles to a tenth (3.3 s
-// before the caches; docs/benchmarks.md), mostly cache misses in the
-// queue's random order; meshoptimizer takes 0.54 s.
+// per vertex. Measured: 2.2-2.3 s for 973,520 triangles to a tenth, the
+// numbering included (2.4-2.5 s before the prefetching, 3.3 s before the
+// caches; docs/benchmarks.md), mostly cache misses in the queue's random
+// order; meshoptimizer takes 0.54 s.
 
 #include "recon/mesh.h"
 #include "recon/operation_counts.h"
