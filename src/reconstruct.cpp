@@ -229,9 +229,11 @@ void check_length_option(const char* name, const std::optional<double>& value) {
 // Phase VI's values, before anything runs: a bad one found after an hour
 // of phases I-V would waste the hour.
 void check_simplify_step(const SimplifyStep& step) {
-  if (step.ratio != 0.0 && !(step.ratio > 0.0 && step.ratio < 1.0))
+  // isfinite first: an ordered comparison with a NaN raises the invalid
+  // exception (trapped in the sanitizer build).
+  if (step.ratio != 0.0 && (!std::isfinite(step.ratio) || step.ratio <= 0.0 || step.ratio >= 1.0))
     throw InvalidInputError("simplify: a ratio must lie between 0 and 1 (exclusive), not " + std::to_string(step.ratio));
-  if (!(step.max_error >= 0.0) || !std::isfinite(step.max_error))
+  if (!std::isfinite(step.max_error) || step.max_error < 0.0)
     throw InvalidInputError("simplify: the error bound must be a finite multiple of rho >= 0, not " +
                             std::to_string(step.max_error));
 }

@@ -180,10 +180,12 @@ std::size_t target_of(const Mesh& mesh, const SimplifyOptions& options) {
   const std::size_t n = mesh.triangles.size();
   const bool by_count = options.target_triangles > 0, by_ratio = options.ratio != 0.0;
   const bool bounded = options.max_error != 0.0;
-  if (!(options.max_error >= 0.0) || !std::isfinite(options.max_error))
+  // isfinite first: an ordered comparison with a NaN raises the invalid
+  // exception, which the sanitizer build traps.
+  if (!std::isfinite(options.max_error) || options.max_error < 0.0)
     throw InvalidInputError("simplify: the error bound must be a finite distance >= 0, not " +
                             std::to_string(options.max_error));
-  if (by_ratio && !(options.ratio > 0.0 && options.ratio < 1.0))
+  if (by_ratio && (!std::isfinite(options.ratio) || options.ratio <= 0.0 || options.ratio >= 1.0))
     throw InvalidInputError("simplify: the ratio must lie between 0 and 1 (exclusive), not " +
                             std::to_string(options.ratio));
   if (by_count && options.target_triangles > n)

@@ -295,6 +295,20 @@ TEST(Simplification, RefusesBadTargets) {
   Mesh bad = box;
   bad.triangles[0][1] = 99;
   EXPECT_THROW((void)simplify(bad, to_ratio(0.5)), InvalidInputError);
+  // reconstruct() refuses a bad phase VI request before phase I (NaN
+  // included, without an ordered comparison the sanitizer build would trap).
+  const PointCloud cloud = make_shape("sphere")->sample(500, 1);
+  for (const double r : {-0.5, 1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    ReconstructionOptions options;
+    options.simplify.ratio = r;
+    EXPECT_THROW((void)reconstruct(cloud, options), InvalidInputError) << r;
+  }
+  for (const double e : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    ReconstructionOptions options;
+    options.simplify.ratio = 0.5;
+    options.simplify.max_error = e;
+    EXPECT_THROW((void)reconstruct(cloud, options), InvalidInputError) << e;
+  }
 }
 
 // Colours travel with their vertices.
