@@ -3,8 +3,12 @@
 //
 // What is written: one scene, one node, one mesh of one triangle primitive
 // (mode 4) with
-//   - POSITION: float VEC3, with the min and max the specification requires
-//     (each the exact decimal of the float, so any reader agrees);
+//   - POSITION: float VEC3, relative to the centre of the mesh's bounding
+//     box, which the node's translation (doubles in the JSON) adds back: a
+//     scan in georeferenced coordinates (a LiDAR tile at x = 4e6 m) keeps
+//     its detail, where floats of the coordinates themselves would round
+//     them to a quarter of a metre. With the min and max the specification
+//     requires (each the exact decimal of the float, so any reader agrees);
 //   - NORMAL: float VEC3, unit; always (GLB viewers shade with them): the
 //     mesh's own, or the area-weighted ones (vertex_normals.h) when it has
 //     none;
@@ -48,13 +52,15 @@ constexpr std::uint32_t bin_chunk = 0x004E4942;   // "BIN\0"
 constexpr int array_buffer = 34962, element_array_buffer = 34963;
 constexpr int component_float = 5126, component_unsigned_byte = 5121, component_unsigned_int = 5125;
 
-// The exact decimal of a float (as a double: the shortest that reads back
-// as that double, which is the float itself).
-void append_float_exactly(std::string& out, float value) {
+// The shortest decimal that reads back as exactly this double.
+void append_double_exactly(std::string& out, double value) {
   char text[32];
-  const auto [end, ec] = std::to_chars(text, text + sizeof text, static_cast<double>(value));
+  const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
   out.append(text, ec == std::errc{} ? static_cast<std::size_t>(end - text) : 0);
 }
+
+// The exact decimal of a float (as a double, which reads back as the float).
+void append_float_exactly(std::string& out, float value) { append_double_exactly(out, static_cast<double>(value)); }
 
 void pad_to_4(std::string& bytes, char with) {
   while (bytes.size() % 4 != 0) bytes += with;
@@ -65,7 +71,19 @@ struct Buffer {
   std::string bytes;
   std::size_t positions = 0, normals = 0, colors = 0, indices = 0;
   std::array<float, 3> min{}, max{};
+  Vec3 centre = Vec3::Zero();  ///< the bounding box's, the node's translation
 };
+
+// The centre of the vertices' bounding box (the midpoint of its extremes,
+// in doubles).
+Vec3 box_centre(const std::vector<Vec3>& vertices) {
+  Vec3 low = vertices.front(), high = vertices.front();
+  for (const Vec3& v : vertices) {
+    low = low.cwiseMin(v);
+    high = high.cwiseMax(v);
+  }
+  return 0.5 * (low + high);
+}
 
 Buffer make_buffer(const Mesh& mesh, const std::vector<Vec3>& normals) {
   Buffer b;
@@ -73,9 +91,10 @@ Buffer make_buffer(const Mesh& mesh, const std::vector<Vec3>& normals) {
   b.bytes.reserve(n * (mesh.has_colors() ? 28 : 24) + mesh.triangles.size() * 12);
   b.min.fill(std::numeric_limits<float>::infinity());
   b.max.fill(-std::numeric_limits<float>::infinity());
+  b.centre = box_centre(mesh.vertices);
   for (const Vec3& v : mesh.vertices)
     for (int k = 0; k < 3; ++k) {
-      const auto x = static_cast<float>(v[k]);
+      const auto x = static_cast<float>(v[k] - b.centre[k]);
       append_little_endian(b.bytes, x);
       b.min[static_cast<std::size_t>(k)] = std::min(b.min[static_cast<std::size_t>(k)], x);
       b.max[static_cast<std::size_t>(k)] = std::max(b.max[static_cast<std::size_t>(k)], x);
@@ -125,7 +144,12 @@ std::string asset() {
 std::string describe(const Mesh& mesh, const Buffer& b) {
   const std::size_t n = mesh.vertices.size();
   const bool colors = mesh.has_colors();
-  std::string json = "{" + asset() + ",\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],";
+  std::string json = "{" + asset() + ",\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0,\"translation\":[";
+  for (int k = 0; k < 3; ++k) {
+    if (k > 0) json += ',';
+    append_double_exactly(json, b.centre[k]);
+  }
+  json += "]}],";
   json += "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":1";
   if (colors) json += ",\"COLOR_0\":2";
   json += "},\"indices\":" + std::to_string(colors ? 3 : 2) + ",\"mode\":4}]}],";

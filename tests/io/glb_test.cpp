@@ -173,9 +173,19 @@ void expect_glb_holds(const Glb& g, const Mesh& mesh, const std::vector<Vec3>& n
   std::array<float, 3> low{}, high{};
   low.fill(std::numeric_limits<float>::infinity());
   high.fill(-std::numeric_limits<float>::infinity());
+  // Positions are stored relative to the bounding box's centre, the node's
+  // translation (written exactly).
+  Vec3 low_d = mesh.vertices.front(), high_d = mesh.vertices.front();
+  for (const Vec3& v : mesh.vertices) {
+    low_d = low_d.cwiseMin(v);
+    high_d = high_d.cwiseMax(v);
+  }
+  const Vec3 centre = 0.5 * (low_d + high_d);
+  const std::array<double, 3> translation = triple_of(g.json, "translation");
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(translation[k], centre[static_cast<Eigen::Index>(k)]);
   for (std::size_t v = 0; v < n; ++v)
     for (std::size_t k = 0; k < 3; ++k) {
-      const auto x = static_cast<float>(mesh.vertices[v][static_cast<Eigen::Index>(k)]);
+      const auto x = static_cast<float>(mesh.vertices[v][static_cast<Eigen::Index>(k)] - centre[static_cast<Eigen::Index>(k)]);
       EXPECT_EQ(float_at(g.bin, g.views[0].offset + 12 * v + 4 * k), x);
       EXPECT_EQ(float_at(g.bin, g.views[1].offset + 12 * v + 4 * k), static_cast<float>(normals[v][static_cast<Eigen::Index>(k)]));
       low[k] = std::min(low[k], x);
@@ -208,12 +218,41 @@ TEST(Glb, HoldsTheMeshValueForValueWithAndWithoutColours) {
   TempFolder folder;
   Mesh mesh = unit_normals(301, 499, 31);  // 301 vertices: lengths not multiples of 8
   write_mesh(folder / "a.glb", mesh);
-  expect_glb_holds(parse(read_bytes(folder / "a.glb")), mesh, mesh.normals);
+  const Glb plain = parse(read_bytes(folder / "a.glb"));
+  expect_glb_holds(plain, mesh, mesh.normals);
   mesh.colors = some_colors(mesh.vertices.size());
   write_mesh(folder / "b.GLB", mesh);  // (any case)
   const Glb g = parse(read_bytes(folder / "b.GLB"));
   expect_glb_holds(g, mesh, mesh.normals);
-  EXPECT_EQ(g.json.back(), ' ') << "the JSON padded with spaces";
+  // The JSON is padded with spaces (parse checked the 4-byte length); at
+  // least one of the two needs padding, so the rule is exercised.
+  std::size_t padded = 0;
+  for (const Glb* glb : {&plain, &g}) {
+    const std::size_t end = glb->json.find_last_not_of(' ');
+    EXPECT_EQ(glb->json[end], '}');
+    padded += glb->json.size() - 1 - end;
+  }
+  EXPECT_GT(padded, 0u) << "neither JSON needed padding: change the meshes";
+}
+
+// A scan in georeferenced coordinates (a LiDAR tile 4,000 km from its
+// origin): floats of the coordinates would round them to a quarter of a
+// metre; positions relative to the node's translation keep them to within
+// a float of the tile's own size.
+TEST(Glb, FarFromTheOriginKeepsItsDetail) {
+  Mesh mesh = unit_normals(300, 400, 11);
+  for (Vec3& v : mesh.vertices) v = Vec3(4.0e6, 5.0e5, 120.0) + 1e-3 * v;  // a tile of about 2 m
+  TempFolder dir;
+  io::write_mesh(dir.path() / "far.glb", mesh);
+  const Glb g = parse(read_bytes(dir.path() / "far.glb"));
+  const std::array<double, 3> t = triple_of(g.json, "translation");
+  double worst = 0.0;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double drawn = t[k] + static_cast<double>(float_at(g.bin, g.views[0].offset + 12 * v + 4 * k));
+      worst = std::max(worst, std::abs(drawn - mesh.vertices[v][static_cast<Eigen::Index>(k)]));
+    }
+  EXPECT_LT(worst, 1e-6) << "metres off where the scan was";
 }
 
 TEST(Glb, AMeshWithoutNormalsGetsTheAreaWeightedOnes) {
