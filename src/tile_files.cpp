@@ -145,7 +145,8 @@ TileMesh read_mesh(const std::filesystem::path& path) {
       throw bad(in, at_record("vertex", i) + "names an atom or an edge it cannot have");
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
       throw bad(in, at_record("vertex", i) + "a coordinate is not a finite number");
-    const Vec3 normal(static_cast<double>(v.normal[0]), static_cast<double>(v.normal[1]), static_cast<double>(v.normal[2]));
+    const Vec3 normal(static_cast<double>(v.normal[0]), static_cast<double>(v.normal[1]),
+                      static_cast<double>(v.normal[2]));
     const double length = normal.norm();
     if (!std::isfinite(length) || !(length == 0.0 || std::abs(length - 1.0) < 1e-3))  // (no comparison with a NaN)
       throw bad(in, at_record("vertex", i) + "its normal is neither unit nor zero");
