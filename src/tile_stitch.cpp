@@ -176,7 +176,8 @@ class Stitch {
       if (welded && welded->out != none) return id[v] = welded->out;
       const Color color = color_of(x);
       if (plan_.normals) {
-        const Vec3 normal = has_normal(x) ? Vec3(x.normal[0], x.normal[1], x.normal[2])
+        const Vec3 normal = has_normal(x) ? Vec3(static_cast<double>(x.normal[0]), static_cast<double>(x.normal[1]),
+                                                 static_cast<double>(x.normal[2]))
                                           : unit_or_up(welded ? welded->faces : faces[v]);
         id[v] = out.add_vertex(position_of(x), plan_.colors ? &color : nullptr, normal);
       } else {
