@@ -1769,6 +1769,19 @@ TEST_F(CliSimplify, AMeshFromAFileSimplifiesAsInReconstruct) {
   EXPECT_EQ(stat(json, "read", "triangles"), static_cast<double>(io::read_mesh(at("full.ply")).triangles.size()));
 }
 
+// --normals on `recon simplify`: a unit normal per vertex of the result
+// (the input PLY has none: all from the final faces).
+TEST_F(CliSimplify, NormalsAreWrittenWhenAsked) {
+  ASSERT_NO_FATAL_FAILURE(generate("box", 6000, "box.ply"));
+  ASSERT_TRUE(succeeded(recon({"-q", "reconstruct", "box.ply", "-o", "full.ply"})));
+  ASSERT_TRUE(succeeded(recon({"-q", "simplify", "full.ply", "-o", "plain.ply", "--to", "300"})));
+  EXPECT_FALSE(io::read_mesh(at("plain.ply")).has_normals());
+  ASSERT_TRUE(succeeded(recon({"-q", "simplify", "full.ply", "-o", "n.ply", "--to", "300", "--normals"})));
+  const Mesh mesh = io::read_mesh(at("n.ply"));
+  ASSERT_EQ(mesh.normals.size(), mesh.vertices.size());
+  for (const Vec3& n : mesh.normals) EXPECT_NEAR(n.norm(), 1.0, 1e-6);
+}
+
 TEST_F(CliSimplify, ATiledMeshSimplifiesToTheInMemoryOne) {
   ASSERT_NO_FATAL_FAILURE(generate("terrain", 15000, "t.ply"));
   ASSERT_TRUE(succeeded(recon({"-q", "reconstruct", "t.ply", "-o", "whole.ply", "--simplify", "10%"})));
