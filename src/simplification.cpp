@@ -74,9 +74,12 @@ constexpr double tie_break = 1e-4;
 // The three queues, one interface: push, update (either way), erase, pop
 // the smallest (cost, vertex). Each counts its operations.
 
-class HeapQueue {
+// An indexed heap with update_key and erase (binary or pairing): the same
+// adapter for both.
+template <class Heap>
+class IndexedQueue {
  public:
-  explicit HeapQueue(std::size_t n) : heap_(n) {}
+  explicit IndexedQueue(std::size_t n) : heap_(n) {}
   [[nodiscard]] bool contains(std::uint32_t v) const { return heap_.contains(v); }
   void set(std::uint32_t v, double cost, OperationCounts& counts) {
     if (heap_.contains(v)) {
@@ -97,34 +100,10 @@ class HeapQueue {
   }
 
  private:
-  IndexedBinaryHeap<double> heap_;
+  Heap heap_;
 };
-
-class PairingQueue {
- public:
-  explicit PairingQueue(std::size_t n) : heap_(n) {}
-  [[nodiscard]] bool contains(std::uint32_t v) const { return heap_.contains(v); }
-  void set(std::uint32_t v, double cost, OperationCounts& counts) {
-    if (heap_.contains(v)) {
-      ++counts.decrease_keys;
-      heap_.update_key(v, cost);
-    } else {
-      ++counts.pushes;
-      heap_.push(v, cost);
-    }
-  }
-  void erase(std::uint32_t v) {
-    if (heap_.contains(v)) heap_.erase(v);
-  }
-  [[nodiscard]] bool empty() { return heap_.empty(); }
-  std::uint32_t pop(OperationCounts& counts) {
-    ++counts.pops;
-    return heap_.pop();
-  }
-
- private:
-  PairingHeap<double> heap_;
-};
+using HeapQueue = IndexedQueue<IndexedBinaryHeap<double>>;
+using PairingQueue = IndexedQueue<PairingHeap<double>>;
 
 // No update at all: a new key is a new entry, and the old ones are left in
 // the queue, recognised as stale when they surface (their version is old).
