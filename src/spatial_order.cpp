@@ -20,21 +20,28 @@ std::uint64_t spread_bits(std::uint64_t x) {
 
 }  // namespace
 
-std::vector<std::uint32_t> spatial_order(std::span<const Vec3> points) {
+std::vector<std::uint64_t> spatial_keys(std::span<const Vec3> points) {
   const Box<3> box = bounding_box<3>(points);
   constexpr double cells = 2097151.0;  // 2^21 - 1
   Vec3 scale = Vec3::Zero();
   for (int a = 0; a < 3; ++a)
     if (box.max[a] > box.min[a]) scale[a] = cells / (box.max[a] - box.min[a]);
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  std::vector<std::uint64_t> keys(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     std::uint64_t code = 0;
     for (int a = 0; a < 3; ++a) {
       const double q = std::clamp((points[i][a] - box.min[a]) * scale[a], 0.0, cells);
       code |= spread_bits(static_cast<std::uint64_t>(q)) << a;
     }
-    keyed[i] = {code, static_cast<std::uint32_t>(i)};
+    keys[i] = code;
   }
+  return keys;
+}
+
+std::vector<std::uint32_t> spatial_order(std::span<const Vec3> points) {
+  const std::vector<std::uint64_t> keys = spatial_keys(points);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) keyed[i] = {keys[i], static_cast<std::uint32_t>(i)};
   std::sort(keyed.begin(), keyed.end());
   std::vector<std::uint32_t> order(keyed.size());
   for (std::size_t j = 0; j < keyed.size(); ++j) order[j] = keyed[j].second;

@@ -100,6 +100,20 @@ TEST(SpatialOrder, VisitsTheOctantsInZOrder) {
   EXPECT_EQ(spatial_order(corners), (std::vector<std::uint32_t>{7, 6, 5, 4, 3, 2, 1, 0}));
 }
 
+// The keys are the order's: non-decreasing along it, and for the cube's
+// corners the bits x, y, z of the corner (x the lowest).
+TEST(SpatialOrder, KeysAreWhatTheOrderSorts) {
+  const std::vector<Vec3> points = uniform_points(2000, 23);
+  const std::vector<std::uint64_t> keys = spatial_keys(points);
+  const std::vector<std::uint32_t> order = spatial_order(points);
+  ASSERT_EQ(keys.size(), points.size());
+  for (std::size_t j = 1; j < order.size(); ++j) ASSERT_LE(keys[order[j - 1]], keys[order[j]]) << "position " << j;
+  std::vector<Vec3> corners;
+  for (int c = 0; c < 8; ++c) corners.emplace_back(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+  const std::vector<std::uint64_t> corner_keys = spatial_keys(corners);
+  for (std::size_t c = 1; c < 8; ++c) EXPECT_EQ(corner_keys[c] >> 60, c) << "corner " << c;
+}
+
 // Points in one cell (here exact copies) keep their input order.
 TEST(SpatialOrder, CopiesKeepTheirInputOrder) {
   std::vector<Vec3> points = uniform_points(300, 13);

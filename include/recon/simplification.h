@@ -65,10 +65,24 @@
 //     the vertex that moves), and a key the queue holds is not set again.
 //     detail/simplify_plain.h is the loop without them; the tests hold the
 //     two to the same mesh.
+//   - Rounds of blocks, for speed: one queue must run on one thread (its
+//     order is the output), and over a large mesh it jumps across memory
+//     at every pop. So a mesh of more than block_vertices vertices is
+//     first cut into blocks, the cells of a grid holding about that many
+//     vertices each, with a queue each over the vertices whose whole ring
+//     lies in the cell, on all threads: a collapse there touches its own
+//     block only, so the blocks cannot race or see each other. In a round
+//     every block makes its moves up to one cost, the round's limit (the
+//     cost a quarter of the moves reach), so the collapses go where they
+//     are cheapest, as with one queue; the grid shifts between rounds so
+//     that the seams move. One queue over the whole mesh makes the last
+//     2%, cheapest first. The textbook loop is that last queue alone
+//     (block_vertices = 0, or a small mesh).
 //
-// Determinism: the collapses run on one thread, in the queue's order; the
+// Determinism: each queue runs on one thread, in its order; the blocks of
+// a round in any order on any threads (they share nothing they write); the
 // start (quadrics, plane shapes, first costs) on all, each vertex alone,
-// its sums in its triangles' order. Ties in the queue are broken by vertex
+// its sums in its triangles' order. Ties in a queue are broken by vertex
 // index, after the vertices are renumbered by their positions. So the
 // output is the same for any thread count, and for any numbering of the
 // same triangles (a tiled run's stitched mesh simplifies to the in-memory
@@ -78,10 +92,10 @@
 // vertex degree for the re-costing and checks; with max_error, also the
 // input vertices handed on per collapse (a few per triangle). Memory: a
 // quadric (11 doubles), a triangle list, a ring (64 bytes) and a heap slot
-// per vertex. Measured: 2.2-2.3 s for 973,520 triangles to a tenth, the
-// numbering included (2.4-2.5 s before the prefetching, 3.3 s before the
-// caches; docs/benchmarks.md), mostly cache misses in the queue's random
-// order; meshoptimizer takes 0.54 s.
+// per vertex. Measured (docs/benchmarks.md): 0.75 s for 973,520 triangles
+// to a tenth on 2 threads, 1.1 s on one, the numbering included; one
+// queue over the whole mesh took 2.2-2.3 s, mostly cache misses in its
+// random order; meshoptimizer takes 0.54 s.
 
 #include "recon/mesh.h"
 #include "recon/operation_counts.h"
@@ -104,6 +118,11 @@ struct SimplifyOptions {
   double max_error = 0.0;             ///< distance every input vertex stays within (input units; 0: no bound)
   double max_normal_turn_degrees = 60.0;  ///< a collapse may turn a triangle's normal by at most this
   SimplifyQueue queue = SimplifyQueue::binary_heap;
+  /// The blocks' size, in vertices (see "Rounds of blocks" above; 0: none,
+  /// one queue over the whole mesh). A mesh of at most this many vertices
+  /// has one queue either way. The result depends on it, never on the
+  /// thread count.
+  std::size_t block_vertices = std::size_t{1} << 14;
 };
 
 struct Simplification {

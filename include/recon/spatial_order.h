@@ -23,6 +23,10 @@ namespace recon {
 /// cell keep their input order). Cost: O(n log n), one sort of 64-bit keys.
 [[nodiscard]] std::vector<std::uint32_t> spatial_order(std::span<const Vec3> points);
 
+/// Each point's place on that curve: its 63-bit Z-order code (the key
+/// spatial_order sorts by). Cost: O(n).
+[[nodiscard]] std::vector<std::uint64_t> spatial_keys(std::span<const Vec3> points);
+
 /// values[order[0]], values[order[1]], ...
 template <class T>
 [[nodiscard]] std::vector<T> permuted(std::span<const T> values, std::span<const std::uint32_t> order) {
