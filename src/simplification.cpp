@@ -1051,7 +1051,7 @@ class Collapser {
     const auto for_stale = [&](auto&& visit) {
       for (const std::uint32_t f : faces_[v])
         for (const std::uint32_t w : tris_[f])
-          if (!fresh_[w]) visit(w);
+          if (mine(w) && !fresh_[w]) visit(w);  // (another block's lists may be changing)
     };
     for_stale([&](std::uint32_t w) { __builtin_prefetch(faces_[w].data()); });
     for_stale([&](std::uint32_t w) {
