@@ -1164,7 +1164,7 @@ constexpr double finish_share = 0.02;  // of the collapses asked for: the last q
 constexpr std::size_t most_rounds = 24;
 
 // The blocks of one round: the cells of a grid over the bounding box (an
-// octree level's, in spatial_keys's quantized coordinates), shifted by a
+// octree level's, in spatial_cells' coordinates), shifted by a
 // fraction of a cell on each axis; each cell with living vertices is a
 // block. Blocks are numbered by their first vertex; a block's vertices are
 // listed in increasing order (s.local: each one's place in its list).
@@ -1176,21 +1176,6 @@ struct Partition {
     return std::span<const std::uint32_t>(members).subspan(start[b], start[b + 1] - start[b]);
   }
 };
-
-// Each point's cell coordinates on spatial_keys's grid (2^21 a side).
-std::vector<std::array<std::uint32_t, 3>> grid_coordinates(const std::vector<Vec3>& points) {
-  const Box<3> box = bounding_box<3>(std::span<const Vec3>(points));
-  constexpr double cells = 2097151.0;  // 2^21 - 1
-  Vec3 scale = Vec3::Zero();
-  for (int a = 0; a < 3; ++a)
-    if (box.max[a] > box.min[a]) scale[a] = cells / (box.max[a] - box.min[a]);
-  std::vector<std::array<std::uint32_t, 3>> out(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    for (int a = 0; a < 3; ++a)
-      out[i][static_cast<std::size_t>(a)] =
-          static_cast<std::uint32_t>(std::clamp((points[i][a] - box.min[a]) * scale[a], 0.0, cells));
-  return out;
-}
 
 // The octree level whose cells hold about `per_block` vertices each: the
 // finest at which the vertices (in Z-order, so a cell's are consecutive)
@@ -1333,7 +1318,7 @@ std::size_t run_round(Collapser<Queue, loop>& start, MeshState& s, const Partiti
 template <class Queue, Loop loop>
 std::size_t run_rounds(Collapser<Queue, loop>& start, MeshState& s, const std::vector<Vec3>& points,
                        std::size_t block_vertices, std::size_t target, std::vector<LaneTally>& tallies) {
-  const std::vector<std::array<std::uint32_t, 3>> grid = grid_coordinates(points);
+  const std::vector<std::array<std::uint32_t, 3>> grid = spatial_cells(points);
   const unsigned level = level_for(points, block_vertices);
   std::size_t alive = s.triangles;
   const double asked = static_cast<double>(s.triangles - target);

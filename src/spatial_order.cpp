@@ -20,21 +20,25 @@ std::uint64_t spread_bits(std::uint64_t x) {
 
 }  // namespace
 
-std::vector<std::uint64_t> spatial_keys(std::span<const Vec3> points) {
+std::vector<std::array<std::uint32_t, 3>> spatial_cells(std::span<const Vec3> points) {
   const Box<3> box = bounding_box<3>(points);
   constexpr double cells = 2097151.0;  // 2^21 - 1
   Vec3 scale = Vec3::Zero();
   for (int a = 0; a < 3; ++a)
     if (box.max[a] > box.min[a]) scale[a] = cells / (box.max[a] - box.min[a]);
+  std::vector<std::array<std::uint32_t, 3>> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      out[i][static_cast<std::size_t>(a)] =
+          static_cast<std::uint32_t>(std::clamp((points[i][a] - box.min[a]) * scale[a], 0.0, cells));
+  return out;
+}
+
+std::vector<std::uint64_t> spatial_keys(std::span<const Vec3> points) {
+  const std::vector<std::array<std::uint32_t, 3>> cells = spatial_cells(points);
   std::vector<std::uint64_t> keys(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    std::uint64_t code = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double q = std::clamp((points[i][a] - box.min[a]) * scale[a], 0.0, cells);
-      code |= spread_bits(static_cast<std::uint64_t>(q)) << a;
-    }
-    keys[i] = code;
-  }
+  for (std::size_t i = 0; i < points.size(); ++i)
+    keys[i] = spread_bits(cells[i][0]) | spread_bits(cells[i][1]) << 1 | spread_bits(cells[i][2]) << 2;
   return keys;
 }
 

@@ -12,6 +12,7 @@
 
 #include "recon/point_cloud.h"
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -26,6 +27,11 @@ namespace recon {
 /// Each point's place on that curve: its 63-bit Z-order code (the key
 /// spatial_order sorts by). Cost: O(n).
 [[nodiscard]] std::vector<std::uint64_t> spatial_keys(std::span<const Vec3> points);
+
+/// Each point's cell on that grid: its coordinates quantized to 0 ..
+/// 2^21 - 1 across the bounding box, per axis (what spatial_keys
+/// interleaves). Cost: O(n).
+[[nodiscard]] std::vector<std::array<std::uint32_t, 3>> spatial_cells(std::span<const Vec3> points);
 
 /// values[order[0]], values[order[1]], ...
 template <class T>
