@@ -1394,7 +1394,8 @@ std::vector<std::array<std::uint32_t, 3>> triangles_in_order(const std::vector<s
 // numbered (a tiled run's stitch numbers them otherwise than the run in
 // memory, for the same triangles); and vertices near in space are near in
 // memory, which the collapses, visiting the mesh in cost order, need (and
-// a run of consecutive vertices is a patch: the first stage's block).
+// a grid cell's vertices are a few runs of consecutive ones: a round's
+// block).
 // Cost O(V log V + F).
 Mesh in_canonical_order(const Mesh& mesh) {
   const std::size_t n = mesh.vertices.size();

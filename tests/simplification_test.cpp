@@ -137,6 +137,17 @@ SimplifyOptions to_ratio(double ratio) {
   return o;
 }
 
+SimplifyOptions as_far_as_it_goes() {
+  SimplifyOptions o;
+  o.target_triangles = 1;
+  return o;
+}
+
+SimplifyOptions in_blocks(SimplifyOptions o, std::size_t blocks) {
+  o.block_vertices = blocks;
+  return o;
+}
+
 double distance_to_mesh(const Mesh& m, const Vec3& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& t : m.triangles)
@@ -150,7 +161,7 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (p - (a + t * ab)).norm();
 }
 
-// One queue over the whole mesh, and stages of blocks (simplification.h)
+// One queue over the whole mesh, and rounds of blocks (simplification.h)
 // so small that most vertices lie on a seam: what one keeps, the other
 // must keep too.
 constexpr std::array<std::size_t, 2> block_sizes{0, 64};
@@ -162,10 +173,7 @@ TEST(Simplification, BoxBecomesTwelveTrianglesOnItsCorners) {
   const Mesh box = grid_box(8);
   for (const std::size_t blocks : block_sizes) {
     SCOPED_TRACE("blocks of " + std::to_string(blocks));
-    SimplifyOptions o;
-    o.target_triangles = 1;
-    o.block_vertices = blocks;
-    const Simplification s = simplify(box, o);
+    const Simplification s = simplify(box, in_blocks(as_far_as_it_goes(), blocks));
     EXPECT_EQ(s.mesh.triangles.size(), 12u);
     EXPECT_EQ(s.mesh.vertices.size(), 8u);
     for (const Vec3& v : s.mesh.vertices) EXPECT_DOUBLE_EQ(v.cwiseAbs().minCoeff(), 1.0) << v.transpose();
@@ -186,9 +194,7 @@ TEST(Simplification, BoxCreaseVerticesStayOnTheEdges) {
   const Features before = features(box);
   for (const std::size_t blocks : block_sizes) {
     SCOPED_TRACE("blocks of " + std::to_string(blocks));
-    SimplifyOptions o = to_ratio(0.1);
-    o.block_vertices = blocks;
-    expect_crease_vertices_on_the_edges(box, before, simplify(box, o));
+    expect_crease_vertices_on_the_edges(box, before, simplify(box, in_blocks(to_ratio(0.1), blocks)));
   }
 }
 
@@ -220,9 +226,7 @@ TEST(Simplification, HemisphereKeepsItsBoundaryLoop) {
   // are held by BoundaryPlanesKeepAWavyRimsShape.)
   for (const auto& [blocks, least, farthest] : {std::tuple{std::size_t{0}, 21u, 0.02}, std::tuple{std::size_t{64}, 16u, 0.03}}) {
     SCOPED_TRACE("blocks of " + std::to_string(blocks));
-    SimplifyOptions o = to_ratio(0.1);
-    o.block_vertices = blocks;
-    expect_one_round_rim(dome, simplify(dome, o), least, farthest);
+    expect_one_round_rim(dome, simplify(dome, in_blocks(to_ratio(0.1), blocks)), least, farthest);
   }
 }
 
@@ -258,10 +262,7 @@ TEST(Simplification, SeparateObjectsStaySeparateAndKeepTheirGenus) {
   const Mesh two = joined(lat_long(20, 30, false), lat_long(20, 30, false, 2.05));
   for (const std::size_t blocks : block_sizes) {
     SCOPED_TRACE("blocks of " + std::to_string(blocks));
-    SimplifyOptions o;
-    o.target_triangles = 1;
-    o.block_vertices = blocks;
-    const Simplification s = simplify(two, o);
+    const Simplification s = simplify(two, in_blocks(as_far_as_it_goes(), blocks));
     const MeshTopology t = analyze_topology(s.mesh);
     EXPECT_EQ(t.components, 2u);
     EXPECT_TRUE(t.watertight());
@@ -298,10 +299,7 @@ TEST(Simplification, TorusKeepsItsHole) {
   for (const auto& [rings, sectors] : {std::pair{40, 16}, std::pair{30, 3}, std::pair{3, 16}, std::pair{4, 4}}) {
     const Mesh torus = grid_torus(rings, sectors);
     for (const std::size_t blocks : block_sizes) {
-      SimplifyOptions o;
-      o.target_triangles = 1;
-      o.block_vertices = blocks;
-      const Simplification s = simplify(torus, o);
+      const Simplification s = simplify(torus, in_blocks(as_far_as_it_goes(), blocks));
       const MeshTopology t = analyze_topology(s.mesh);
       EXPECT_EQ(t.euler_characteristic, 0) << rings << " x " << sectors << ", blocks of " << blocks;
       EXPECT_EQ(t.non_manifold_edges, 0u) << rings << " x " << sectors << ", blocks of " << blocks;
@@ -535,12 +533,8 @@ TEST(Simplification, FastLoopGivesThePlainLoopsMesh) {
   expect_same_as_plain(joined(lat_long(16, 24, false), grid_torus(24, 10)), to_the_end, "sphere and torus");
   expect_same_as_plain(phase_5_mesh("part", 6000), to_ratio(0.1), "part");
   expect_same_as_plain(phase_5_mesh("terrain", 4000), to_ratio(0.1), "terrain");
-  // In stages of blocks (the plain loop runs the blocks one after another,
+  // In rounds of blocks (the plain loop runs the blocks one after another,
   // the fast one on all threads).
-  const auto in_blocks = [](SimplifyOptions o, std::size_t size) {
-    o.block_vertices = size;
-    return o;
-  };
   expect_same_as_plain(grid_box(6), in_blocks(to_the_end, 40), "box to the end, in blocks");
   expect_same_as_plain(lat_long(30, 48, true), in_blocks(bounded, 100), "hemisphere, bounded, in blocks");
   expect_same_as_plain(joined(lat_long(16, 24, false), grid_torus(24, 10)), in_blocks(to_the_end, 64),
@@ -548,7 +542,7 @@ TEST(Simplification, FastLoopGivesThePlainLoopsMesh) {
   expect_same_as_plain(phase_5_mesh("part", 6000), in_blocks(to_ratio(0.1), 256), "part, in blocks");
 }
 
-// ---- the stages ----
+// ---- the rounds ----
 
 // The edges' lengths, each edge once.
 std::vector<double> edge_lengths(const Mesh& m) {
@@ -569,17 +563,15 @@ double short_edge_share(const Mesh& m) {
          static_cast<double>(lengths.size());
 }
 
-// In stages of blocks the seams between the blocks are simplified like the
+// In rounds of blocks the seams between the blocks are simplified like the
 // rest: the same triangle count as one queue over the whole mesh, as few
 // short edges, the input as close. A seam left whole would be a line of
 // the input's short edges through the result.
 TEST(Simplification, SeamsAreSimplifiedLikeTheRest) {
   const Mesh torus = grid_torus(240, 60);  // 14,400 vertices: 15 blocks
-  SimplifyOptions one = to_ratio(0.1), staged = to_ratio(0.1);
-  one.block_vertices = 0;
-  staged.block_vertices = 1000;
-  const Simplification a = simplify(torus, one), b = simplify(torus, staged);
-  EXPECT_NE(a.mesh.triangles, b.mesh.triangles) << "the stages did not run";
+  const Simplification a = simplify(torus, in_blocks(to_ratio(0.1), 0));
+  const Simplification b = simplify(torus, in_blocks(to_ratio(0.1), 1000));
+  EXPECT_NE(a.mesh.triangles, b.mesh.triangles) << "the rounds did not run";
   EXPECT_EQ(b.mesh.triangles.size(), a.mesh.triangles.size());
   const double short_a = short_edge_share(a.mesh), short_b = short_edge_share(b.mesh);
   EXPECT_LE(short_b, 1.5 * short_a + 0.01) << short_a;
@@ -644,9 +636,7 @@ TEST(Simplification, BoundaryPlanesKeepAWavyRimsShape) {
   const Mesh disc = wavy_disc(16, 160);
   for (const std::size_t blocks : block_sizes) {
     SCOPED_TRACE("blocks of " + std::to_string(blocks));
-    SimplifyOptions o = to_ratio(0.1);
-    o.block_vertices = blocks;
-    expect_wavy_rim_kept(disc, simplify(disc, o));
+    expect_wavy_rim_kept(disc, simplify(disc, in_blocks(to_ratio(0.1), blocks)));
   }
 }
 
