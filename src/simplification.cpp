@@ -5,6 +5,7 @@
 #include "recon/detail/simplify_plain.h"
 #include "recon/errors.h"
 #include "recon/pairing_heap.h"
+#include "recon/parallel.h"
 #include "recon/spatial_order.h"
 #include "recon/timer.h"
 #include "recon/union_find.h"
@@ -274,10 +275,12 @@ struct MeshState {
   std::vector<RingMemo> rings;                          // fast loop only: a cache, not state
   bool on_all_threads = false;                          // rings read-only while true
   std::vector<std::vector<std::uint32_t>> kept;
-  std::vector<std::uint8_t> inner;       // per vertex: its whole ring lies in its block
+  std::vector<std::uint8_t> inner;       // per vertex: a round's lane may queue it (mark_inner)
   std::vector<std::uint32_t> block_of;  // per vertex: its block in this round
   std::vector<std::uint32_t> local;     // per vertex: its place in its block's list
   std::vector<std::uint32_t> living;    // the vertices with triangles, in increasing order (the rounds')
+  std::vector<double> cost;             // per vertex: its cheapest move's cost at the round's start
+  std::vector<double> inner_costs;      // scratch of round_limit (kept: no new pages a round)
 };
 
 template <class Queue, Loop loop = Loop::fast>
@@ -399,19 +402,25 @@ class Collapser {
  private:
   // Step 0: triangles and, per vertex, the triangles around it. A triangle
   // with a repeated vertex has no area and no plane: it is left out.
+  // (Each thread fills the lists of its own run of vertices, every list in
+  // the triangles' order, allocated once: the same lists on any threads.)
   void load_triangles(const Mesh& mesh) {
     tris_.reserve(mesh.triangles.size());
-    faces_.resize(p_.size());
-    std::vector<std::uint32_t> degree(p_.size(), 0);  // each list allocated once
     for (const auto& t : mesh.triangles)
-      for (const std::uint32_t v : t) ++degree[v];
-    for (std::size_t v = 0; v < p_.size(); ++v) faces_[v].reserve(degree[v]);
-    for (const auto& t : mesh.triangles) {
-      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
-      const auto f = static_cast<std::uint32_t>(tris_.size());
-      tris_.push_back(t);
-      for (const std::uint32_t v : t) faces_[v].push_back(f);
-    }
+      if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) tris_.push_back(t);
+    faces_.resize(p_.size());
+    const auto parts = static_cast<std::size_t>(std::max(1, thread_count()));
+    detail::parallel_for(parts, [&](std::size_t part) {
+      const std::size_t lo = part * p_.size() / parts, hi = (part + 1) * p_.size() / parts;
+      std::vector<std::uint32_t> degree(hi - lo, 0);
+      for (const auto& t : tris_)
+        for (const std::uint32_t v : t)
+          if (v >= lo && v < hi) ++degree[v - lo];
+      for (std::size_t v = lo; v < hi; ++v) faces_[v].reserve(degree[v - lo]);
+      for (std::uint32_t f = 0; f < tris_.size(); ++f)
+        for (const std::uint32_t v : tris_[f])
+          if (v >= lo && v < hi) faces_[v].push_back(f);
+    });
     alive_tri_.assign(tris_.size(), 1);
     s_.triangles = tris_.size();
     if (loop == Loop::fast) rings_.assign(p_.size(), RingMemo{});
@@ -1206,8 +1215,8 @@ unsigned level_for(const std::vector<Vec3>& points, std::size_t per_block) {
   return 20;
 }
 
-Partition partition(MeshState& s, const std::vector<std::array<std::uint32_t, 3>>& grid, unsigned level,
-                    double shift) {
+void partition(MeshState& s, const std::vector<std::array<std::uint32_t, 3>>& grid, unsigned level, double shift,
+               Partition& out) {
   const unsigned side = 21 - level;
   const auto offset = static_cast<std::uint32_t>(shift * static_cast<double>(1u << side));
   const auto key_of = [&](std::size_t v) {
@@ -1231,33 +1240,34 @@ Partition partition(MeshState& s, const std::vector<std::array<std::uint32_t, 3>
     s.block_of[v] = last_id;
     s.local[v] = size[last_id]++;
   }
-  Partition out;
   out.start.assign(size.size() + 1, 0);
   for (std::size_t b = 0; b < size.size(); ++b) out.start[b + 1] = out.start[b] + size[b];
   out.members.resize(out.start.back());
   for (const std::uint32_t v : s.living) out.members[out.start[s.block_of[v]] + s.local[v]] = v;
-  return out;
 }
 
-// The per-vertex mark of the blocks' lanes: v's ring lies in v's block.
-void mark_inner(MeshState& s) {
+// The per-vertex mark of the blocks' lanes: v's move costs at most the
+// round's limit (at the round's start: one whose cost falls under it in
+// the round waits for the next), and v's ring lies in v's block.
+void mark_inner(MeshState& s, double limit) {
   s.inner.assign(s.faces.size(), 0);
   detail::parallel_for_dynamic(s.living.size(), 4096, [&](std::size_t i) {
     const std::uint32_t v = s.living[i];
-    bool inner = true;
+    bool inner = s.cost[v] <= limit;
     for (const std::uint32_t f : s.faces[v])
       for (const std::uint32_t w : s.tris[f]) inner = inner && s.block_of[w] == s.block_of[v];
     s.inner[v] = inner ? 1 : 0;
   });
 }
 
-// A round's limit: the `wanted`-th smallest cost of the inner vertices'
+// A round's limit: the `wanted`-th smallest cost of the living vertices'
 // cheapest moves, `wanted` at most round_fraction of them (infinity when
 // fewer can move; -1 when none is wanted).
-double round_limit(const MeshState& s, const std::vector<double>& cost, std::size_t wanted) {
-  std::vector<double> inner;
+double round_limit(MeshState& s, std::size_t wanted) {
+  std::vector<double>& inner = s.inner_costs;  // (all the living: the seams' too)
+  inner.clear();
   for (const std::uint32_t v : s.living)
-    if (s.inner[v] && cost[v] < std::numeric_limits<double>::infinity()) inner.push_back(cost[v]);
+    if (s.cost[v] < std::numeric_limits<double>::infinity()) inner.push_back(s.cost[v]);
   wanted = std::min(wanted, static_cast<std::size_t>(round_fraction * static_cast<double>(inner.size())));
   if (wanted == 0 || inner.empty()) return -1.0;
   if (wanted >= inner.size()) return std::numeric_limits<double>::infinity();
@@ -1284,10 +1294,10 @@ LaneTally tally_of(const Lane& lane, std::size_t alive_before) {
 template <class Queue, Loop loop>
 std::size_t run_round(Collapser<Queue, loop>& start, MeshState& s, const Partition& blocks, std::size_t collapses,
                       std::vector<LaneTally>& tallies) {
-  mark_inner(s);
-  std::vector<double> cost;
+  std::vector<double>& cost = s.cost;
   start.costs_now(cost);
-  const double limit = round_limit(s, cost, collapses);
+  const double limit = round_limit(s, collapses);
+  mark_inner(s, limit);
   std::vector<std::size_t> under(blocks.count(), 0);  // per block: inner moves under the limit
   std::size_t all = 0;
   for (const std::uint32_t v : s.living)
@@ -1324,8 +1334,9 @@ std::size_t run_rounds(Collapser<Queue, loop>& start, MeshState& s, const std::v
   const double asked = static_cast<double>(s.triangles - target);
   for (std::uint32_t v = 0; v < s.faces.size(); ++v)
     if (!s.faces[v].empty()) s.living.push_back(v);
+  Partition blocks;
   for (std::size_t r = 0; r < most_rounds && static_cast<double>(alive - target) > finish_share * asked; ++r) {
-    const Partition blocks = partition(s, grid, level, round_shifts[r % round_shifts.size()]);
+    partition(s, grid, level, round_shifts[r % round_shifts.size()], blocks);
     // A collapse removes at most two triangles: half the excess never
     // passes the target.
     const std::size_t removed = run_round(start, s, blocks, (alive - target) / 2, tallies);
@@ -1410,9 +1421,17 @@ Mesh in_canonical_order(const Mesh& mesh) {
   std::vector<Keyed> keyed(n);
   for (std::uint32_t i = 0; i < n; ++i)
     keyed[i] = {codes[i], mesh.vertices[i].x(), mesh.vertices[i].y(), mesh.vertices[i].z(), i};
-  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+  // (A total order, the index last: halves sorted on two threads and
+  // merged give the one order.)
+  const auto before = [](const Keyed& a, const Keyed& b) {
     return std::tie(a.code, a.x, a.y, a.z, a.index) < std::tie(b.code, b.x, b.y, b.z, b.index);
+  };
+  const auto middle = keyed.begin() + static_cast<std::ptrdiff_t>(n / 2);
+  detail::parallel_for(2, [&](std::size_t half) {
+    if (half == 0) std::sort(keyed.begin(), middle, before);
+    else std::sort(middle, keyed.end(), before);
   });
+  std::inplace_merge(keyed.begin(), middle, keyed.end(), before);
   Mesh out;
   std::vector<std::uint32_t> renumber(n);
   out.vertices.reserve(n);
