@@ -347,6 +347,7 @@ class Collapser {
     const auto one = [&](std::size_t i, std::vector<std::uint32_t>& scratch) {
       const std::uint32_t v = living[i];
       if (!fresh_[v]) {
+        if (loop == Loop::fast) keep_ring(v, scratch);
         const auto c = cheapest(v, scratch);
         out[v] = c.second;
         if (loop == Loop::plain) return;
@@ -791,6 +792,18 @@ class Collapser {
     memo.size = static_cast<std::uint32_t>(out.size());
   }
 
+  // Gathers and keeps v's ring when it is stale, on any thread: the thread
+  // that handles v is the only one to write v's memo (neighbours() on all
+  // threads keeps none, whatever vertex a rule asks about).
+  void keep_ring(std::uint32_t v, std::vector<std::uint32_t>& scratch) const {
+    RingMemo& memo = rings_[v];
+    if (memo.size <= memo.ring.size()) return;
+    gather_ring(v, scratch);
+    if (scratch.size() > memo.ring.size()) return;
+    std::copy(scratch.begin(), scratch.end(), memo.ring.begin());
+    memo.size = static_cast<std::uint32_t>(scratch.size());
+  }
+
   // (An insertion into a short sorted list: a ring has about six.)
   void gather_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
@@ -847,6 +860,7 @@ class Collapser {
     detail::parallel_for_dynamic((p_.size() + block - 1) / block, 1, [&](std::size_t b) {
       std::vector<std::uint32_t> scratch;
       for (std::size_t v = b * block; v < std::min(p_.size(), (b + 1) * block); ++v) {
+        keep_ring(static_cast<std::uint32_t>(v), scratch);
         cheap_[v] = cheapest(static_cast<std::uint32_t>(v), scratch);
         fresh_[v] = 1;
       }
