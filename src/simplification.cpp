@@ -1181,7 +1181,10 @@ class Collapser {
 // grid shifts from round to round, so that each round's seams lie inside
 // the next round's cells, and one queue over every vertex makes the last
 // 2%.
-constexpr double round_fraction = 0.25;  // of the inner vertices: the most a round's limit lets move
+// Of the living vertices, the most a round's limit lets move: half in the
+// first two rounds (the mesh is fine, its costs close together), then a
+// quarter.
+constexpr double round_fraction(std::size_t round) { return round < 2 ? 0.5 : 0.25; }
 constexpr std::array<double, 4> round_shifts{0.0, 0.5, 0.25, 0.75};  // of a cell, on each axis
 constexpr double finish_share = 0.02;  // of the collapses asked for: the last queue's
 constexpr std::size_t most_rounds = 24;
@@ -1275,14 +1278,14 @@ void mark_inner(MeshState& s, double limit) {
 }
 
 // A round's limit: the `wanted`-th smallest cost of the living vertices'
-// cheapest moves, `wanted` at most round_fraction of them (infinity when
+// cheapest moves, `wanted` at most round_fraction(round) of them (infinity when
 // fewer can move; -1 when none is wanted).
-double round_limit(MeshState& s, std::size_t wanted) {
+double round_limit(MeshState& s, std::size_t round, std::size_t wanted) {
   std::vector<double>& inner = s.inner_costs;  // (all the living: the seams' too)
   inner.clear();
   for (const std::uint32_t v : s.living)
     if (s.cost[v] < std::numeric_limits<double>::infinity()) inner.push_back(s.cost[v]);
-  wanted = std::min(wanted, static_cast<std::size_t>(round_fraction * static_cast<double>(inner.size())));
+  wanted = std::min(wanted, static_cast<std::size_t>(round_fraction(round) * static_cast<double>(inner.size())));
   if (wanted == 0 || inner.empty()) return -1.0;
   if (wanted >= inner.size()) return std::numeric_limits<double>::infinity();
   std::nth_element(inner.begin(), inner.begin() + static_cast<std::ptrdiff_t>(wanted - 1), inner.end());
@@ -1306,25 +1309,25 @@ LaneTally tally_of(const Lane& lane, std::size_t alive_before) {
 // `collapses` (by its moves under the limit). Adds each block's tally;
 // returns the triangles removed.
 template <class Queue, Loop loop>
-std::size_t run_round(Collapser<Queue, loop>& start, MeshState& s, const Partition& blocks, std::size_t collapses,
-                      std::vector<LaneTally>& tallies) {
+std::size_t run_round(Collapser<Queue, loop>& start, MeshState& s, const Partition& blocks, std::size_t round,
+                      std::size_t collapses, std::vector<LaneTally>& tallies) {
   std::vector<double>& cost = s.cost;
   start.costs_now(cost);
-  const double limit = round_limit(s, collapses);
+  const double limit = round_limit(s, round, collapses);
   mark_inner(s, limit);
   std::vector<std::size_t> under(blocks.count(), 0);  // per block: inner moves under the limit
   std::size_t all = 0;
   for (const std::uint32_t v : s.living)
     if (s.inner[v] && cost[v] <= limit) ++under[s.block_of[v]], ++all;
   if (all == 0) return 0;
-  std::vector<LaneTally> round(blocks.count());
+  std::vector<LaneTally> lanes(blocks.count());
   const auto block = [&](std::size_t b) {
     const auto share = static_cast<std::size_t>(static_cast<double>(collapses) * static_cast<double>(under[b]) /
                                                 static_cast<double>(all));
     if (share == 0) return;
     Collapser<Queue, loop> lane(start, blocks.block(b), static_cast<std::uint32_t>(b), s.triangles);
     lane.run_below(limit, share, cost);
-    round[b] = tally_of(lane, s.triangles);
+    lanes[b] = tally_of(lane, s.triangles);
   };
   if constexpr (loop == Loop::plain) {
     for (std::size_t b = 0; b < blocks.count(); ++b) block(b);
@@ -1332,8 +1335,8 @@ std::size_t run_round(Collapser<Queue, loop>& start, MeshState& s, const Partiti
     detail::parallel_for_dynamic(blocks.count(), 1, block);
   }
   std::size_t removed = 0;
-  for (const LaneTally& t : round) removed += t.removed;
-  tallies.insert(tallies.end(), round.begin(), round.end());
+  for (const LaneTally& t : lanes) removed += t.removed;
+  tallies.insert(tallies.end(), lanes.begin(), lanes.end());
   return removed;
 }
 
@@ -1353,7 +1356,7 @@ std::size_t run_rounds(Collapser<Queue, loop>& start, MeshState& s, const std::v
     partition(s, grid, level, round_shifts[r % round_shifts.size()], blocks);
     // A collapse removes at most two triangles: half the excess never
     // passes the target.
-    const std::size_t removed = run_round(start, s, blocks, (alive - target) / 2, tallies);
+    const std::size_t removed = run_round(start, s, blocks, r, (alive - target) / 2, tallies);
     alive -= removed;
     std::erase_if(s.living, [&](std::uint32_t v) { return s.faces[v].empty(); });
     if (static_cast<double>(removed) < 0.01 * finish_share * asked) break;
