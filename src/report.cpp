@@ -1,5 +1,7 @@
 #include "recon/report.h"
 
+#include "recon/detail/float_chars.h"
+
 #include "recon/errors.h"
 #include "recon/io/atomic_file.h"
 #include "recon/mesh.h"
@@ -332,7 +334,7 @@ class JsonWriter {
       return;
     }
     char buffer[32];
-    const auto end = std::to_chars(buffer, buffer + sizeof buffer, v).ptr;
+    const auto end = detail::float_to_chars(buffer, buffer + sizeof buffer, v).ptr;
     out_.append(buffer, end);
   }
   void count(std::string_view k, std::size_t v) { number(k, static_cast<double>(v)); }
@@ -377,7 +379,7 @@ class JsonWriter {
     for (int i = 0; i < 3; ++i) {
       if (i > 0) out_ += ',';
       char buffer[32];
-      out_.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, v[i]).ptr);
+      out_.append(buffer, detail::float_to_chars(buffer, buffer + sizeof buffer, v[i]).ptr);
     }
     out_ += ']';
   }
@@ -640,17 +642,15 @@ void write_data(JsonWriter& w, const ReportLayers& layers, const ReportOptions& 
 
 }  // namespace
 
-std::string report_html(const ReportLayers& layers, const ReportOptions& options) {
+std::string report_data_elements(const ReportLayers& layers, const ReportOptions& options) {
   std::string data;
   JsonWriter w(data);
   write_data(w, layers, options);
 
-  const ReportPage page = report_page();
-  std::size_t size = page.head.size() + data.size() + page.tail.size() + 200;
+  std::size_t size = data.size() + 200;
   for (const auto& a : w.arrays()) size += (a.size + 2) / 3 * 4 + 80;
   std::string html;
   html.reserve(size);
-  html += page.head;
   // The data: the JSON in one element, each array base64-encoded in its own
   // (the viewer decodes them straight from the page's text, and no large
   // JSON string is ever parsed). Inside <script>, "</script" or "<!--" would
@@ -670,6 +670,16 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
     append_base64(html, w.arrays()[i].data, w.arrays()[i].size);
     html += "</script>\n";
   }
+  return html;
+}
+
+std::string report_html(const ReportLayers& layers, const ReportOptions& options) {
+  const ReportPage page = report_page();
+  const std::string data = report_data_elements(layers, options);
+  std::string html;
+  html.reserve(page.head.size() + data.size() + page.tail.size());
+  html += page.head;
+  html += data;
   html += page.tail;
   return html;
 }

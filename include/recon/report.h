@@ -231,6 +231,10 @@ struct ReportLayers {
                                         std::span<const Vec3> points, Vec3 offset, const ReportLayers& layers,
                                         const ReportOptions& options = {});
 
+/// The data alone, as the page holds it: a JSON element (id recon-data)
+/// and one base64 element per array (recon-array-N). The web page
+/// (web/webapp/) hands these to the same viewer after each phase.
+[[nodiscard]] std::string report_data_elements(const ReportLayers& layers, const ReportOptions& options = {});
 /// The whole page: the viewer (HTML, CSS, bundled JavaScript) and the data.
 [[nodiscard]] std::string report_html(const ReportLayers& layers, const ReportOptions& options = {});
 

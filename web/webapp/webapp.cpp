@@ -1,0 +1,259 @@
+// The web page's window into the library (web/webapp/): the 3D
+// reconstruction as `recon reconstruct` runs it, driven from a Web Worker
+// (worker.js), with every phase's layers handed to the page as the report
+// draws them (src/report.cpp) and the outputs written by the program's own
+// writers.
+//
+// Files: the worker writes the dropped file into Emscripten's in-memory
+// file system and the program's reader reads it by name, so a bad file gets
+// the program's message word for word ("face.ply:12: ..."); outputs are
+// written there too and the worker hands their bytes to the page.
+//
+// Protocol (C functions, called from worker.js; strings are UTF-8):
+//   webapp_load(path, format) reads a cloud ("" format: from the
+//     extension); webapp_sample(shape, points, seed) makes one as
+//     `recon generate` does. Both keep it and return 0, or 1 (webapp_error()
+//     says why). webapp_input() then describes it as JSON: points, colours,
+//     normals, the memory estimate and the page's limit.
+//   webapp_run(from_phase, method, k, rho, delta, cell, resolution) runs
+//     phases I-V (from_phase 1) or, on the kept phases I-II, III-V again
+//     (from_phase 3); k 0, rho 0, delta < 0, cell 0, resolution 0 mean "the
+//     program's default". Returns 0 or 1. While it runs it calls the page's
+//     hooks (Module.reconPhase, reconProgress, reconLayers: worker.js).
+//   webapp_stats() is the last run's --stats JSON; webapp_write(what, path)
+//     writes "mesh" (by the path's extension), "cloud" (the oriented cloud,
+//     .ply), "report" or "stats" and returns 0 or 1.
+//
+// Cost: that of the program with one thread, plus the layers (the report's
+// budgets bound them, whatever the cloud's size).
+
+#include "run_reports.h"
+#include "summary.h"
+
+#include "recon/errors.h"
+#include "recon/interruption.h"
+#include "recon/io/mesh_io.h"
+#include "recon/io/point_io.h"
+#include "recon/memory_budget.h"
+#include "recon/parallel.h"  // thread_count
+#include "recon/reconstruct.h"
+#include "recon/report.h"
+#include "recon/shapes.h"
+#include "recon/timer.h"
+
+#include <emscripten/emscripten.h>
+
+#include <exception>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace {
+
+using namespace recon;
+
+// The memory a run may use: wasm32's 4 GiB address space, less what the
+// page's own copies take (the file, the layers, the outputs).
+constexpr double page_limit_bytes = 2.5e9;
+
+struct State {
+  PointCloud cloud;
+  std::string name;                        // as the program would say it
+  std::optional<cli::Summary> read;        // the input's account
+  std::optional<Reconstruction> r;         // phases I-II kept, and the later ones
+  ReconstructionOptions options;
+  std::optional<cli::Summary> summary;     // the last run's account
+  std::string error, text;                 // returned strings
+};
+State state;
+
+// The hooks of worker.js (EM_JS: JavaScript called from here).
+EM_JS(void, js_phase, (const char* phase), { Module["reconPhase"](UTF8ToString(phase)); });
+EM_JS(void, js_progress, (double done, double total), { Module["reconProgress"](done, total); });
+EM_JS(void, js_layers, (int stage, const char* text, std::size_t length),
+      { Module["reconLayers"](stage, UTF8ToString(text, length)); });
+
+void tell_phase(const char* phase) { js_phase(phase); }
+void tell_progress(const ProgressCounter& counter) {
+  js_progress(static_cast<double>(counter.done.load()), static_cast<double>(counter.total.load()));
+}
+void tell_layers(int stage, const std::string& elements) { js_layers(stage, elements.data(), elements.size()); }
+
+// The estimate the page shows before a run: the program's own (memory_budget.h)
+// plus the cloud the page holds.
+double estimated_bytes(std::size_t points, int k, bool refined) {
+  return estimated_bytes_reconstruction(points, k, refined) + 40.0 * static_cast<double>(points);
+}
+
+// The account of the cloud just read or made, as `recon reconstruct` gives it.
+void keep_cloud(PointCloud cloud, std::string name, const io::ReadNotes& notes, double seconds) {
+  state.r.reset();
+  state.summary.reset();
+  state.cloud = std::move(cloud);
+  state.name = std::move(name);
+  state.read.emplace(false);
+  state.read->add(cli::input_report(state.name, state.cloud, notes, seconds), "input");
+}
+
+ReconstructionOptions run_options(int method, int k, double rho, double delta, double cell, int resolution) {
+  ReconstructionOptions o;
+  o.method = method == 1 ? Method::hoppe92 : Method::refined;
+  if (k > 0) o.planes.k = k;
+  o.planes.adapt_k = k <= 0;  // as the program: a given k is the k used
+  if (rho > 0.0) o.planes.rho = rho;
+  if (delta >= 0.0) o.distance.delta = delta;
+  if (cell > 0.0) o.cell = cell;
+  if (resolution > 0) o.resolution = resolution;
+  o.max_memory = static_cast<std::size_t>(page_limit_bytes);
+  o.keep_graph = true;  // the page draws the graph and the corners, as a report does
+  o.keep_corners = true;
+  return o;
+}
+
+// Refuses, before any work, a cloud the page cannot hold.
+void check_fits(int k, bool refined) {
+  const double bytes = estimated_bytes(state.cloud.size(), k > 0 ? k : TangentPlaneOptions{}.k, refined);
+  if (bytes > page_limit_bytes) {
+    throw ResourceLimitError(state.name + ": " + std::to_string(state.cloud.size()) + " points would need about " +
+                             std::to_string(static_cast<long long>(bytes / 1e6)) + " MB, more than the page's " +
+                             std::to_string(static_cast<long long>(page_limit_bytes / 1e6)) +
+                             " MB: run the program instead (recon reconstruct FILE -o mesh.ply, see README.md)");
+  }
+}
+
+// The layers of phases I-II alone (no lattice, no mesh yet).
+std::string early_layers(const Reconstruction& r, const ReportOptions& options) {
+  ReportInput input;
+  input.points = r.points();
+  input.offset = r.offset;
+  input.planes = &r.planes;
+  input.oriented = r.oriented ? &*r.oriented : nullptr;
+  input.normals = r.normals();
+  input.colors = r.colors;
+  return report_data_elements(make_report_layers(input, options), options);
+}
+
+ReportOptions layer_options(cli::Summary& summary) { return cli::run_report_options(state.name, summary); }
+
+// Phases I-II (from_phase 1), then III-V, each stage's layers to the page.
+void run(int from_phase, const ReconstructionOptions& options) {
+  Timer total;
+  ProgressCounter counter;
+  ReconstructionOptions o = options;
+  o.on_phase = tell_phase;
+  o.progress = &counter;
+  double last = -1.0;
+  const InterruptionCheck progress([&] {
+    if (total.elapsed() - last < 0.1) return;
+    last = total.elapsed();
+    tell_progress(counter);
+  });
+  if (from_phase <= 2 || !state.r || state.r->method != o.method) {
+    state.r.reset();
+    state.r.emplace(reconstruct_phases_1_2(PointCloudView(state.cloud), o));
+    cli::Summary early = *state.read;
+    tell_layers(2, early_layers(*state.r, layer_options(early)));
+  }
+  reconstruct_phases_3_on(*state.r, o);
+  state.options = o;
+  state.summary = *state.read;
+  cli::report_reconstruction(*state.r, o, state.cloud.size(), true, *state.summary);
+  state.summary->stats()["threads"] = thread_count();  // 1: WebAssembly here runs on one thread
+  state.summary->stats()["seconds_total"] = total.elapsed();
+  const ReportOptions layers = layer_options(*state.summary);
+  tell_layers(5, report_data_elements(make_report_layers(report_input(*state.r), layers), layers));
+}
+
+// The cloud with phase II's normals, in the input's order (`recon normals`).
+PointCloud oriented_cloud() {
+  PointCloud cloud = state.cloud;
+  const auto normals = state.r->normals();
+  cloud.normals.assign(cloud.size(), Vec3::Zero());
+  for (std::size_t j = 0; j < state.r->order.size(); ++j) cloud.normals[state.r->order[j]] = normals[j];
+  return cloud;
+}
+
+void write(const std::string& what, const std::string& path) {
+  if (!state.r || !state.summary) throw InvalidInputError("nothing to write: no run has finished");
+  if (what == "mesh") {
+    io::write_mesh(path, state.r->mesh());
+  } else if (what == "cloud") {
+    io::write_points(path, oriented_cloud());
+  } else if (what == "report") {
+    const ReportOptions options = cli::run_report_options(state.name, *state.summary);
+    write_report(path, make_report_layers(report_input(*state.r), options), options);
+  } else if (what == "stats") {
+    state.summary->write_stats(path);
+  } else {
+    throw InvalidInputError("webapp: nothing called " + what + " to write");
+  }
+}
+
+// Runs `step`, turning an exception into 1 and the program's one line.
+template <class Step>
+int guarded(Step step) {
+  state.error.clear();
+  try {
+    step();
+    return 0;
+  } catch (const std::exception& e) {
+    state.error = e.what();
+    return 1;
+  }
+}
+
+}  // namespace
+
+extern "C" {
+
+EMSCRIPTEN_KEEPALIVE int webapp_load(const char* path, const char* format) {
+  return guarded([&] {
+    io::ReadPointsOptions options;
+    if (format[0] != '\0') options.format = io::point_format_from_name(format);
+    io::ReadNotes notes;
+    Timer timer;
+    PointCloud cloud = io::read_points(path, options, &notes);
+    keep_cloud(std::move(cloud), path, notes, timer.elapsed());
+  });
+}
+
+EMSCRIPTEN_KEEPALIVE int webapp_sample(const char* shape, int points, int seed) {
+  return guarded([&] {
+    Timer timer;
+    PointCloud cloud = make_shape(shape)->sample(static_cast<std::size_t>(points), static_cast<std::uint64_t>(seed));
+    cloud.normals.clear();  // as `recon generate` writes it without --with-normals
+    keep_cloud(std::move(cloud), std::string(shape) + ".ply", {}, timer.elapsed());
+  });
+}
+
+EMSCRIPTEN_KEEPALIVE const char* webapp_input(int k, int method) {
+  cli::Json json;
+  json["points"] = state.cloud.size();
+  json["has_colors"] = state.cloud.has_colors();
+  json["has_normals"] = state.cloud.has_normals();
+  json["estimated_bytes"] = estimated_bytes(state.cloud.size(), k > 0 ? k : TangentPlaneOptions{}.k, method != 1);
+  json["limit_bytes"] = page_limit_bytes;
+  state.text = json.dump(0);
+  return state.text.c_str();
+}
+
+EMSCRIPTEN_KEEPALIVE int webapp_run(int from_phase, int method, int k, double rho, double delta, double cell,
+                                    int resolution) {
+  return guarded([&] {
+    check_fits(k, method != 1);
+    run(from_phase, run_options(method, k, rho, delta, cell, resolution));
+  });
+}
+
+EMSCRIPTEN_KEEPALIVE const char* webapp_stats() {
+  state.text = state.summary ? state.summary->stats().dump(2) : std::string("{}");
+  return state.text.c_str();
+}
+
+EMSCRIPTEN_KEEPALIVE int webapp_write(const char* what, const char* path) {
+  return guarded([&] { write(what, path); });
+}
+
+EMSCRIPTEN_KEEPALIVE const char* webapp_error() { return state.error.c_str(); }
+
+}  // extern "C"
