@@ -1,7 +1,5 @@
 #include "recon/detail/float_chars.h"
 
-#if defined(RECON_FLOAT_CHARS_FALLBACK)
-
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -84,12 +82,17 @@ void shortest_digits(double value, int most, ReadsBack reads_back, std::string& 
   while (digits.size() > 1 && digits.back() == '0') digits.pop_back();
 }
 
-// Fixed and scientific forms of digits * 10^(exponent - digits + 1); the shorter.
-std::string shortest_form(const std::string& digits, int exponent) {
+// Fixed and scientific forms of `magnitude`, whose shortest digits are
+// digits * 10^(exponent - digits + 1); the shorter. A whole number is
+// written fixed with all its digits, exactly (as <charconv> does: the
+// shortest digits padded with zeros would be another number).
+std::string shortest_form(double magnitude, const std::string& digits, int exponent) {
   const int n = static_cast<int>(digits.size());
   std::string fixed;
   if (exponent >= n - 1) {
-    fixed = digits + std::string(static_cast<std::size_t>(exponent - n + 1), '0');
+    char whole[400];
+    std::snprintf(whole, sizeof whole, "%.0f", magnitude);
+    fixed = whole;
   } else if (exponent >= 0) {
     fixed = digits.substr(0, static_cast<std::size_t>(exponent + 1)) + "." +
             digits.substr(static_cast<std::size_t>(exponent + 1));
@@ -121,12 +124,12 @@ std::to_chars_result shortest(char* first, char* last, T value) {
     }
   };
   shortest_digits(magnitude, std::numeric_limits<T>::max_digits10, reads_back, digits, exponent);
-  return put(first, last, sign + shortest_form(digits, exponent));
+  return put(first, last, sign + shortest_form(magnitude, digits, exponent));
 }
 
 }  // namespace
 
-std::from_chars_result float_from_chars(const char* first, const char* last, double& value) {
+std::from_chars_result portable_from_chars(const char* first, const char* last, double& value) {
   const char* end = number_end(first, last);
   if (end == first) return {first, std::errc::invalid_argument};
   const std::string text(first, end);
@@ -138,17 +141,22 @@ std::from_chars_result float_from_chars(const char* first, const char* last, dou
   return {end, std::errc{}};
 }
 
-std::to_chars_result float_to_chars(char* first, char* last, double value) { return shortest(first, last, value); }
+std::to_chars_result portable_to_chars(char* first, char* last, double value) {
+  return shortest(first, last, value);
+}
 
-std::to_chars_result float_to_chars(char* first, char* last, float value) { return shortest(first, last, value); }
+std::to_chars_result portable_to_chars(char* first, char* last, float value) {
+  return shortest(first, last, value);
+}
 
-std::to_chars_result float_to_chars(char* first, char* last, double value, std::chars_format format, int precision) {
+std::to_chars_result portable_to_chars(char* first, char* last, double value, std::chars_format format,
+                                       int precision) {
   char text[400];
-  const char* form = format == std::chars_format::fixed ? "%.*f" : format == std::chars_format::scientific ? "%.*e" : "%.*g";
+  const char* form = format == std::chars_format::fixed        ? "%.*f"
+                     : format == std::chars_format::scientific ? "%.*e"
+                                                               : "%.*g";
   std::snprintf(text, sizeof text, form, precision, value);
   return put(first, last, text);
 }
 
 }  // namespace recon::detail
-
-#endif

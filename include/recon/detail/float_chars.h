@@ -21,17 +21,30 @@
 
 #include <charconv>
 
-#if defined(__EMSCRIPTEN__)
-#define RECON_FLOAT_CHARS_FALLBACK 1
-#endif
-
 namespace recon::detail {
 
-#if defined(RECON_FLOAT_CHARS_FALLBACK)
-std::from_chars_result float_from_chars(const char* first, const char* last, double& value);
-std::to_chars_result float_to_chars(char* first, char* last, double value);
-std::to_chars_result float_to_chars(char* first, char* last, float value);
-std::to_chars_result float_to_chars(char* first, char* last, double value, std::chars_format format, int precision);
+/// The forms through strtod and snprintf, compiled everywhere (the tests
+/// compare them with <charconv>'s, tests/float_chars_test.cpp).
+std::from_chars_result portable_from_chars(const char* first, const char* last, double& value);
+std::to_chars_result portable_to_chars(char* first, char* last, double value);
+std::to_chars_result portable_to_chars(char* first, char* last, float value);
+std::to_chars_result portable_to_chars(char* first, char* last, double value, std::chars_format format,
+                                       int precision);
+
+#if defined(__EMSCRIPTEN__)  // its libc++ has no floating-point <charconv>
+inline std::from_chars_result float_from_chars(const char* first, const char* last, double& value) {
+  return portable_from_chars(first, last, value);
+}
+inline std::to_chars_result float_to_chars(char* first, char* last, double value) {
+  return portable_to_chars(first, last, value);
+}
+inline std::to_chars_result float_to_chars(char* first, char* last, float value) {
+  return portable_to_chars(first, last, value);
+}
+inline std::to_chars_result float_to_chars(char* first, char* last, double value, std::chars_format format,
+                                           int precision) {
+  return portable_to_chars(first, last, value, format, precision);
+}
 #else
 inline std::from_chars_result float_from_chars(const char* first, const char* last, double& value) {
   return std::from_chars(first, last, value);
