@@ -255,6 +255,57 @@ test('a coloured PLY, a CSV and a LAS give the program\'s statistics and mesh', 
   assert.equal(fromLas.mesh.has_colors, true);
 });
 
+async function downloadOf(what, ext) {
+  const [download] = await Promise.all([page.waitForEvent('download'),
+    page.click(`#downloads button[data-what="${what}"][data-ext="${ext}"]`)]);
+  return { name: download.suggestedFilename(), bytes: readFileSync(await download.path()) };
+}
+
+test('the downloads: the mesh in every format, the oriented cloud, the stats and the report', async () => {
+  const points = sphere(3000);
+  const path = colouredPly(points);
+  assert.equal(await open(path), 'done');
+  const stats = await page.evaluate(() => window.recon.stats);
+  const { mesh } = stats;
+
+  const obj = (await downloadOf('mesh', 'obj')).bytes.toString('latin1').split('\n');
+  assert.equal(obj.filter((l) => l.startsWith('v ')).length, mesh.vertices);
+  assert.equal(obj.filter((l) => l.startsWith('f ')).length, mesh.faces);
+  assert.equal(obj.filter((l) => l.startsWith('vn ')).length, 0, 'no normals, as the program writes an OBJ without --normals');
+  const stl = (await downloadOf('mesh', 'stl')).bytes;
+  assert.equal(stl.readUInt32LE(80), mesh.faces);
+  assert.equal(stl.length, 84 + 50 * mesh.faces);
+  // The GLB as `recon reconstruct -o x.glb` writes it, fitted normals and colours included.
+  const glb = await downloadOf('mesh', 'glb');
+  assert.equal(glb.name, 'coloured-mesh.glb');
+  const programGlb = join(folder, 'program.glb');
+  execFileSync(cli, ['--quiet', 'reconstruct', '--threads', '1', path, '-o', programGlb]);
+  const expectedGlb = readFileSync(programGlb);
+  assert.equal(glb.bytes.toString('latin1', 0, 4), 'glTF');
+  assert.equal(glb.bytes.readUInt32LE(8), glb.bytes.length);
+  assert.equal(glb.bytes.length, expectedGlb.length, 'the same parts as the program\'s GLB');
+
+  const cloud = (await downloadOf('cloud', 'ply')).bytes;
+  const header = cloud.subarray(0, cloud.indexOf('end_header')).toString('latin1');
+  assert.match(header, /element vertex 3000\n/);
+  assert.match(header, /property \w+ nx\n/);
+  assert.match(header, /property uchar red\n/, 'the input\'s colours kept');
+
+  assert.deepEqual(JSON.parse((await downloadOf('stats', 'json')).bytes.toString('utf8')), stats);
+
+  // The report opens as `--report` writes it: the report's own viewer, every layer.
+  const report = await downloadOf('report', 'html');
+  const reportPath = write('report.html', report.bytes);
+  const tab = await page.context().newPage();
+  await tab.goto(pathToFileURL(reportPath).href);
+  await tab.waitForFunction(() => window.reconReport?.ready);
+  const layers = await tab.evaluate(() => window.reconReport.layers.filter((l) => l.available).map((l) => l.id));
+  for (const id of ['points', 'kdtree', 'pca', 'graph', 'normals', 'distance', 'mesh', 'refinement'])
+    assert.ok(layers.includes(id), `the report has layer ${id}: ${layers}`);
+  assert.equal(await tab.evaluate(() => window.reconReport.stats.mesh.faces), mesh.faces);
+  await tab.close();
+});
+
 test('a damaged file shows the program\'s error, and a good file after it works', async () => {
   const bad = write('damaged.ply', 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 oops 0\n0 1 0\n');
   assert.equal(await open(bad), 'error');

@@ -107,6 +107,10 @@ ReconstructionOptions run_options(int method, int k, double rho, double delta, d
   o.max_memory = static_cast<std::size_t>(page_limit_bytes);
   o.keep_graph = true;  // the page draws the graph and the corners, as a report does
   o.keep_corners = true;
+  // Phase V's fitted normals for the GLB download, which has them as the
+  // program's does; the other formats are written without, as the program
+  // writes them without --normals (see mesh_for).
+  o.vertex_normals = true;
   return o;
 }
 
@@ -173,10 +177,18 @@ PointCloud oriented_cloud() {
   return cloud;
 }
 
+// The mesh as `recon reconstruct -o PATH` writes it: with vertex normals in
+// GLB only.
+Mesh mesh_for(const std::string& path) {
+  Mesh mesh = state.r->mesh();
+  if (io::mesh_format_from_path(path) != io::MeshFormat::glb) mesh.normals.clear();
+  return mesh;
+}
+
 void write(const std::string& what, const std::string& path) {
   if (!state.r || !state.summary) throw InvalidInputError("nothing to write: no run has finished");
   if (what == "mesh") {
-    io::write_mesh(path, state.r->mesh());
+    io::write_mesh(path, mesh_for(path));
   } else if (what == "cloud") {
     io::write_points(path, oriented_cloud());
   } else if (what == "report") {
