@@ -332,6 +332,19 @@ test('cancel in the middle of phase II leaves the page usable', async () => {
   assert.equal(await open(join(folder, 'torus.ply')), 'done');
 });
 
+test('a cloud too large for the page is refused before any work, with the estimate and the program', async () => {
+  const small = await page.context().newPage();
+  await small.goto(pathToFileURL(pageFile).href + '#max-memory=50');
+  await small.waitForFunction(() => document.body.dataset.state === 'idle' && window.recon);
+  await small.setInputFiles('#file', join(folder, 'large.ply'));
+  await small.waitForFunction(() => ['done', 'error'].includes(document.body.dataset.state), null, { timeout: 60000 });
+  assert.equal(await small.evaluate(() => document.body.dataset.state), 'error');
+  assert.match(await small.textContent('#estimate'), /^200,000 points; memory estimate [\d,]+ MB of the page's 50 MB: too large/);
+  assert.match(await small.textContent('#error'), /^large\.ply: 200000 points would need about \d+ MB, more than the page's 50 MB: run the program instead/);
+  assert.deepEqual(await small.evaluate(() => window.recon.runs), {}, 'no phase started');
+  await small.close();
+});
+
 test('a new cell re-runs phases III-V only and gives the program\'s mesh for that cell', async () => {
   const path = join(folder, 'torus.ply');
   await page.selectOption('#method', '1');  // hoppe92: phase I does not depend on the cell

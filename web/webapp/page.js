@@ -52,6 +52,9 @@ function startWorker() {
   workerHasInput = false;
   worker.onmessage = (e) => onWorkerMessage(e.data);
   worker.onerror = (e) => { showError(`the page's worker failed: ${e.message}`); e.preventDefault(); };
+  // index.html#max-memory=MB lowers the memory a run may use (2,500 MB by default).
+  const limit = /max-memory=(\d+)/.exec(location.hash);
+  if (limit) worker.postMessage({ type: 'limit', bytes: Number(limit[1]) * 1e6 });
 }
 
 // One request at a time; the answer is the worker's next 'answer' message.

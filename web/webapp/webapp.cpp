@@ -20,6 +20,8 @@
 //     (from_phase 3); k 0, rho 0, delta < 0, cell 0, resolution 0 mean "the
 //     program's default". Returns 0 or 1. While it runs it calls the page's
 //     hooks (Module.reconPhase, reconProgress, reconLayers: worker.js).
+//   webapp_set_limit(bytes) sets the memory a run may use (0: 2.5 GB, the
+//     default); a cloud estimated to need more is refused before phase I.
 //   webapp_stats() is the last run's --stats JSON; webapp_write(what, path)
 //     writes "mesh" (by the path's extension), "cloud" (the oriented cloud,
 //     .ply), "report" or "stats" and returns 0 or 1.
@@ -52,9 +54,9 @@ namespace {
 
 using namespace recon;
 
-// The memory a run may use: wasm32's 4 GiB address space, less what the
-// page's own copies take (the file, the layers, the outputs).
-constexpr double page_limit_bytes = 2.5e9;
+// The memory a run may use by default: wasm32's 4 GiB address space, less
+// what the page's own copies take (the file, the layers, the outputs).
+constexpr double default_page_limit = 2.5e9;
 
 struct State {
   PointCloud cloud;
@@ -64,6 +66,7 @@ struct State {
   ReconstructionOptions options;
   std::optional<cli::Summary> summary;     // the last run's account
   std::string error, text;                 // returned strings
+  double limit = default_page_limit;       // bytes a run may use (webapp_set_limit)
 };
 State state;
 
@@ -104,7 +107,7 @@ ReconstructionOptions run_options(int method, int k, double rho, double delta, d
   if (delta >= 0.0) o.distance.delta = delta;
   if (cell > 0.0) o.cell = cell;
   if (resolution > 0) o.resolution = resolution;
-  o.max_memory = static_cast<std::size_t>(page_limit_bytes);
+  o.max_memory = static_cast<std::size_t>(state.limit);
   o.keep_graph = true;  // the page draws the graph and the corners, as a report does
   o.keep_corners = true;
   // Phase V's fitted normals for the GLB download, which has them as the
@@ -117,10 +120,10 @@ ReconstructionOptions run_options(int method, int k, double rho, double delta, d
 // Refuses, before any work, a cloud the page cannot hold.
 void check_fits(int k, bool refined) {
   const double bytes = estimated_bytes(state.cloud.size(), k > 0 ? k : TangentPlaneOptions{}.k, refined);
-  if (bytes > page_limit_bytes) {
+  if (bytes > state.limit) {
     throw ResourceLimitError(state.name + ": " + std::to_string(state.cloud.size()) + " points would need about " +
                              std::to_string(static_cast<long long>(bytes / 1e6)) + " MB, more than the page's " +
-                             std::to_string(static_cast<long long>(page_limit_bytes / 1e6)) +
+                             std::to_string(static_cast<long long>(state.limit / 1e6)) +
                              " MB: run the program instead (recon reconstruct FILE -o mesh.ply, see README.md)");
   }
 }
@@ -244,7 +247,7 @@ EMSCRIPTEN_KEEPALIVE const char* webapp_input(int k, int method) {
   json["has_colors"] = state.cloud.has_colors();
   json["has_normals"] = state.cloud.has_normals();
   json["estimated_bytes"] = estimated_bytes(state.cloud.size(), k > 0 ? k : TangentPlaneOptions{}.k, method != 1);
-  json["limit_bytes"] = page_limit_bytes;
+  json["limit_bytes"] = state.limit;
   state.text = json.dump(0);
   return state.text.c_str();
 }
@@ -267,5 +270,7 @@ EMSCRIPTEN_KEEPALIVE int webapp_write(const char* what, const char* path) {
 }
 
 EMSCRIPTEN_KEEPALIVE const char* webapp_error() { return state.error.c_str(); }
+
+EMSCRIPTEN_KEEPALIVE void webapp_set_limit(double bytes) { state.limit = bytes > 0.0 ? bytes : default_page_limit; }
 
 }  // extern "C"

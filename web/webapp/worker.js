@@ -69,6 +69,7 @@ onmessage = async (e) => {
       answer(failed ? { error: errorOf(module) } : { input: describe(module) });
     } else if (m.type === 'run') answer(run(module, m));
     else if (m.type === 'write') answer(...write(module, m));
+    else if (m.type === 'limit') module._webapp_set_limit(m.bytes);
   } catch (error) {
     answer({ error: `the page's worker failed: ${error.message ?? error}` });
   }
