@@ -642,6 +642,14 @@ void write_data(JsonWriter& w, const ReportLayers& layers, const ReportOptions& 
 
 }  // namespace
 
+ReportData report_data(const ReportLayers& layers, const ReportOptions& options) {
+  ReportData out;
+  JsonWriter w(out.json);
+  write_data(w, layers, options);
+  for (const auto& a : w.arrays()) out.arrays.push_back({static_cast<const std::byte*>(a.data), a.size});
+  return out;
+}
+
 std::string report_data_elements(const ReportLayers& layers, const ReportOptions& options) {
   std::string data;
   JsonWriter w(data);

@@ -63,6 +63,7 @@
 #include "recon/refinement.h"
 #include "recon/tangent_planes.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -231,9 +232,17 @@ struct ReportLayers {
                                         std::span<const Vec3> points, Vec3 offset, const ReportLayers& layers,
                                         const ReportOptions& options = {});
 
+/// The data as the viewer reads it (web/report/viewer.js, showReport): the
+/// JSON block, and array N's bytes (little-endian) as arrays[N]. The arrays
+/// lie in `layers`, which must outlive them. The web page (web/webapp/)
+/// hands them to its viewer as they are, without base64.
+struct ReportData {
+  std::string json;
+  std::vector<std::span<const std::byte>> arrays;
+};
+[[nodiscard]] ReportData report_data(const ReportLayers& layers, const ReportOptions& options = {});
 /// The data alone, as the page holds it: a JSON element (id recon-data)
-/// and one base64 element per array (recon-array-N). The web page
-/// (web/webapp/) hands these to the same viewer after each phase.
+/// and one base64 element per array (recon-array-N).
 [[nodiscard]] std::string report_data_elements(const ReportLayers& layers, const ReportOptions& options = {});
 /// The whole page: the viewer (HTML, CSS, bundled JavaScript) and the data.
 [[nodiscard]] std::string report_html(const ReportLayers& layers, const ReportOptions& options = {});

@@ -16,27 +16,107 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { boundingSphere, clipPlanes, frameSphere } from './framing.js';
 import { labPanel } from './lab.js';
 
+const colours = {
+  kdtree: 0x3c4a5c, graph: 0x9aa0a6, tree: 0x1a73e8, flip: 0xd62728,
+  outside: 0xe8710a, inside: 0x1a73e8, undefined: 0xc000c0,
+  meshFront: 0xd8d8d8, meshBack: 0xb04040, boundary: 0xe00000,
+};
+
+// The meshes' material (layers 7 and 8). One pass for both sides: diffuse light from the viewer's direction, the
+// outside grey (or, with vertexColours, the colour of each vertex), the
+// inside (a back face: a hole, or a wrongly oriented part) red.
+function meshMaterial(vertexColours = false) {
+  return new THREE.ShaderMaterial({
+    side: THREE.DoubleSide,
+    vertexColors: vertexColours,  // defines USE_COLOR and the colour attribute
+    uniforms: { front: { value: new THREE.Color(colours.meshFront) }, back: { value: new THREE.Color(colours.meshBack) } },
+    vertexShader: `
+      uniform vec3 front;
+      varying vec3 viewNormal;
+      varying vec3 viewPosition;
+      varying vec3 outside;
+      void main() {
+        vec4 p = modelViewMatrix * vec4(position, 1.0);
+        viewPosition = p.xyz;
+        viewNormal = normalMatrix * normal;
+        #ifdef USE_COLOR
+          outside = color;
+        #else
+          outside = front;
+        #endif
+        gl_Position = projectionMatrix * p;
+      }`,
+    fragmentShader: `
+      uniform vec3 back;
+      varying vec3 viewNormal;
+      varying vec3 viewPosition;
+      varying vec3 outside;
+      void main() {
+        vec3 n = normalize(viewNormal) * (gl_FrontFacing ? 1.0 : -1.0);
+        float light = 0.35 + 0.65 * abs(dot(n, normalize(-viewPosition)));
+        gl_FragColor = vec4((gl_FrontFacing ? outside : back) * light, 1.0);
+        #include <colorspace_fragment>
+      }`,
+  });
+}
+
+// A renderer for the canvas, as the views draw: multisampled or not
+// (antialiasing costs little on a graphics card but doubles the time of a
+// frame drawn in software; large meshes, which fill the picture with tiny
+// triangles anyway, go without).
+export function makeRenderer(canvas, antialias) {
+  const renderer = new THREE.WebGLRenderer({ canvas, antialias, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(Math.min(2, window.devicePixelRatio));
+  renderer.setClearColor(0xf4f5f7);
+  return renderer;
+}
+
+// Compiles, on `renderer`, the shaders of everything a view draws (points,
+// lines plain and coloured, meshes plain and coloured), from a scene of one
+// of each. The web page does it while idle: compiling a shader takes a
+// few hundred milliseconds in a software renderer, more than a task should
+// while the worker runs.
+export function warmUp(renderer) {
+  const scene = new THREE.Scene();
+  const camera = new THREE.PerspectiveCamera(40, 1, 0.1, 10);
+  camera.position.set(0, 0, 3);
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]), 3));
+  geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(9), 3));
+  geometry.setAttribute('normal', new THREE.BufferAttribute(new Float32Array([0, 0, 1, 0, 0, 1, 0, 0, 1]), 3));
+  const objects = [
+    new THREE.Points(geometry, new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: true })),
+    new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: 0 })),
+    new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: 0, transparent: true, opacity: 0.5 })),
+    new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ vertexColors: true })),
+    new THREE.Mesh(geometry, meshMaterial(false)),
+    new THREE.Mesh(geometry, meshMaterial(true)),
+  ];
+  for (const o of objects) scene.add(o);
+  renderer.compile(scene, camera);
+  renderer.render(scene, camera);
+  geometry.dispose();
+  for (const o of objects) o.material.dispose();
+}
+
 // Draws `data` (the JSON block report.cpp writes) in the page's elements
 // (#canvas, #layers, #parameters, #statistics, ...: template.html);
-// arrayText(id) gives array id's base64 text. Returns the view's handle
-// (window.reconReport in the report; the tests and scripts/phase-pictures
-// use it). The report calls it once (report.js); the web page
-// (web/webapp/page.js) after each phase, disposing of the previous view.
-export function showReport(data, arrayText) {
+// arrayBytes(id) gives array id's bytes (a Uint8Array). Returns the view's
+// handle (window.reconReport in the report; the tests and
+// scripts/phase-pictures use it). The report calls it once (report.js); the
+// web page (web/webapp/page.js) after each stage of a run, disposing of the
+// previous view, with `deferFirstFrame` (the first frame is drawn in a task
+// of its own, an animation frame, rather than waited for here, so that no
+// task of the page's main thread holds both) and its own `renderer`
+// (makeRenderer, warmUp: kept from view to view, its shaders compiled once).
+export function showReport(data, arrayBytes, { deferFirstFrame = false, renderer: sharedRenderer = null } = {}) {
   // A section filled by an earlier view keeps only its heading.
   for (const id of ['layers', 'lab', 'parameters', 'statistics'])
     for (const child of [...document.getElementById(id).children]) if (child.tagName !== 'H2') child.remove();
   const timings = { start: performance.now() };  // the viewer's start and first frame (the load test prints both)
 
-  // An array is given by its number: the element recon-array-N holds it.
-  function bytes(id) {
-    const b64 = arrayText(id);
-    if (typeof Uint8Array.fromBase64 === 'function') return Uint8Array.fromBase64(b64);
-    const text = atob(b64);
-    const out = new Uint8Array(text.length);
-    for (let i = 0; i < text.length; ++i) out[i] = text.charCodeAt(i);
-    return out;
-  }
+  // An array is given by its number.
+  const bytes = arrayBytes;
   const f32 = (b64) => { const b = bytes(b64); return new Float32Array(b.buffer, b.byteOffset, b.byteLength / 4); };
   const u32 = (b64) => { const b = bytes(b64); return new Uint32Array(b.buffer, b.byteOffset, b.byteLength / 4); };
   const u8 = (b64) => bytes(b64);
@@ -78,23 +158,12 @@ export function showReport(data, arrayText) {
     }
     return out.copy(rampStops[rampStops.length - 1][1]);
   }
-  const colours = {
-    kdtree: 0x3c4a5c, graph: 0x9aa0a6, tree: 0x1a73e8, flip: 0xd62728,
-    outside: 0xe8710a, inside: 0x1a73e8, undefined: 0xc000c0,
-    meshFront: 0xd8d8d8, meshBack: 0xb04040, boundary: 0xe00000,
-  };
   const css = (hex) => '#' + new THREE.Color(hex).getHexString();
 
   // ---- scene
 
   const canvas = document.getElementById('canvas');
-  // Antialiasing (multisampling) costs little on a graphics card but doubles
-  // the time of a frame drawn in software; large meshes, which fill the
-  // picture with tiny triangles anyway, go without.
-  const antialias = ((data.refinement ?? data.mesh)?.drawn ?? 0) <= 200000;
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(Math.min(2, window.devicePixelRatio));
-  renderer.setClearColor(0xf4f5f7);
+  const renderer = sharedRenderer ?? makeRenderer(canvas, ((data.refinement ?? data.mesh)?.drawn ?? 0) <= 200000);
   const scene = new THREE.Scene();
   const diagonal = data.diagonal > 0 ? data.diagonal : 1;
   // The sphere around everything drawn, which the first view frames (framing.js).
@@ -338,43 +407,6 @@ export function showReport(data, arrayText) {
   false);
 
   // 7. and 8. the meshes and their boundaries
-  // One pass for both sides: diffuse light from the viewer's direction, the
-  // outside grey (or, with vertexColours, the colour of each vertex), the
-  // inside (a back face: a hole, or a wrongly oriented part) red.
-  function meshMaterial(vertexColours = false) {
-    return new THREE.ShaderMaterial({
-      side: THREE.DoubleSide,
-      vertexColors: vertexColours,  // defines USE_COLOR and the colour attribute
-      uniforms: { front: { value: new THREE.Color(colours.meshFront) }, back: { value: new THREE.Color(colours.meshBack) } },
-      vertexShader: `
-        uniform vec3 front;
-        varying vec3 viewNormal;
-        varying vec3 viewPosition;
-        varying vec3 outside;
-        void main() {
-          vec4 p = modelViewMatrix * vec4(position, 1.0);
-          viewPosition = p.xyz;
-          viewNormal = normalMatrix * normal;
-          #ifdef USE_COLOR
-            outside = color;
-          #else
-            outside = front;
-          #endif
-          gl_Position = projectionMatrix * p;
-        }`,
-      fragmentShader: `
-        uniform vec3 back;
-        varying vec3 viewNormal;
-        varying vec3 viewPosition;
-        varying vec3 outside;
-        void main() {
-          vec3 n = normalize(viewNormal) * (gl_FrontFacing ? 1.0 : -1.0);
-          float light = 0.35 + 0.65 * abs(dot(n, normalize(-viewPosition)));
-          gl_FragColor = vec4((gl_FrontFacing ? outside : back) * light, 1.0);
-          #include <colorspace_fragment>
-        }`,
-    });
-  }
   // A mesh layer's object: the shaded triangles and the boundary edges;
   // `vertexColours` (3 per drawn vertex) colours the outside.
   function meshGroup(mesh, vertexColours = null) {
@@ -555,13 +587,19 @@ export function showReport(data, arrayText) {
   for (const layer of layers) if (layer.defaultVisible) setVisible(layer.id, true);
   resize();
   resetView();
-  render();
-  // Wait for the frame itself (a pixel read waits for the drawing to finish),
-  // so that loadMs is the time until the picture is there.
-  const gl = renderer.getContext();
-  gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
-  started = true;
-  timings.rendered = performance.now();
+  if (deferFirstFrame) {
+    // The shaders compiled in the background first (where the browser can:
+    // KHR_parallel_shader_compile), then the frame.
+    renderer.compileAsync(scene, camera).catch(() => {}).then(() => { started = true; requestRender(); });
+  } else {
+    render();
+    // Wait for the frame itself (a pixel read waits for the drawing to finish),
+    // so that loadMs is the time until the picture is there.
+    const gl = renderer.getContext();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+    started = true;
+    timings.rendered = performance.now();
+  }
 
   return {
     ready: true,
@@ -599,7 +637,7 @@ export function showReport(data, arrayText) {
     dispose() {
       resizeObserver.disconnect();
       scene.traverse((o) => { o.geometry?.dispose(); o.material?.dispose(); });
-      renderer.dispose();
+      if (!sharedRenderer) renderer.dispose();
     },
   };
 }

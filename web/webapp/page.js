@@ -10,11 +10,11 @@
 // idle, running, done or error; window.recon holds the last run's --stats
 // JSON (stats), the input's description (input), how often each phase ran
 // (runs), the error line (error) and the viewer's handle (viewer).
-import { showReport } from '../report/viewer.js';
+import { makeRenderer, showReport, warmUp } from '../report/viewer.js';
 
 /* global workerSource */
 const $ = (id) => document.getElementById(id);
-const recon = { stats: null, input: null, error: '', viewer: null, runs: {}, lines: [] };
+const recon = { stats: null, input: null, error: '', viewer: null, runs: {}, lines: [], layerTimes: [] };
 window.recon = recon;
 
 // The phases as reconstruct() names them (its on_phase), with the terminal's numbering.
@@ -70,7 +70,7 @@ function onWorkerMessage(m) {
     case 'answer': { const resolve = pending; pending = null; resolve(m); break; }
     case 'phase': startPhase(m.name); break;
     case 'progress': showProgress(m.done, m.total); break;
-    case 'layers': showLayers(m.elements); break;
+    case 'layers': showLayers(m); break;
     case 'line': recon.lines.push(m.text); $('log').textContent += m.text + '\n'; break;
     default: break;
   }
@@ -90,15 +90,21 @@ function showProgress(done, total) {
   $('phase').textContent = total > 0 ? `${phaseName}: ${done.toLocaleString('en-US')} of ${total.toLocaleString('en-US')}` : phaseName;
 }
 
-// ---- layers: the report's data elements, drawn by the report's viewer
+// ---- layers: the report's data (report.cpp), drawn by the report's viewer
 
-function showLayers(elements) {
-  const holder = document.createElement('template');
-  holder.innerHTML = elements;
-  const data = JSON.parse(holder.content.getElementById('recon-data').textContent);
+// One renderer for every view, its shaders compiled while the page is idle
+// (a software renderer takes a few hundred milliseconds per shader).
+const renderer = makeRenderer($('canvas'), false);
+renderer.setSize(Math.max(1, $('view').clientWidth), Math.max(1, $('view').clientHeight), false);  // (its buffers, once)
+warmUp(renderer);
+
+function showLayers({ json, arrays }) {
+  const start = performance.now();
+  const data = JSON.parse(json);
   recon.viewer?.dispose();
-  recon.viewer = showReport(data, (id) => holder.content.getElementById(`recon-array-${id}`).textContent);
+  recon.viewer = showReport(data, (id) => arrays[id], { deferFirstFrame: true, renderer });
   document.title = `recon: ${data.title}`;
+  recon.layerTimes.push({ at: start, bytes: json.length + arrays.reduce((n, a) => n + a.byteLength, 0), ms: performance.now() - start });
 }
 
 // ---- input
@@ -149,8 +155,10 @@ async function run() {
     const from = firstPhaseFor(p);
     const answer = await request({ type: 'run', from, ...p });
     if (answer.error) throw new Error(answer.error);
+    recon.runEndedAt = answer.postedAt - performance.timeOrigin;  // the worker idle from here (bench/webapp_bench.mjs)
     lastRun = p;
     recon.stats = answer.stats;
+    showLayers(answer.layers);
     showChosen(answer.stats);
     $('bar').style.width = '100%';
     $('phase').textContent = `done in ${answer.stats.seconds_total.toFixed(2)} s`;

@@ -45,10 +45,12 @@
 
 #include <emscripten/emscripten.h>
 
+#include <cstdint>
 #include <exception>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace {
 
@@ -57,6 +59,10 @@ using namespace recon;
 // The memory a run may use by default: wasm32's 4 GiB address space, less
 // what the page's own copies take (the file, the layers, the outputs).
 constexpr double default_page_limit = 2.5e9;
+// Points (and graph edges) drawn after phase II, while the run goes on
+// (measured in headless Chromium, docs/benchmarks.md); the run's final
+// layers have the report's budgets.
+constexpr std::size_t mid_run_points = 10'000;
 
 struct State {
   PointCloud cloud;
@@ -73,14 +79,30 @@ State state;
 // The hooks of worker.js (EM_JS: JavaScript called from here).
 EM_JS(void, js_phase, (const char* phase), { Module["reconPhase"](UTF8ToString(phase)); });
 EM_JS(void, js_progress, (double done, double total), { Module["reconProgress"](done, total); });
-EM_JS(void, js_layers, (int stage, const char* text, std::size_t length),
-      { Module["reconLayers"](stage, UTF8ToString(text, length)); });
+// The layers: the JSON, then `count` arrays given as (address, bytes) pairs
+// at `arrays`; copied out of the module's memory for the page.
+EM_JS(void, js_layers, (int stage, const char* json, std::size_t length, const std::uint32_t* arrays, int count), {
+  const copies = [];
+  for (let i = 0; i < count; ++i) {
+    const at = HEAPU32[(arrays >> 2) + 2 * i], bytes = HEAPU32[(arrays >> 2) + 2 * i + 1];
+    copies.push(HEAPU8.slice(at, at + bytes));
+  }
+  Module["reconLayers"](stage, UTF8ToString(json, length), copies);
+});
 
 void tell_phase(const char* phase) { js_phase(phase); }
 void tell_progress(const ProgressCounter& counter) {
   js_progress(static_cast<double>(counter.done.load()), static_cast<double>(counter.total.load()));
 }
-void tell_layers(int stage, const std::string& elements) { js_layers(stage, elements.data(), elements.size()); }
+// Stage 2: phases I-II are done; stage 5: the run is.
+void tell_layers(int stage, const ReportLayers& layers, const ReportOptions& options) {
+  const ReportData data = report_data(layers, options);
+  std::vector<std::uint32_t> arrays;  // wasm32: an address is 32 bits
+  for (const auto& a : data.arrays)
+    arrays.insert(arrays.end(), {static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(a.data())),
+                                 static_cast<std::uint32_t>(a.size())});
+  js_layers(stage, data.json.data(), data.json.size(), arrays.data(), static_cast<int>(data.arrays.size()));
+}
 
 // The estimate the page shows before a run: the program's own (memory_budget.h)
 // plus the cloud the page holds.
@@ -129,7 +151,7 @@ void check_fits(int k, bool refined) {
 }
 
 // The layers of phases I-II alone (no lattice, no mesh yet).
-std::string early_layers(const Reconstruction& r, const ReportOptions& options) {
+ReportLayers early_layers(const Reconstruction& r, const ReportOptions& options) {
   ReportInput input;
   input.points = r.points();
   input.offset = r.offset;
@@ -137,7 +159,7 @@ std::string early_layers(const Reconstruction& r, const ReportOptions& options) 
   input.oriented = r.oriented ? &*r.oriented : nullptr;
   input.normals = r.normals();
   input.colors = r.colors;
-  return report_data_elements(make_report_layers(input, options), options);
+  return make_report_layers(input, options);
 }
 
 ReportOptions layer_options(cli::Summary& summary) { return cli::run_report_options(state.name, summary); }
@@ -159,7 +181,12 @@ void run(int from_phase, const ReconstructionOptions& options) {
     state.r.reset();
     state.r.emplace(reconstruct_phases_1_2(PointCloudView(state.cloud), o));
     cli::Summary early = *state.read;
-    tell_layers(2, early_layers(*state.r, layer_options(early)));
+    ReportOptions drawn = layer_options(early);
+    // Drawn while phases III-V run: light enough that no task of the page's
+    // main thread takes over 100 ms (a regular subsample, which the page states).
+    drawn.max_points = mid_run_points;
+    drawn.max_edges = mid_run_points;
+    tell_layers(2, early_layers(*state.r, drawn), drawn);
   }
   reconstruct_phases_3_on(*state.r, o);
   state.options = o;
@@ -167,8 +194,8 @@ void run(int from_phase, const ReconstructionOptions& options) {
   cli::report_reconstruction(*state.r, o, state.cloud.size(), true, *state.summary);
   state.summary->stats()["threads"] = thread_count();  // 1: WebAssembly here runs on one thread
   state.summary->stats()["seconds_total"] = total.elapsed();
-  const ReportOptions layers = layer_options(*state.summary);
-  tell_layers(5, report_data_elements(make_report_layers(report_input(*state.r), layers), layers));
+  const ReportOptions drawn = layer_options(*state.summary);
+  tell_layers(5, make_report_layers(report_input(*state.r), drawn), drawn);
 }
 
 // The cloud with phase II's normals, in the input's order (`recon normals`).

@@ -12,14 +12,22 @@
 'use strict';
 
 const post = (message, transfer = []) => postMessage(message, transfer);
-const answer = (fields, transfer = []) => post({ type: 'answer', ...fields }, transfer);
+// postedAt: when the worker finished, on the clock every page shares.
+const answer = (fields, transfer = []) =>
+  post({ type: 'answer', ...fields, postedAt: performance.timeOrigin + performance.now() }, transfer);
+let finalLayers = null;
 
 const moduleReady = createReconWebapp({
   print: (text) => post({ type: 'line', text }),
   printErr: (text) => post({ type: 'line', text }),
   reconPhase: (name) => post({ type: 'phase', name }),
   reconProgress: (done, total) => post({ type: 'progress', done, total }),
-  reconLayers: (stage, elements) => post({ type: 'layers', stage, elements }),
+  // Phases I-II's layers go at once; the run's own go with its answer (the
+  // page draws them once the worker is idle).
+  reconLayers: (stage, json, arrays) => {
+    if (stage === 5) finalLayers = { json, arrays };
+    else post({ type: 'layers', stage, json, arrays }, arrays.map((a) => a.buffer));
+  },
 }).then((module) => {
   module.FS.mkdir('/in');
   module.FS.mkdir('/out');
@@ -46,9 +54,12 @@ function describe(module) {
 }
 
 function run(module, m) {
+  finalLayers = null;
   const failed = module._webapp_run(m.from, m.method, m.k, m.rho, m.delta, m.cell, 0);
-  if (failed) return { error: errorOf(module) };
-  return { stats: JSON.parse(module.UTF8ToString(module._webapp_stats())) };
+  if (failed) return [{ error: errorOf(module) }];
+  const layers = finalLayers;
+  finalLayers = null;
+  return [{ stats: JSON.parse(module.UTF8ToString(module._webapp_stats())), layers }, layers.arrays.map((a) => a.buffer)];
 }
 
 function write(module, m) {
@@ -67,7 +78,7 @@ onmessage = async (e) => {
     else if (m.type === 'sample') {
       const failed = module.ccall('webapp_sample', 'number', ['string', 'number', 'number'], [m.shape, m.points, 1]);
       answer(failed ? { error: errorOf(module) } : { input: describe(module) });
-    } else if (m.type === 'run') answer(run(module, m));
+    } else if (m.type === 'run') answer(...run(module, m));
     else if (m.type === 'write') answer(...write(module, m));
     else if (m.type === 'limit') module._webapp_set_limit(m.bytes);
   } catch (error) {
