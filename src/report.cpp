@@ -650,6 +650,9 @@ ReportData report_data(const ReportLayers& layers, const ReportOptions& options)
   return out;
 }
 
+namespace {
+
+// The data block of the page: the JSON element and one base64 element per array.
 std::string report_data_elements(const ReportLayers& layers, const ReportOptions& options) {
   std::string data;
   JsonWriter w(data);
@@ -680,6 +683,8 @@ std::string report_data_elements(const ReportLayers& layers, const ReportOptions
   }
   return html;
 }
+
+}  // namespace
 
 std::string report_html(const ReportLayers& layers, const ReportOptions& options) {
   const ReportPage page = report_page();

@@ -241,9 +241,6 @@ struct ReportData {
   std::vector<std::span<const std::byte>> arrays;
 };
 [[nodiscard]] ReportData report_data(const ReportLayers& layers, const ReportOptions& options = {});
-/// The data alone, as the page holds it: a JSON element (id recon-data)
-/// and one base64 element per array (recon-array-N).
-[[nodiscard]] std::string report_data_elements(const ReportLayers& layers, const ReportOptions& options = {});
 /// The whole page: the viewer (HTML, CSS, bundled JavaScript) and the data.
 [[nodiscard]] std::string report_html(const ReportLayers& layers, const ReportOptions& options = {});
 

@@ -19,7 +19,10 @@
 //     phases I-V (from_phase 1) or, on the kept phases I-II, III-V again
 //     (from_phase 3); k 0, rho 0, delta < 0, cell 0, resolution 0 mean "the
 //     program's default". Returns 0 or 1. While it runs it calls the page's
-//     hooks (Module.reconPhase, reconProgress, reconLayers: worker.js).
+//     hooks (Module.reconPhase, reconProgress, reconLayers: worker.js); the
+//     layers go as the report's data (report_data: the JSON and the arrays'
+//     bytes, copied out of the module's memory), after phases I-II (with a
+//     subsample, drawn while III-V run) and at the end (the report's budgets).
 //   webapp_set_limit(bytes) sets the memory a run may use (0: 2.5 GB, the
 //     default); a cloud estimated to need more is refused before phase I.
 //   webapp_stats() is the last run's --stats JSON; webapp_write(what, path)
