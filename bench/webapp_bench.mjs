@@ -51,7 +51,7 @@ async function inPage(browser, path) {
   const seconds = (Date.now() - start) / 1000;
   // The main thread's tasks over 50 ms while the worker ran, and after (the final layers drawn).
   const result = await page.evaluate(() => ({ state: document.body.dataset.state, error: window.recon.error,
-    stats: window.recon.stats, layerTimes: window.recon.layerTimes,
+    stats: window.recon.stats, layerTimes: window.recon.views,
     longTasks: window.longTasks.filter((e) => e.startTime < window.recon.runEndedAt).map((e) => e.duration),
     longTasksAfter: window.longTasks.filter((e) => e.startTime >= window.recon.runEndedAt).map((e) => e.duration) }));
   await page.close();

@@ -639,8 +639,14 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
 Reconstruction reconstruct_phases_1_2(PointCloudView cloud, const ReconstructionOptions& options) {
   check_cloud(cloud, options);
   const ProgressScope counting(options.progress);
+  Reconstruction r = phase_1(cloud, Run{options, memory_limit_or_default(options.max_memory)}, [] {});
+  reconstruct_phase_2_on(r, options);
+  return r;
+}
+
+void reconstruct_phase_2_on(Reconstruction& r, const ReconstructionOptions& options) {
+  const ProgressScope counting(options.progress);
   const Run run{options, memory_limit_or_default(options.max_memory)};
-  Reconstruction r = phase_1(cloud, run, [] {});
   check_memory_after_phase_1(r, run, lattice_cell(r.points(), r.planes, options));
   if (options.use_input_normals) {
     use_input_normals(r);  // (phase III builds the origins' tree then)
@@ -649,7 +655,6 @@ Reconstruction reconstruct_phases_1_2(PointCloudView cloud, const Reconstruction
     phase_2(r, run, 0.0, SignedDistanceOptions{}, nullptr, seconds_tree);
     r.seconds_distance_setup = seconds_tree;
   }
-  return r;
 }
 
 void reconstruct_phases_3_on(Reconstruction& r, const ReconstructionOptions& options) {

@@ -487,7 +487,7 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
   if (in.planes == nullptr) throw InvalidInputError("report: the tangent planes are required");
   const TangentPlanes<3>& planes = *in.planes;
   const std::size_t n = in.points.size();
-  if (planes.origins.size() != n || planes.normals.size() != n || in.normals.size() != n)
+  if (planes.origins.size() != n || planes.normals.size() != n || (in.normals.size() != n && !in.normals.empty()))
     throw InvalidInputError("report: " + std::to_string(n) + " points but " + std::to_string(planes.origins.size()) +
                             " planes and " + std::to_string(in.normals.size()) + " oriented normals");
   if (!in.colors.empty() && in.colors.size() != n)
@@ -514,8 +514,10 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
     push_normal(layers.pca_normals, planes.normals[i]);
     layers.planarity.push_back(static_cast<float>(planes.surface_variation(i)));
     layers.no_plane.push_back(planes.local_rho[i] > 0.0F ? 0 : 1);
-    push_normal(layers.normals, in.normals[i]);
-    layers.flipped.push_back(planes.normals[i].dot(in.normals[i]) < 0.0 ? 1 : 0);
+    if (!in.normals.empty()) {
+      push_normal(layers.normals, in.normals[i]);
+      layers.flipped.push_back(planes.normals[i].dot(in.normals[i]) < 0.0 ? 1 : 0);
+    }
     if (!in.colors.empty())
       layers.point_colors.insert(layers.point_colors.end(), in.colors[i].begin(), in.colors[i].end());
   }
@@ -541,8 +543,10 @@ void write_points(JsonWriter& w, const ReportLayers& layers) {
   w.array("pca_normal", layers.pca_normals);
   w.array("planarity", layers.planarity);
   w.array("no_plane", layers.no_plane);
-  w.array("normal", layers.normals);
-  w.array("flipped", layers.flipped);
+  if (!layers.normals.empty()) {  // (none before phase II: the web page's view of phase I)
+    w.array("normal", layers.normals);
+    w.array("flipped", layers.flipped);
+  }
   if (!layers.point_colors.empty()) w.array("color", layers.point_colors);
   w.close();
 

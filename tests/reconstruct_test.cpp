@@ -376,6 +376,10 @@ TEST(Reconstruct, LaterPhasesAgainGiveReconstructsMeshForTheirParameters) {
     ReconstructionOptions options;
     options.method = method;
     Reconstruction kept = reconstruct_phases_1_2(cloud, options);
+    if (method == Method::hoppe92) {  // the same in two calls, as the web page runs them
+      kept = reconstruct_phase_1(cloud, options);
+      reconstruct_phase_2_on(kept, options);
+    }
     for (const double scale : {1.0, 0.8, 1.3}) {
       ReconstructionOptions later = options;
       if (scale != 1.0) later.cell = scale * kept.planes.rho;

@@ -248,6 +248,10 @@ struct Reconstruction {
 /// not give reconstruct()'s mesh for that cell; in hoppe92 it does.
 /// Throws what reconstruct() throws for those phases.
 [[nodiscard]] Reconstruction reconstruct_phases_1_2(PointCloudView cloud, const ReconstructionOptions& options);
+/// Phase II alone on `r` from reconstruct_phase_1 (below) with the same
+/// options: reconstruct_phases_1_2 is the two in a row (the web page shows
+/// phase I's layers between them). Throws what reconstruct() throws there.
+void reconstruct_phase_2_on(Reconstruction& r, const ReconstructionOptions& options);
 /// Phases III-VI on `r` from reconstruct_phases_1_2 (its later results, if
 /// any, replaced). Throws what reconstruct() throws for those phases, and
 /// InvalidInputError when options.method is not the method of r's phase I.

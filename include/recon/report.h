@@ -95,7 +95,7 @@ struct ReportInput {
   Vec3 offset = Vec3::Zero();
   const TangentPlanes<3>* planes = nullptr;          ///< required
   const OrientedNormals<3>* oriented = nullptr;      ///< phase II with its graph kept; null: no layer 4
-  std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's)
+  std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's); empty: none yet (no layer 5)
   std::span<const Color> colors;                     ///< the points' own colours, or empty (none)
   const MarchingCubesResult* contour = nullptr;      ///< null: no layers 6, 7 and 8 (`recon normals`)
   const Mesh* mesh = nullptr;                        ///< the mesh drawn in layer 7; null: contour->mesh

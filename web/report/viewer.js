@@ -63,9 +63,11 @@ function meshMaterial(vertexColours = false) {
 // A renderer for the canvas, as the views draw: multisampled or not
 // (antialiasing costs little on a graphics card but doubles the time of a
 // frame drawn in software; large meshes, which fill the picture with tiny
-// triangles anyway, go without).
-export function makeRenderer(canvas, antialias) {
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias, preserveDrawingBuffer: true });
+// triangles anyway, go without), its picture kept for reading (the report's
+// screenshots, scripts/phase-pictures) or not (the web page: a copy less
+// per frame).
+export function makeRenderer(canvas, antialias, preserveDrawingBuffer = true) {
+  const renderer = new THREE.WebGLRenderer({ canvas, antialias, preserveDrawingBuffer });
   renderer.setPixelRatio(Math.min(2, window.devicePixelRatio));
   renderer.setClearColor(0xf4f5f7);
   return renderer;
@@ -378,7 +380,7 @@ export function showReport(data, arrayBytes, { deferFirstFrame = false, renderer
     G ? graphNote(G) : 'not available: phase II was skipped (the input normals were used)', graphLegend, false);
 
   // 5. oriented normals, coloured by direction
-  addLayer('normals', '5. Oriented normals', () => {
+  addLayer('normals', '5. Oriented normals', P.normal === undefined ? null : () => {
     planeArrays();
     const normal = normals8(P.normal);
     const { positions, kept } = normalSegments(origins, normal, normalLength, (i) => !noPlane[i]);
@@ -390,7 +392,8 @@ export function showReport(data, arrayBytes, { deferFirstFrame = false, renderer
       ++m;
     }
     return colouredSegments(positions, c);
-  }, 'coloured by direction (x, y, z as red, green, blue): consistent normals change colour smoothly', null, !data.mesh);
+  }, P.normal === undefined ? 'not yet: phase II is running' :
+    'coloured by direction (x, y, z as red, green, blue): consistent normals change colour smoothly', null, !data.mesh);
 
   // 6. signed distance at the lattice corners
   const C = data.corners;

@@ -239,10 +239,18 @@ async function reconstructsAsTheProgram(path, label) {
   return stats;
 }
 
-test('a PLY gives the program\'s statistics and mesh', async () => {
+test('a PLY gives the program\'s statistics and mesh, each phase\'s layers drawn as it ends', async () => {
   const path = join(folder, 'torus.ply');
   execFileSync(cli, ['--quiet', 'generate', 'torus', '-n', '4000', '-o', path]);
   await reconstructsAsTheProgram(path, 'PLY');
+  const views = await page.evaluate(() => window.recon.views.map(({ stage, layers }) => ({ stage, layers })));
+  assert.deepEqual(views.map((v) => v.stage), [1, 2, 4, 5], 'after phases I, II, IV (as V starts) and the run');
+  const has = (stage, id) => views.find((v) => v.stage === stage).layers.includes(id);
+  assert.ok(has(1, 'points') && has(1, 'kdtree') && has(1, 'pca'));
+  assert.ok(!has(1, 'normals') && !has(1, 'graph'), 'no oriented normals or graph before phase II');
+  assert.ok(has(2, 'normals') && has(2, 'graph') && !has(2, 'mesh'));
+  assert.ok(has(4, 'mesh') && has(4, 'distance') && !has(4, 'refinement'), 'the 1992 mesh before phase V');
+  assert.ok(has(5, 'refinement'));
 });
 
 test('a coloured PLY, a CSV and a LAS give the program\'s statistics and mesh', async () => {
@@ -361,6 +369,7 @@ test('a new cell re-runs phases III-V only and gives the program\'s mesh for tha
   await page.click('#go');
   assert.equal(await finished(), 'done');
   const before = await page.evaluate(() => ({ ...window.recon.runs }));
+  const viewsBefore = await page.evaluate(() => window.recon.views.length);
   const cell = '0.045';
   await page.fill('#cell', cell);
   await page.click('#go');
@@ -370,6 +379,8 @@ test('a new cell re-runs phases III-V only and gives the program\'s mesh for tha
   assert.equal(runs.orientation, before.orientation, 'phase II not run again');
   assert.equal(runs['signed distance'], before['signed distance'] + 1);
   assert.equal(runs.contouring, before.contouring + 1);
+  assert.deepEqual(await page.evaluate((n) => window.recon.views.slice(n).map((v) => v.stage), viewsBefore), [5],
+    'phases I-II\'s layers not sent again');
   const stats = await page.evaluate(() => window.recon.stats);
   assert.equal(stats.contouring.cell, Number(cell));
   const expected = program(path, ['--method', 'hoppe92', '--cell', cell]);

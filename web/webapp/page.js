@@ -9,12 +9,13 @@
 // For the tests (web/tests/webapp.test.mjs): document.body.dataset.state is
 // idle, running, done or error; window.recon holds the last run's --stats
 // JSON (stats), the input's description (input), how often each phase ran
-// (runs), the error line (error) and the viewer's handle (viewer).
+// (runs), the views drawn (views), the error line (error) and the viewer's
+// handle (viewer).
 import { makeRenderer, showReport, warmUp } from '../report/viewer.js';
 
 /* global workerSource */
 const $ = (id) => document.getElementById(id);
-const recon = { stats: null, input: null, error: '', viewer: null, runs: {}, lines: [], layerTimes: [] };
+const recon = { stats: null, input: null, error: '', viewer: null, runs: {}, lines: [], views: [] };
 window.recon = recon;
 
 // The phases as reconstruct() names them (its on_phase), with the terminal's numbering.
@@ -94,17 +95,22 @@ function showProgress(done, total) {
 
 // One renderer for every view, its shaders compiled while the page is idle
 // (a software renderer takes a few hundred milliseconds per shader).
-const renderer = makeRenderer($('canvas'), false);
+const renderer = makeRenderer($('canvas'), false, false);
 renderer.setSize(Math.max(1, $('view').clientWidth), Math.max(1, $('view').clientHeight), false);  // (its buffers, once)
 warmUp(renderer);
 
-function showLayers({ json, arrays }) {
+// Stage 1: phase I done, 2: phase II, 4: phase IV (refined, as phase V
+// starts), 5: the run. recon.views records each view: its stage, the
+// layers it has, its bytes and the time it took here.
+function showLayers({ stage, json, arrays }) {
   const start = performance.now();
   const data = JSON.parse(json);
   recon.viewer?.dispose();
   recon.viewer = showReport(data, (id) => arrays[id], { deferFirstFrame: true, renderer });
   document.title = `recon: ${data.title}`;
-  recon.layerTimes.push({ at: start, bytes: json.length + arrays.reduce((n, a) => n + a.byteLength, 0), ms: performance.now() - start });
+  recon.views.push({ stage, at: start, ms: performance.now() - start,
+    bytes: json.length + arrays.reduce((n, a) => n + a.byteLength, 0),
+    layers: recon.viewer.layers.filter((l) => l.available).map((l) => l.id) });
 }
 
 // ---- input

@@ -21,8 +21,9 @@
 //     program's default". Returns 0 or 1. While it runs it calls the page's
 //     hooks (Module.reconPhase, reconProgress, reconLayers: worker.js); the
 //     layers go as the report's data (report_data: the JSON and the arrays'
-//     bytes, copied out of the module's memory), after phases I-II (with a
-//     subsample, drawn while III-V run) and at the end (the report's budgets).
+//     bytes, copied out of the module's memory) after phase I, phase II and
+//     (refined) phase IV, as subsamples drawn while the run goes on, and at
+//     the end with the report's budgets.
 //   webapp_set_limit(bytes) sets the memory a run may use (0: 2.5 GB, the
 //     default); a cloud estimated to need more is refused before phase I.
 //   webapp_stats() is the last run's --stats JSON; webapp_write(what, path)
@@ -44,6 +45,7 @@
 #include "recon/reconstruct.h"
 #include "recon/report.h"
 #include "recon/shapes.h"
+#include "recon/progress.h"
 #include "recon/timer.h"
 
 #include <emscripten/emscripten.h>
@@ -52,6 +54,7 @@
 #include <exception>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -62,10 +65,11 @@ using namespace recon;
 // The memory a run may use by default: wasm32's 4 GiB address space, less
 // what the page's own copies take (the file, the layers, the outputs).
 constexpr double default_page_limit = 2.5e9;
-// Points (and graph edges) drawn after phase II, while the run goes on
+// Points (graph edges, corners) and triangles drawn while the run goes on
 // (measured in headless Chromium, docs/benchmarks.md); the run's final
 // layers have the report's budgets.
 constexpr std::size_t mid_run_points = 10'000;
+constexpr std::size_t mid_run_triangles = 20'000;
 
 struct State {
   PointCloud cloud;
@@ -153,26 +157,61 @@ void check_fits(int k, bool refined) {
   }
 }
 
-// The layers of phases I-II alone (no lattice, no mesh yet).
-ReportLayers early_layers(const Reconstruction& r, const ReportOptions& options) {
+// The report's title and statistics for the layers, as `--report` gives them.
+ReportOptions layer_options(cli::Summary& summary) { return cli::run_report_options(state.name, summary); }
+
+// The layers drawn while the run goes on: light enough that no task of the
+// page's main thread takes over 100 ms (regular subsamples, which the page
+// states; docs/benchmarks.md, Issue 29).
+ReportOptions mid_run_options(cli::Summary& summary) {
+  ReportOptions options = layer_options(summary);
+  options.max_points = mid_run_points;
+  options.max_edges = mid_run_points;
+  options.max_corners = mid_run_points;
+  options.max_triangles = mid_run_triangles;
+  options.max_boundary_edges = mid_run_points;
+  return options;
+}
+
+// Phase I's layers (points, kd-tree cells, unoriented planes), or with
+// phase II's (graph, spanning tree, oriented normals) once it ran.
+void tell_early_layers(int stage, const Reconstruction& r) {
   ReportInput input;
   input.points = r.points();
   input.offset = r.offset;
   input.planes = &r.planes;
   input.oriented = r.oriented ? &*r.oriented : nullptr;
-  input.normals = r.normals();
+  if (stage >= 2) input.normals = r.normals();  // none yet after phase I
   input.colors = r.colors;
-  return make_report_layers(input, options);
+  cli::Summary summary = *state.read;
+  const ReportOptions options = mid_run_options(summary);
+  tell_layers(stage, make_report_layers(input, options), options);
 }
 
-ReportOptions layer_options(cli::Summary& summary) { return cli::run_report_options(state.name, summary); }
+// Phase IV's mesh (the 1992 surface) and the corners, drawn while phase V
+// runs: called as it starts, when the contour is whole but, like every
+// result until the run's end, relative to r.offset.
+void tell_contour_layers(const Reconstruction& r) {
+  Mesh moved = r.contour.mesh;
+  for (Vec3& v : moved.vertices) v += r.offset;
+  ReportInput input = report_input(r);
+  input.mesh = &moved;
+  input.refinement = nullptr;
+  cli::Summary summary = *state.read;
+  const ReportOptions options = mid_run_options(summary);
+  tell_layers(4, make_report_layers(input, options), options);
+}
 
 // Phases I-II (from_phase 1), then III-V, each stage's layers to the page.
 void run(int from_phase, const ReconstructionOptions& options) {
   Timer total;
   ProgressCounter counter;
+  const ProgressScope counting(&counter);  // (reconstruct_phase_1 installs none)
   ReconstructionOptions o = options;
-  o.on_phase = tell_phase;
+  o.on_phase = [](const char* phase) {
+    tell_phase(phase);
+    if (std::string_view(phase) == "refinement" && state.r) tell_contour_layers(*state.r);
+  };
   o.progress = &counter;
   double last = -1.0;
   const InterruptionCheck progress([&] {
@@ -182,14 +221,10 @@ void run(int from_phase, const ReconstructionOptions& options) {
   });
   if (from_phase <= 2 || !state.r || state.r->method != o.method) {
     state.r.reset();
-    state.r.emplace(reconstruct_phases_1_2(PointCloudView(state.cloud), o));
-    cli::Summary early = *state.read;
-    ReportOptions drawn = layer_options(early);
-    // Drawn while phases III-V run: light enough that no task of the page's
-    // main thread takes over 100 ms (a regular subsample, which the page states).
-    drawn.max_points = mid_run_points;
-    drawn.max_edges = mid_run_points;
-    tell_layers(2, early_layers(*state.r, drawn), drawn);
+    state.r.emplace(reconstruct_phase_1(PointCloudView(state.cloud), o));
+    tell_early_layers(1, *state.r);
+    reconstruct_phase_2_on(*state.r, o);
+    tell_early_layers(2, *state.r);
   }
   reconstruct_phases_3_on(*state.r, o);
   state.options = o;

@@ -25,7 +25,7 @@ const moduleReady = createReconWebapp({
   // Phases I-II's layers go at once; the run's own go with its answer (the
   // page draws them once the worker is idle).
   reconLayers: (stage, json, arrays) => {
-    if (stage === 5) finalLayers = { json, arrays };
+    if (stage === 5) finalLayers = { stage, json, arrays };
     else post({ type: 'layers', stage, json, arrays }, arrays.map((a) => a.buffer));
   },
 }).then((module) => {
