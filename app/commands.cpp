@@ -70,17 +70,8 @@ PointCloud read_input(const InputOptions& in, Summary& summary, io::ReadNotes* s
                                                               : io::read_points(in.path, read_options(in), &notes);
   if (opened != nullptr) opened->reset();
   if (in.no_colors) cloud.colors = {};
-  const char* extras = cloud.has_normals() ? (cloud.has_colors() ? " with normals and colours" : " with normals")
-                                           : (cloud.has_colors() ? " with colours" : "");
-  summary.say("read      " + in.path.string() + ": " + plural(cloud.size(), "point") + extras + " (" +
-              format_seconds(timer.elapsed()) + ")");
-  for (const std::string& line : notes.lines) summary.say("          " + line);
-  summary.stats()["input"]["file"] = in.path.string();
-  summary.stats()["input"]["points"] = cloud.size();
-  summary.stats()["input"]["has_normals"] = cloud.has_normals();
-  summary.stats()["input"]["has_colors"] = cloud.has_colors();
-  summary.stats()["input"]["skipped_points"] = notes.skipped_points;
-  summary.stats()["input"]["seconds"] = timer.elapsed();
+  const double seconds = timer.elapsed();
+  summary.add(input_report(in.path.string(), cloud, notes, seconds), "input");
   if (said != nullptr) *said = std::move(notes);
   return cloud;
 }

@@ -93,6 +93,23 @@ StepReport phase_2_report(const OrientedNormals<D>& oriented) {
   return report;
 }
 
+StepReport input_report(const std::string& file, const PointCloud& cloud, const io::ReadNotes& notes,
+                        double seconds) {
+  StepReport report;
+  const char* extras = cloud.has_normals() ? (cloud.has_colors() ? " with normals and colours" : " with normals")
+                                           : (cloud.has_colors() ? " with colours" : "");
+  report.lines.push_back("read      " + file + ": " + plural(cloud.size(), "point") + extras + " (" +
+                         format_seconds(seconds) + ")");
+  for (const std::string& line : notes.lines) report.lines.push_back("          " + line);
+  report.stats["file"] = file;
+  report.stats["points"] = cloud.size();
+  report.stats["has_normals"] = cloud.has_normals();
+  report.stats["has_colors"] = cloud.has_colors();
+  report.stats["skipped_points"] = notes.skipped_points;
+  report.stats["seconds"] = seconds;
+  return report;
+}
+
 StepReport phase_3_report(const SignedDistanceFigures& f) {
   std::ostringstream line;
   line << "phase III signed distance: delta = " << format_length(f.delta) << (f.delta_given ? " (given)" : " (estimated)")

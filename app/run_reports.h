@@ -6,6 +6,7 @@
 
 #include "summary.h"
 
+#include "recon/io/point_io.h"  // ReadNotes
 #include "recon/reconstruct.h"
 #include "recon/report.h"
 #include "recon/resource_usage.h"
@@ -20,6 +21,10 @@ namespace recon::cli {
 // Each phase's account (lines and statistics), for 2D and 3D alike. Pure:
 // Summary::add prints and records them.
 
+/// The input as read ("input"): `cloud` read from `file` in `seconds`, with
+/// the reader's notes (the program and the web page, web/webapp/, say it alike).
+[[nodiscard]] StepReport input_report(const std::string& file, const PointCloud& cloud, const io::ReadNotes& notes,
+                                      double seconds);
 /// Phase I of `points` points ("tangent_planes"; D = 2 and 3).
 template <int D>
 [[nodiscard]] StepReport phase_1_report(const TangentPlanes<D>& planes, std::size_t points);

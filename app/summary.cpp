@@ -1,6 +1,7 @@
 #include "summary.h"
 
 #include "recon/io/atomic_file.h"
+#include "recon/detail/float_chars.h"
 #include "recon/version.h"
 
 #include <algorithm>
@@ -59,7 +60,7 @@ void Json::dump(std::string& out, int indent, int depth) const {
       char buffer[32];
       const bool whole = std::abs(*d) < 1e15 && *d == std::floor(*d);
       const auto result = whole ? std::to_chars(buffer, buffer + sizeof buffer, static_cast<long long>(*d))
-                                : std::to_chars(buffer, buffer + sizeof buffer, *d);
+                                : detail::float_to_chars(buffer, buffer + sizeof buffer, *d);
       out.append(buffer, result.ptr);
     }
   } else if (const auto* b = std::get_if<bool>(&value_)) {

@@ -589,6 +589,30 @@ Reconstruction reconstruct_phase_1(PointCloudView cloud, const ReconstructionOpt
   return phase_1(cloud, Run{options, memory_limit_or_default(options.max_memory)}, [] {});
 }
 
+namespace {
+
+// Phases III to VI and the colours on `r`, whose phases I and II are done
+// (with phase III's first wave beside phase II when `wave` holds it).
+void later_phases(Reconstruction& r, const Run& run, double cell, const SignedDistanceOptions& distance,
+                  detail::FirstWave& wave, double seconds_wave) {
+  const ReconstructionOptions& options = run.options;
+  const SignedDistance<3> f = phase_3(r, run, distance, seconds_wave);
+  if (lattice_fits<3>(bounding_box<3>(r.points()), cell)) {
+    phase_4(r, run, f, cell, wave);
+  } else {  // far-apart clusters, a lattice each (see reconstruct.h)
+    phase_4_by_cluster(r, run, f, cell);
+  }
+  refuse_an_empty_contour(r, options, cell);
+  if (run.refined()) phase_5(r, run, f, cell);
+  if (options.simplify.requested()) phase_6(r, run);
+  if (options.mesh_colors && !r.colors.empty()) color_mesh(r, run);
+  move_back_to_input_coordinates(r);
+  // Last, in the input's coordinates (as a tiled run's stitched mesh has them).
+  if (options.vertex_normals) r.face_normals = fill_face_normals(r.mesh());
+}
+
+}  // namespace
+
 Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
                                 const std::function<void()>& release) {
   check_cloud(cloud, options);
@@ -608,20 +632,53 @@ Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOption
   } else {
     phase_2(r, run, cell, distance, one_lattice ? &wave : nullptr, seconds_wave);
   }
-  const SignedDistance<3> f = phase_3(r, run, distance, seconds_wave);
-  if (one_lattice) {
-    phase_4(r, run, f, cell, wave);
-  } else {
-    phase_4_by_cluster(r, run, f, cell);
-  }
-  refuse_an_empty_contour(r, options, cell);
-  if (run.refined()) phase_5(r, run, f, cell);
-  if (options.simplify.requested()) phase_6(r, run);
-  if (options.mesh_colors && !r.colors.empty()) color_mesh(r, run);
-  move_back_to_input_coordinates(r);
-  // Last, in the input's coordinates (as a tiled run's stitched mesh has them).
-  if (options.vertex_normals) r.face_normals = fill_face_normals(r.mesh());
+  later_phases(r, run, cell, distance, wave, seconds_wave);
   return r;
+}
+
+Reconstruction reconstruct_phases_1_2(PointCloudView cloud, const ReconstructionOptions& options) {
+  check_cloud(cloud, options);
+  const ProgressScope counting(options.progress);
+  Reconstruction r = phase_1(cloud, Run{options, memory_limit_or_default(options.max_memory)}, [] {});
+  reconstruct_phase_2_on(r, options);
+  return r;
+}
+
+void reconstruct_phase_2_on(Reconstruction& r, const ReconstructionOptions& options) {
+  const ProgressScope counting(options.progress);
+  const Run run{options, memory_limit_or_default(options.max_memory)};
+  check_memory_after_phase_1(r, run, lattice_cell(r.points(), r.planes, options));
+  if (options.use_input_normals) {
+    use_input_normals(r);  // (phase III builds the origins' tree then)
+  } else {
+    double seconds_tree = 0.0;  // the tree over the origins, phase III's: counted there, as reconstruct() does
+    phase_2(r, run, 0.0, SignedDistanceOptions{}, nullptr, seconds_tree);
+    r.seconds_distance_setup = seconds_tree;
+  }
+}
+
+void reconstruct_phases_3_on(Reconstruction& r, const ReconstructionOptions& options) {
+  check_length_option("a cell", options.cell);
+  check_length_option("delta", options.distance.delta);
+  check_simplify_step(options.simplify);
+  if (r.method != options.method)
+    throw InvalidInputError(std::string("phases III-V of the ") + method_name(options.method) +
+                            " method asked on phases I-II of the " + method_name(r.method) + " method");
+  const ProgressScope counting(options.progress);
+  const Run run{options, memory_limit_or_default(options.max_memory)};
+  // The previous run's later results go; the origins' tree (phase III's, made with phase II) stays.
+  const double seconds_tree = r.seconds_distance_setup;
+  r.contour = {};
+  r.clusters.clear();
+  r.refinement.reset();
+  r.simplification.reset();
+  r.face_normals = {};
+  r.seconds_colors = 0.0;
+  const double cell = lattice_cell(r.points(), r.planes, options);
+  check_memory_after_phase_1(r, run, cell);
+  detail::FirstWave none;
+  later_phases(r, run, cell, signed_distance_options(options.method, options.distance, r.quadrics), none,
+               seconds_tree);
 }
 
 }  // namespace recon

@@ -1,5 +1,7 @@
 #include "recon/report.h"
 
+#include "recon/detail/float_chars.h"
+
 #include "recon/errors.h"
 #include "recon/io/atomic_file.h"
 #include "recon/mesh.h"
@@ -332,7 +334,7 @@ class JsonWriter {
       return;
     }
     char buffer[32];
-    const auto end = std::to_chars(buffer, buffer + sizeof buffer, v).ptr;
+    const auto end = detail::float_to_chars(buffer, buffer + sizeof buffer, v).ptr;
     out_.append(buffer, end);
   }
   void count(std::string_view k, std::size_t v) { number(k, static_cast<double>(v)); }
@@ -377,7 +379,7 @@ class JsonWriter {
     for (int i = 0; i < 3; ++i) {
       if (i > 0) out_ += ',';
       char buffer[32];
-      out_.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, v[i]).ptr);
+      out_.append(buffer, detail::float_to_chars(buffer, buffer + sizeof buffer, v[i]).ptr);
     }
     out_ += ']';
   }
@@ -485,7 +487,7 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
   if (in.planes == nullptr) throw InvalidInputError("report: the tangent planes are required");
   const TangentPlanes<3>& planes = *in.planes;
   const std::size_t n = in.points.size();
-  if (planes.origins.size() != n || planes.normals.size() != n || in.normals.size() != n)
+  if (planes.origins.size() != n || planes.normals.size() != n || (in.normals.size() != n && !in.normals.empty()))
     throw InvalidInputError("report: " + std::to_string(n) + " points but " + std::to_string(planes.origins.size()) +
                             " planes and " + std::to_string(in.normals.size()) + " oriented normals");
   if (!in.colors.empty() && in.colors.size() != n)
@@ -512,8 +514,10 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
     push_normal(layers.pca_normals, planes.normals[i]);
     layers.planarity.push_back(static_cast<float>(planes.surface_variation(i)));
     layers.no_plane.push_back(planes.local_rho[i] > 0.0F ? 0 : 1);
-    push_normal(layers.normals, in.normals[i]);
-    layers.flipped.push_back(planes.normals[i].dot(in.normals[i]) < 0.0 ? 1 : 0);
+    if (!in.normals.empty()) {
+      push_normal(layers.normals, in.normals[i]);
+      layers.flipped.push_back(planes.normals[i].dot(in.normals[i]) < 0.0 ? 1 : 0);
+    }
     if (!in.colors.empty())
       layers.point_colors.insert(layers.point_colors.end(), in.colors[i].begin(), in.colors[i].end());
   }
@@ -539,8 +543,10 @@ void write_points(JsonWriter& w, const ReportLayers& layers) {
   w.array("pca_normal", layers.pca_normals);
   w.array("planarity", layers.planarity);
   w.array("no_plane", layers.no_plane);
-  w.array("normal", layers.normals);
-  w.array("flipped", layers.flipped);
+  if (!layers.normals.empty()) {  // (none before phase II: the web page's view of phase I)
+    w.array("normal", layers.normals);
+    w.array("flipped", layers.flipped);
+  }
   if (!layers.point_colors.empty()) w.array("color", layers.point_colors);
   w.close();
 
@@ -640,17 +646,26 @@ void write_data(JsonWriter& w, const ReportLayers& layers, const ReportOptions& 
 
 }  // namespace
 
-std::string report_html(const ReportLayers& layers, const ReportOptions& options) {
+ReportData report_data(const ReportLayers& layers, const ReportOptions& options) {
+  ReportData out;
+  JsonWriter w(out.json);
+  write_data(w, layers, options);
+  for (const auto& a : w.arrays()) out.arrays.push_back({static_cast<const std::byte*>(a.data), a.size});
+  return out;
+}
+
+namespace {
+
+// The data block of the page: the JSON element and one base64 element per array.
+std::string report_data_elements(const ReportLayers& layers, const ReportOptions& options) {
   std::string data;
   JsonWriter w(data);
   write_data(w, layers, options);
 
-  const ReportPage page = report_page();
-  std::size_t size = page.head.size() + data.size() + page.tail.size() + 200;
+  std::size_t size = data.size() + 200;
   for (const auto& a : w.arrays()) size += (a.size + 2) / 3 * 4 + 80;
   std::string html;
   html.reserve(size);
-  html += page.head;
   // The data: the JSON in one element, each array base64-encoded in its own
   // (the viewer decodes them straight from the page's text, and no large
   // JSON string is ever parsed). Inside <script>, "</script" or "<!--" would
@@ -670,6 +685,18 @@ std::string report_html(const ReportLayers& layers, const ReportOptions& options
     append_base64(html, w.arrays()[i].data, w.arrays()[i].size);
     html += "</script>\n";
   }
+  return html;
+}
+
+}  // namespace
+
+std::string report_html(const ReportLayers& layers, const ReportOptions& options) {
+  const ReportPage page = report_page();
+  const std::string data = report_data_elements(layers, options);
+  std::string html;
+  html.reserve(page.head.size() + data.size() + page.tail.size());
+  html += page.head;
+  html += data;
   html += page.tail;
   return html;
 }

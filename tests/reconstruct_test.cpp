@@ -366,6 +366,38 @@ TEST(Reconstruct, Hoppe92IsThe1992PipelineBitForBit) {
   }
 }
 
+// The web page (web/webapp/) runs phases I-II once and III-V again for a
+// new cell or delta: each later run must give reconstruct()'s mesh for its
+// parameters, bit for bit, also after an earlier later run on the same
+// result (its results replaced, not mixed in), and with colours.
+TEST(Reconstruct, LaterPhasesAgainGiveReconstructsMeshForTheirParameters) {
+  const PointCloud cloud = red_above_blue_below(Vec3(5.0, 0.0, 0.0), 6000, 44);
+  for (const Method method : {Method::hoppe92, Method::refined}) {
+    ReconstructionOptions options;
+    options.method = method;
+    Reconstruction kept = reconstruct_phases_1_2(cloud, options);
+    if (method == Method::hoppe92) {  // the same in two calls, as the web page runs them
+      kept = reconstruct_phase_1(cloud, options);
+      reconstruct_phase_2_on(kept, options);
+    }
+    for (const double scale : {1.0, 0.8, 1.3}) {
+      ReconstructionOptions later = options;
+      if (scale != 1.0) later.cell = scale * kept.planes.rho;
+      if (method == Method::refined && scale != 1.0) continue;  // phase I's fits depend on the cell (reconstruct.h)
+      reconstruct_phases_3_on(kept, later);
+      const Reconstruction whole = reconstruct(cloud, later);
+      EXPECT_TRUE(kept.mesh().vertices == whole.mesh().vertices) << method_name(method) << " scale " << scale;
+      EXPECT_TRUE(kept.mesh().triangles == whole.mesh().triangles) << method_name(method) << " scale " << scale;
+      EXPECT_TRUE(kept.mesh().colors == whole.mesh().colors) << method_name(method) << " scale " << scale;
+      EXPECT_EQ(kept.contour.mesh.triangles.size(), whole.contour.mesh.triangles.size());
+      EXPECT_EQ(kept.delta, whole.delta);
+    }
+    ReconstructionOptions other = options;
+    other.method = method == Method::refined ? Method::hoppe92 : Method::refined;
+    EXPECT_THROW(reconstruct_phases_3_on(kept, other), InvalidInputError);
+  }
+}
+
 // Large enough that every parallel part splits its work (kd-tree build tasks
 // above 65536 points, OpenMP chunks of 4096), at two threads and at three (a
 // different split). The tsan preset runs it, and the other tests, under

@@ -78,6 +78,29 @@ TEST(Report, EveryPointWithItsPlaneNormalsAndComponentWhenWithinBudget) {
   EXPECT_LT((layers.centre - (0.5 * (box.min + box.max) + r.offset)).norm(), 1e-12);
 }
 
+// The web page's view of phase I alone (web/webapp/): no oriented normals
+// yet, so no layer 5 in the data (the viewer lists it as not yet there).
+TEST(Report, PhaseIAloneHasNoOrientedNormals) {
+  const Reconstruction& r = open_and_closed();
+  ReportInput input = report_input(r);
+  input.normals = {};
+  input.oriented = nullptr;
+  input.contour = nullptr;
+  input.refinement = nullptr;
+  const ReportLayers layers = make_report_layers(input);
+  EXPECT_EQ(layers.points.size(), 3 * r.points().size());
+  EXPECT_EQ(layers.pca_normals.size(), 3 * r.points().size());
+  EXPECT_TRUE(layers.normals.empty());
+  EXPECT_TRUE(layers.flipped.empty());
+  const std::string html = report_html(layers);
+  const std::string_view json = element(html, "recon-data");
+  EXPECT_NE(json.find("\"pca_normal\":"), std::string_view::npos);
+  EXPECT_EQ(json.find("\"normal\":"), std::string_view::npos);
+  EXPECT_EQ(json.find("\"flipped\":"), std::string_view::npos);
+  input.normals = r.normals().first(3);  // neither all nor none
+  EXPECT_THROW((void)make_report_layers(input), InvalidInputError);
+}
+
 TEST(Report, KdTreeCellsAreTheNodeBoxesDownToTheDrawnDepth) {
   const Reconstruction& r = open_and_closed();
   ReportOptions options;

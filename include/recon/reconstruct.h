@@ -233,6 +233,30 @@ struct Reconstruction {
 [[nodiscard]] Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
                                               const std::function<void()>& release);
 
+/// reconstruct() in two steps, for a caller that changes the later phases'
+/// parameters and runs them again without phases I and II (the web page,
+/// web/webapp/): phases I and II, then phases III to VI and the colours on
+/// their result, as often as wanted. The mesh is reconstruct()'s bit for
+/// bit (phase III's values are computed after phase II rather than beside
+/// it, which gives the same values: detail/first_wave.h). Cost: that of
+/// reconstruct(), and each later call that of phases III-VI; the graph
+/// stays in the result while keep_graph asks for it.
+/// Phases I-II read options' method, planes, orientation, quadrics,
+/// use_input_normals, max_memory, offset, keep_graph and, in the refined
+/// method, the cell (phase I's second-order fits tell two sheets apart at
+/// 1.5 cells): a later call with another cell in the refined method does
+/// not give reconstruct()'s mesh for that cell; in hoppe92 it does.
+/// Throws what reconstruct() throws for those phases.
+[[nodiscard]] Reconstruction reconstruct_phases_1_2(PointCloudView cloud, const ReconstructionOptions& options);
+/// Phase II alone on `r` from reconstruct_phase_1 (below) with the same
+/// options: reconstruct_phases_1_2 is the two in a row (the web page shows
+/// phase I's layers between them). Throws what reconstruct() throws there.
+void reconstruct_phase_2_on(Reconstruction& r, const ReconstructionOptions& options);
+/// Phases III-VI on `r` from reconstruct_phases_1_2 (its later results, if
+/// any, replaced). Throws what reconstruct() throws for those phases, and
+/// InvalidInputError when options.method is not the method of r's phase I.
+void reconstruct_phases_3_on(Reconstruction& r, const ReconstructionOptions& options);
+
 /// Throws InvalidInputError "no surface found: FIGURES", and when the cell is
 /// not smaller than half the cloud's longest side, why and the cell to use
 /// (`smaller_cell`: which option gives it). For a contour with no triangle,

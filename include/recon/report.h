@@ -63,6 +63,7 @@
 #include "recon/refinement.h"
 #include "recon/tangent_planes.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -94,7 +95,7 @@ struct ReportInput {
   Vec3 offset = Vec3::Zero();
   const TangentPlanes<3>* planes = nullptr;          ///< required
   const OrientedNormals<3>* oriented = nullptr;      ///< phase II with its graph kept; null: no layer 4
-  std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's)
+  std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's); empty: none yet (no layer 5)
   std::span<const Color> colors;                     ///< the points' own colours, or empty (none)
   const MarchingCubesResult* contour = nullptr;      ///< null: no layers 6, 7 and 8 (`recon normals`)
   const Mesh* mesh = nullptr;                        ///< the mesh drawn in layer 7; null: contour->mesh
@@ -231,6 +232,15 @@ struct ReportLayers {
                                         std::span<const Vec3> points, Vec3 offset, const ReportLayers& layers,
                                         const ReportOptions& options = {});
 
+/// The data as the viewer reads it (web/report/viewer.js, showReport): the
+/// JSON block, and array N's bytes (little-endian) as arrays[N]. The arrays
+/// lie in `layers`, which must outlive them. The web page (web/webapp/)
+/// hands them to its viewer as they are, without base64.
+struct ReportData {
+  std::string json;
+  std::vector<std::span<const std::byte>> arrays;
+};
+[[nodiscard]] ReportData report_data(const ReportLayers& layers, const ReportOptions& options = {});
 /// The whole page: the viewer (HTML, CSS, bundled JavaScript) and the data.
 [[nodiscard]] std::string report_html(const ReportLayers& layers, const ReportOptions& options = {});
 

@@ -32,6 +32,7 @@
 #include "formats.h"
 #include "io_detail.h"
 
+#include "recon/detail/float_chars.h"
 #include "recon/errors.h"
 #include "recon/version.h"
 #include "recon/vertex_normals.h"
@@ -55,7 +56,7 @@ constexpr int component_float = 5126, component_unsigned_byte = 5121, component_
 // The shortest decimal that reads back as exactly this double.
 void append_double_exactly(std::string& out, double value) {
   char text[32];
-  const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
+  const auto [end, ec] = recon::detail::float_to_chars(text, text + sizeof text, value);
   out.append(text, ec == std::errc{} ? static_cast<std::size_t>(end - text) : 0);
 }
 

@@ -1,5 +1,7 @@
 #include "io_detail.h"
 
+#include "recon/detail/float_chars.h"
+
 #include "recon/errors.h"
 #include "recon/io/point_io.h"  // file_being_read
 #include "recon/resource_usage.h"  // default_memory_limit
@@ -254,7 +256,7 @@ NumberStatus parse_double(std::string_view token, double& value) {
     if (first != last && *first == '-') return NumberStatus::not_a_number;
   }
   if (first == last) return NumberStatus::not_a_number;
-  const auto [end, ec] = std::from_chars(first, last, value);
+  const auto [end, ec] = recon::detail::float_from_chars(first, last, value);
   if (end != last || ec == std::errc::invalid_argument) return NumberStatus::not_a_number;
   if (ec == std::errc::result_out_of_range) {
     if (is_overflow(std::string_view(first, static_cast<std::size_t>(last - first)))) return NumberStatus::overflow;
@@ -406,7 +408,7 @@ void SkipInvalidPoints::found(std::uint64_t count, std::string description) {
 
 void append_number(std::string& out, double value) {
   char text[32];
-  const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
+  const auto [end, ec] = recon::detail::float_to_chars(text, text + sizeof text, value);
   out.append(text, ec == std::errc{} ? static_cast<std::size_t>(end - text) : 0);
 }
 
@@ -540,7 +542,7 @@ void append_normal_text(std::string& out, const Vec3& n) {
   for (int k = 0; k < 3; ++k) {
     if (k > 0) out += ' ';
     char text[24];
-    const auto [end, ec] = std::to_chars(text, text + sizeof text, static_cast<float>(n[k]));
+    const auto [end, ec] = recon::detail::float_to_chars(text, text + sizeof text, static_cast<float>(n[k]));
     out.append(text, ec == std::errc{} ? static_cast<std::size_t>(end - text) : 0);
   }
 }

@@ -39,6 +39,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -414,7 +415,8 @@ bool packed_color_from_text(std::string_view token, double value, ScalarType typ
   if (!std::isfinite(value)) return false;
   const bool integer_text = token.find_first_of(".eE") == std::string_view::npos && value >= 0.0;
   if (type == ScalarType::float32 && !integer_text) {
-    packed = std::bit_cast<std::uint32_t>(static_cast<float>(value));  // within float's range: fits_type
+    const float bits = static_cast<float>(value);  // within float's range: fits_type
+    std::memcpy(&packed, &bits, sizeof packed);    // (std::bit_cast: not in Emscripten 3.1.6's libc++)
   } else if (value < 0.0) {
     packed = static_cast<std::uint32_t>(static_cast<std::int32_t>(value));  // I 4
   } else if (value <= 4294967295.0) {

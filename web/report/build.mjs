@@ -1,4 +1,4 @@
-// Builds the report viewer into C++: bundles viewer.js with three.js
+// Builds the report viewer into C++: bundles report.js (viewer.js) with three.js
 // (esbuild, one minified script), puts it and style.css into template.html,
 // whose <!--RECON_DATA--> marks where report.cpp writes the data elements,
 // and writes OUT.cpp defining recon::report_page(), the page around the
@@ -17,7 +17,7 @@ if (!out) {
 }
 
 const bundle = await build({
-  entryPoints: [join(here, 'viewer.js')],
+  entryPoints: [join(here, 'report.js')],
   bundle: true,
   minify: true,
   format: 'iife',
