@@ -73,7 +73,8 @@
 //     lies in the cell, on all threads: a collapse there touches its own
 //     block only, so the blocks cannot race or see each other. In a round
 //     every block makes its moves up to one cost, the round's limit (the
-//     cost a quarter of the moves reach), so the collapses go where they
+//     cost half the moves reach in the first two rounds, a quarter
+//     after), so the collapses go where they
 //     are cheapest, as with one queue; the grid shifts between rounds so
 //     that the seams move. One queue over the whole mesh makes the last
 //     2%, cheapest first. The textbook loop is that last queue alone
@@ -92,10 +93,12 @@
 // vertex degree for the re-costing and checks; with max_error, also the
 // input vertices handed on per collapse (a few per triangle). Memory: a
 // quadric (11 doubles), a triangle list, a ring (64 bytes) and a heap slot
-// per vertex. Measured (docs/benchmarks.md): 0.75 s for 973,520 triangles
-// to a tenth on 2 threads, 1.1 s on one, the numbering included; one
-// queue over the whole mesh took 2.2-2.3 s, mostly cache misses in its
-// random order; meshoptimizer takes 0.54 s.
+// per vertex; each round of blocks adds O(V) for its grid, marks and
+// limit. Measured (docs/benchmarks.md, bench/simplify_speed.sh): 973,520
+// triangles to a tenth in 0.85-1.01 s (median 0.94) on this machine's 2
+// threads, 1.5-1.6 s on one, the numbering included; one queue over the
+// whole mesh took 2.3-2.4 s beside it, mostly cache misses in its random
+// order; meshoptimizer takes 0.54 s.
 
 #include "recon/mesh.h"
 #include "recon/operation_counts.h"
