@@ -280,7 +280,7 @@ struct MeshState {
   std::vector<std::uint32_t> local;     // per vertex: its place in its block's list
   std::vector<std::uint32_t> living;    // the vertices with triangles, in increasing order (the rounds')
   std::vector<double> cost;             // per vertex: its cheapest move's cost at the round's start
-  std::vector<double> inner_costs;      // scratch of round_limit (kept: no new pages a round)
+  std::vector<double> inner_costs;      // scratch of round_limit: the living's costs (kept: no new pages a round)
 };
 
 template <class Queue, Loop loop = Loop::fast>
@@ -1205,9 +1205,10 @@ struct Partition {
   }
 };
 
-// The octree level whose cells hold about `per_block` vertices each: the
-// finest at which the vertices (in Z-order, so a cell's are consecutive)
-// fill few enough cells.
+// The octree level whose cells hold about `per_block` vertices each, by
+// counting the cells the vertices fill at each level (in Z-order a cell's
+// vertices are consecutive: a new cell is where two neighbours' codes first
+// differ).
 unsigned level_for(const std::vector<Vec3>& points, std::size_t per_block) {
   const std::vector<std::uint64_t> codes = spatial_keys(points);
   std::array<std::size_t, 22> splits{};  // splits[l]: consecutive vertices in different cells first at level l
@@ -1283,15 +1284,15 @@ void mark_inner(MeshState& s, double limit) {
 // cheapest moves, `wanted` at most round_fraction(round) of them (infinity when
 // fewer can move; -1 when none is wanted).
 double round_limit(MeshState& s, std::size_t round, std::size_t wanted) {
-  std::vector<double>& inner = s.inner_costs;  // (all the living: the seams' too)
-  inner.clear();
+  std::vector<double>& costs = s.inner_costs;  // (all the living: the seams' too)
+  costs.clear();
   for (const std::uint32_t v : s.living)
-    if (s.cost[v] < std::numeric_limits<double>::infinity()) inner.push_back(s.cost[v]);
-  wanted = std::min(wanted, static_cast<std::size_t>(round_fraction(round) * static_cast<double>(inner.size())));
-  if (wanted == 0 || inner.empty()) return -1.0;
-  if (wanted >= inner.size()) return std::numeric_limits<double>::infinity();
-  std::nth_element(inner.begin(), inner.begin() + static_cast<std::ptrdiff_t>(wanted - 1), inner.end());
-  return inner[wanted - 1];
+    if (s.cost[v] < std::numeric_limits<double>::infinity()) costs.push_back(s.cost[v]);
+  wanted = std::min(wanted, static_cast<std::size_t>(round_fraction(round) * static_cast<double>(costs.size())));
+  if (wanted == 0 || costs.empty()) return -1.0;
+  if (wanted >= costs.size()) return std::numeric_limits<double>::infinity();
+  std::nth_element(costs.begin(), costs.begin() + static_cast<std::ptrdiff_t>(wanted - 1), costs.end());
+  return costs[wanted - 1];
 }
 
 // One lane's tally, added into `out` in the lanes' order.
@@ -1354,7 +1355,10 @@ std::size_t run_rounds(Collapser<Queue, loop>& start, MeshState& s, const std::v
   for (std::uint32_t v = 0; v < s.faces.size(); ++v)
     if (!s.faces[v].empty()) s.living.push_back(v);
   Partition blocks;
-  for (std::size_t r = 0; r < most_rounds && static_cast<double>(alive - target) > finish_share * asked; ++r) {
+  // (A round never passes the target, so alive > target holds; checked
+  // anyway, as alive - target must not wrap.)
+  for (std::size_t r = 0; r < most_rounds && alive > target && static_cast<double>(alive - target) > finish_share * asked;
+       ++r) {
     partition(s, grid, level, round_shifts[r % round_shifts.size()], blocks);
     // A collapse removes at most two triangles: half the excess never
     // passes the target.
