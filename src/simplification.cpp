@@ -1227,7 +1227,8 @@ unsigned level_for(const std::vector<Vec3>& points, std::size_t per_block) {
     cells += splits[level];
     const double average = n / static_cast<double>(cells);
     if (average < static_cast<double>(per_block)) {
-      const bool coarser = level > 1 && before / static_cast<double>(per_block) < static_cast<double>(per_block) / average;
+      const auto per = static_cast<double>(per_block);
+      const bool coarser = level > 1 && before / per < per / average;
       return coarser ? level - 1 : level;
     }
     before = average;
@@ -1357,8 +1358,8 @@ std::size_t run_rounds(Collapser<Queue, loop>& start, MeshState& s, const std::v
   Partition blocks;
   // (A round never passes the target, so alive > target holds; checked
   // anyway, as alive - target must not wrap.)
-  for (std::size_t r = 0; r < most_rounds && alive > target && static_cast<double>(alive - target) > finish_share * asked;
-       ++r) {
+  const auto more_asked = [&] { return alive > target && static_cast<double>(alive - target) > finish_share * asked; };
+  for (std::size_t r = 0; r < most_rounds && more_asked(); ++r) {
     partition(s, grid, level, round_shifts[r % round_shifts.size()], blocks);
     // A collapse removes at most two triangles: half the excess never
     // passes the target.
@@ -1380,7 +1381,8 @@ Simplification simplify_on(const Mesh& mesh, const SimplifyOptions& options, std
   const std::size_t bv = options.block_vertices;
   std::vector<LaneTally> tallies;
   std::size_t alive = state.triangles;
-  if (bv > 0 && n > bv && state.triangles > target) alive = run_rounds(start, state, mesh.vertices, bv, target, tallies);
+  if (bv > 0 && n > bv && state.triangles > target)
+    alive = run_rounds(start, state, mesh.vertices, bv, target, tallies);
   Collapser<Queue, loop> finish(start, {}, none, alive);
   finish.run(target);
   tallies.push_back(tally_of(finish, alive));

@@ -224,7 +224,8 @@ TEST(Simplification, HemisphereKeepsItsBoundaryLoop) {
   // collapses in another order, 18 and 0.029. (Here the dome's curvature
   // keeps the rim: without the boundary planes, 20 and 0.019. The planes
   // are held by BoundaryPlanesKeepAWavyRimsShape.)
-  for (const auto& [blocks, least, farthest] : {std::tuple{std::size_t{0}, 21u, 0.02}, std::tuple{std::size_t{64}, 16u, 0.03}}) {
+  const std::array<std::tuple<std::size_t, std::size_t, double>, 2> cases{{{0, 21, 0.02}, {64, 16, 0.03}}};
+  for (const auto& [blocks, least, farthest] : cases) {
     SCOPED_TRACE("blocks of " + std::to_string(blocks));
     expect_one_round_rim(dome, simplify(dome, in_blocks(to_ratio(0.1), blocks)), least, farthest);
   }
