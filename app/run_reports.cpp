@@ -204,7 +204,6 @@ StepReport refinement_report(const Refinement& r) {
   return report;
 }
 
-
 // The mesh's colours (when the input had some).
 StepReport colors_report(const VertexColorOptions& options, double seconds) {
   std::ostringstream line;

@@ -280,7 +280,7 @@ struct MeshState {
   std::vector<std::uint32_t> local;     // per vertex: its place in its block's list
   std::vector<std::uint32_t> living;    // the vertices with triangles, in increasing order (the rounds')
   std::vector<double> cost;             // per vertex: its cheapest move's cost at the round's start
-  std::vector<double> inner_costs;      // scratch of round_limit: the living's costs (kept: no new pages a round)
+  std::vector<double> living_costs;      // scratch of round_limit: the living's costs (kept: no new pages a round)
 };
 
 template <class Queue, Loop loop = Loop::fast>
@@ -305,26 +305,23 @@ class Collapser {
   }
 
   // A lane on the start's state: it queues the inner vertices of `block`
-  // (its `members`, in increasing order), or every vertex (block = none),
-  // and counts `alive` triangles down from.
-  Collapser(const Collapser& start, std::span<const std::uint32_t> members, std::uint32_t block, std::size_t alive)
+  // (its `members`, in increasing order), or every vertex (block = none).
+  Collapser(const Collapser& start, std::span<const std::uint32_t> members, std::uint32_t block)
       : p_(start.p_),
         options_(start.options_),
         s_(start.s_),
         queue_(block == none ? start.p_.size() : members.size()),
         cos_turn_(start.cos_turn_),
         members_(members),
-        block_(block) {
-    alive_ = alive;
-  }
+        block_(block) {}
 
   // Step 5, a lane's loop: queue the lane's vertices, then collapse the
-  // cheapest allowed move until the lane's count of triangles is down to
-  // `stop_at`, or no move is left.
-  void run(std::size_t stop_at) {
+  // cheapest allowed move until it has removed `may_remove` triangles, or
+  // no move is left.
+  void run(std::size_t may_remove) {
     for (std::uint32_t v = 0; v < p_.size(); ++v)
       if (mine(v)) requeue(v);
-    collapse_cheapest(stop_at, std::numeric_limits<std::size_t>::max(), std::numeric_limits<double>::infinity());
+    collapse_cheapest(may_remove, std::numeric_limits<std::size_t>::max(), std::numeric_limits<double>::infinity());
   }
 
   // A block's loop in a round: queue the lane's vertices whose move costs
@@ -335,7 +332,7 @@ class Collapser {
   void run_below(double limit, std::size_t most, const std::vector<double>& cost) {
     for (const std::uint32_t v : members_)
       if (mine(v) && cost[v] <= limit) requeue(v);
-    collapse_cheapest(0, most, limit);
+    collapse_cheapest(std::numeric_limits<std::size_t>::max(), most, limit);
   }
 
   // Every living vertex's cheapest cost now (s_.living's), into `out`
@@ -344,10 +341,10 @@ class Collapser {
   void costs_now(std::vector<double>& out) {
     out.assign(p_.size(), std::numeric_limits<double>::infinity());
     const std::vector<std::uint32_t>& living = s_.living;
-    const auto one = [&](std::size_t i, std::vector<std::uint32_t>& scratch) {
-      const std::uint32_t v = living[i];
+    const auto at = [&](std::size_t i) { return living[i]; };
+    each_on_all_threads(living.size(), at, [&](std::uint32_t v, std::vector<std::uint32_t>& scratch) {
       if (!fresh_[v]) {
-        if (loop == Loop::fast) keep_ring(v, scratch);
+        keep_ring(v, scratch);
         const auto c = cheapest(v, scratch);
         out[v] = c.second;
         if (loop == Loop::plain) return;
@@ -355,18 +352,27 @@ class Collapser {
         fresh_[v] = 1;
       }
       out[v] = cheap_[v].second;
-    };
+    });
+  }
+
+  // body(v, scratch) for v = at(0), ..., at(count - 1), each vertex alone,
+  // on all threads (blocks of 4096, a scratch each). Meanwhile neighbours()
+  // keeps no ring, whatever vertex a rule asks about; keep_ring keeps the
+  // ring of the vertex in hand (its thread is the only one to write it).
+  template <class At, class Body>
+  void each_on_all_threads(std::size_t count, At at, Body body) {
     on_all_threads_ = true;
     constexpr std::size_t block = 4096;
-    detail::parallel_for_dynamic((living.size() + block - 1) / block, 1, [&](std::size_t b) {
+    detail::parallel_for_dynamic((count + block - 1) / block, 1, [&](std::size_t b) {
       std::vector<std::uint32_t> scratch;
-      for (std::size_t i = b * block; i < std::min(living.size(), (b + 1) * block); ++i) one(i, scratch);
+      for (std::size_t i = b * block; i < std::min(count, (b + 1) * block); ++i)
+        body(static_cast<std::uint32_t>(at(i)), scratch);
     });
     on_all_threads_ = false;
   }
 
-  void collapse_cheapest(std::size_t stop_at, std::size_t most, double limit) {
-    while (alive_ > stop_at && collapses_ < most && !queue_.empty()) {
+  void collapse_cheapest(std::size_t may_remove, std::size_t most, double limit) {
+    while (removed_ < may_remove && collapses_ < most && !queue_.empty()) {
       const std::uint32_t u = vertex_at(queue_.pop(counts_));
       if (key_[u] > limit) break;  // and every key after it
       const std::uint32_t v = best_[u];
@@ -687,12 +693,9 @@ class Collapser {
     shape_of_planes();
     kind_.assign(p_.size(), free_vertex);
     std::vector<std::uint8_t> open(p_.size(), 0);
-    constexpr std::size_t block = 4096;
-    // Each vertex alone, on all threads (neighbours() keeps only a's own ring).
-    detail::parallel_for_dynamic((p_.size() + block - 1) / block, 1, [&](std::size_t b) {
-      std::vector<std::uint32_t> ring;
-      for (std::size_t a = b * block; a < std::min(p_.size(), (b + 1) * block); ++a)
-        kind_[a] = kind_of(static_cast<std::uint32_t>(a), ring, open[a]);
+    each_on_all_threads(p_.size(), std::identity{}, [&](std::uint32_t a, std::vector<std::uint32_t>& ring) {
+      keep_ring(a, ring);
+      kind_[a] = kind_of(a, ring, open[a]);
     });
     for (std::uint32_t a = 0; a < p_.size(); ++a) {
       if (!open[a]) continue;
@@ -777,8 +780,8 @@ class Collapser {
   // The vertices sharing a triangle with v, sorted, once each.
   // The fast loop keeps each ring it gathers (up to RingMemo's capacity)
   // until a collapse changes v's triangles (collapse() marks it stale).
-  // On all threads (first_costs) it only reads what is kept: whatever
-  // vertices a rule asks about, no two threads write.
+  // On all threads (each_on_all_threads) it only reads what is kept:
+  // whatever vertices a rule asks about, no two threads write.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     if (rings_.empty()) return gather_ring(v, out);
     RingMemo& memo = rings_[v];
@@ -792,10 +795,10 @@ class Collapser {
     memo.size = static_cast<std::uint32_t>(out.size());
   }
 
-  // Gathers and keeps v's ring when it is stale, on any thread: the thread
-  // that handles v is the only one to write v's memo (neighbours() on all
-  // threads keeps none, whatever vertex a rule asks about).
+  // Gathers and keeps v's ring when it is stale (fast loop), on any
+  // thread: the thread that handles v is the only one to write v's memo.
   void keep_ring(std::uint32_t v, std::vector<std::uint32_t>& scratch) const {
+    if (rings_.empty()) return;
     RingMemo& memo = rings_[v];
     if (memo.size <= memo.ring.size()) return;
     gather_ring(v, scratch);
@@ -855,17 +858,11 @@ class Collapser {
     cheap_.assign(p_.size(), {none, 0.0});
     fresh_.assign(p_.size(), 0);
     if constexpr (loop == Loop::plain) return;
-    on_all_threads_ = true;
-    constexpr std::size_t block = 4096;
-    detail::parallel_for_dynamic((p_.size() + block - 1) / block, 1, [&](std::size_t b) {
-      std::vector<std::uint32_t> scratch;
-      for (std::size_t v = b * block; v < std::min(p_.size(), (b + 1) * block); ++v) {
-        keep_ring(static_cast<std::uint32_t>(v), scratch);
-        cheap_[v] = cheapest(static_cast<std::uint32_t>(v), scratch);
-        fresh_[v] = 1;
-      }
+    each_on_all_threads(p_.size(), std::identity{}, [&](std::uint32_t v, std::vector<std::uint32_t>& scratch) {
+      keep_ring(v, scratch);
+      cheap_[v] = cheapest(v, scratch);
+      fresh_[v] = 1;
     });
-    on_all_threads_ = false;
   }
 
   // Queues u by its cheapest move, from the cache while u's triangles and
@@ -1097,7 +1094,7 @@ class Collapser {
 
   void remove_triangle(std::uint32_t f, std::uint32_t u) {
     alive_tri_[f] = 0;
-    --alive_;
+    ++removed_;
     for (const std::uint32_t w : tris_[f]) {
       if (w == u) continue;
       auto& list = faces_[w];
@@ -1109,7 +1106,7 @@ class Collapser {
   // The lane's tally.
   OperationCounts counts_;
   std::size_t collapses_ = 0, refused_ = 0;
-  std::size_t alive_ = 0;  // triangles, counted down from the lane's start
+  std::size_t removed_ = 0;  // triangles
   double vertex_error_ = 0.0;
 
  private:
@@ -1209,8 +1206,8 @@ struct Partition {
 // counting the cells the vertices fill at each level (in Z-order a cell's
 // vertices are consecutive: a new cell is where two neighbours' codes first
 // differ).
-unsigned level_for(const std::vector<Vec3>& points, std::size_t per_block) {
-  const std::vector<std::uint64_t> codes = spatial_keys(points);
+unsigned level_for(const std::vector<std::array<std::uint32_t, 3>>& grid, std::size_t per_block) {
+  const std::vector<std::uint64_t> codes = spatial_keys(grid);
   std::array<std::size_t, 22> splits{};  // splits[l]: consecutive vertices in different cells first at level l
   for (std::size_t i = 1; i < codes.size(); ++i) {
     const std::uint64_t x = codes[i] ^ codes[i - 1];
@@ -1220,7 +1217,7 @@ unsigned level_for(const std::vector<Vec3>& points, std::size_t per_block) {
   }
   // The first level whose cells hold fewer than per_block on average, or
   // the one before it, whichever is nearer by ratio.
-  const auto n = static_cast<double>(points.size());
+  const auto n = static_cast<double>(grid.size());
   std::size_t cells = 1;
   double before = n;  // the average at the level before
   for (unsigned level = 1; level <= 20; ++level) {
@@ -1285,7 +1282,7 @@ void mark_inner(MeshState& s, double limit) {
 // cheapest moves, `wanted` at most round_fraction(round) of them (infinity when
 // fewer can move; -1 when none is wanted).
 double round_limit(MeshState& s, std::size_t round, std::size_t wanted) {
-  std::vector<double>& costs = s.inner_costs;  // (all the living: the seams' too)
+  std::vector<double>& costs = s.living_costs;  // (the seams' too)
   costs.clear();
   for (const std::uint32_t v : s.living)
     if (s.cost[v] < std::numeric_limits<double>::infinity()) costs.push_back(s.cost[v]);
@@ -1304,8 +1301,8 @@ struct LaneTally {
 };
 
 template <class Lane>
-LaneTally tally_of(const Lane& lane, std::size_t alive_before) {
-  return {lane.collapses_, lane.refused_, alive_before - lane.alive_, lane.counts_, lane.vertex_error_};
+LaneTally tally_of(const Lane& lane) {
+  return {lane.collapses_, lane.refused_, lane.removed_, lane.counts_, lane.vertex_error_};
 }
 
 // One round: each block's lane, on all threads (one after another for the
@@ -1322,16 +1319,16 @@ std::size_t run_round(Collapser<Queue, loop>& start, MeshState& s, const Partiti
   std::vector<std::size_t> under(blocks.count(), 0);  // per block: inner moves under the limit
   std::size_t all = 0;
   for (const std::uint32_t v : s.living)
-    if (s.inner[v] && cost[v] <= limit) ++under[s.block_of[v]], ++all;
+    if (s.inner[v]) ++under[s.block_of[v]], ++all;  // (inner: under the limit too)
   if (all == 0) return 0;
   std::vector<LaneTally> lanes(blocks.count());
   const auto block = [&](std::size_t b) {
     const auto share = static_cast<std::size_t>(static_cast<double>(collapses) * static_cast<double>(under[b]) /
                                                 static_cast<double>(all));
     if (share == 0) return;
-    Collapser<Queue, loop> lane(start, blocks.block(b), static_cast<std::uint32_t>(b), s.triangles);
+    Collapser<Queue, loop> lane(start, blocks.block(b), static_cast<std::uint32_t>(b));
     lane.run_below(limit, share, cost);
-    lanes[b] = tally_of(lane, s.triangles);
+    lanes[b] = tally_of(lane);
   };
   if constexpr (loop == Loop::plain) {
     for (std::size_t b = 0; b < blocks.count(); ++b) block(b);
@@ -1350,7 +1347,7 @@ template <class Queue, Loop loop>
 std::size_t run_rounds(Collapser<Queue, loop>& start, MeshState& s, const std::vector<Vec3>& points,
                        std::size_t block_vertices, std::size_t target, std::vector<LaneTally>& tallies) {
   const std::vector<std::array<std::uint32_t, 3>> grid = spatial_cells(points);
-  const unsigned level = level_for(points, block_vertices);
+  const unsigned level = level_for(grid, block_vertices);
   std::size_t alive = s.triangles;
   const double asked = static_cast<double>(s.triangles - target);
   for (std::uint32_t v = 0; v < s.faces.size(); ++v)
@@ -1383,9 +1380,9 @@ Simplification simplify_on(const Mesh& mesh, const SimplifyOptions& options, std
   std::size_t alive = state.triangles;
   if (bv > 0 && n > bv && state.triangles > target)
     alive = run_rounds(start, state, mesh.vertices, bv, target, tallies);
-  Collapser<Queue, loop> finish(start, {}, none, alive);
-  finish.run(target);
-  tallies.push_back(tally_of(finish, alive));
+  Collapser<Queue, loop> finish(start, {}, none);
+  finish.run(alive > target ? alive - target : 0);
+  tallies.push_back(tally_of(finish));
   for (const LaneTally& t : tallies) {
     out.collapses += t.collapses;
     out.refused += t.refused;

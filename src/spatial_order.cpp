@@ -34,10 +34,11 @@ std::vector<std::array<std::uint32_t, 3>> spatial_cells(std::span<const Vec3> po
   return out;
 }
 
-std::vector<std::uint64_t> spatial_keys(std::span<const Vec3> points) {
-  const std::vector<std::array<std::uint32_t, 3>> cells = spatial_cells(points);
-  std::vector<std::uint64_t> keys(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
+std::vector<std::uint64_t> spatial_keys(std::span<const Vec3> points) { return spatial_keys(spatial_cells(points)); }
+
+std::vector<std::uint64_t> spatial_keys(std::span<const std::array<std::uint32_t, 3>> cells) {
+  std::vector<std::uint64_t> keys(cells.size());
+  for (std::size_t i = 0; i < cells.size(); ++i)
     keys[i] = spread_bits(cells[i][0]) | spread_bits(cells[i][1]) << 1 | spread_bits(cells[i][2]) << 2;
   return keys;
 }

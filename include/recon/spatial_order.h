@@ -33,6 +33,10 @@ namespace recon {
 /// interleaves). Cost: O(n).
 [[nodiscard]] std::vector<std::array<std::uint32_t, 3>> spatial_cells(std::span<const Vec3> points);
 
+/// The Z-order codes of cells spatial_cells gave (spatial_keys of the
+/// points they came from). Cost: O(n).
+[[nodiscard]] std::vector<std::uint64_t> spatial_keys(std::span<const std::array<std::uint32_t, 3>> cells);
+
 /// values[order[0]], values[order[1]], ...
 template <class T>
 [[nodiscard]] std::vector<T> permuted(std::span<const T> values, std::span<const std::uint32_t> order) {

@@ -4,7 +4,7 @@
 // and writes OUT.cpp defining recon::report_page(), the page around the
 // data block. Run by CMake (src/CMakeLists.txt) from web/:
 //   node report/build.mjs OUT.cpp
-import { build } from 'esbuild';
+import { bundleScript } from './bundle.mjs';
 import { readFileSync, writeFileSync, renameSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { dirname, join } from 'node:path';
@@ -16,18 +16,7 @@ if (!out) {
   process.exit(2);
 }
 
-const bundle = await build({
-  entryPoints: [join(here, 'report.js')],
-  bundle: true,
-  minify: true,
-  format: 'iife',
-  target: 'es2022',
-  write: false,
-  legalComments: 'inline',  // three.js's licence notice stays with its code
-  logLevel: 'warning',
-});
-// Inside <script>, "</script" would end the element early.
-const script = bundle.outputFiles[0].text.replaceAll('</script', '<\\/script');
+const script = await bundleScript(join(here, 'report.js'));
 const style = readFileSync(join(here, 'style.css'), 'utf8');
 const template = readFileSync(join(here, 'template.html'), 'utf8');
 const page = template.replace('/*RECON_STYLE*/', () => style).replace('/*RECON_VIEWER*/', () => script);

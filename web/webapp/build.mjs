@@ -5,7 +5,7 @@
 // as a string the page starts its worker from. Run by CMake
 // (web/webapp/CMakeLists.txt) from web/:
 //   node webapp/build.mjs MODULE.js OUT.html
-import { build } from 'esbuild';
+import { bundleScript } from '../report/bundle.mjs';
 import { readFileSync, writeFileSync, renameSync, mkdirSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { dirname, join } from 'node:path';
@@ -18,19 +18,7 @@ if (!moduleFile || !out) {
 }
 
 const workerSource = readFileSync(moduleFile, 'utf8') + '\n' + readFileSync(join(here, 'worker.js'), 'utf8');
-const bundle = await build({
-  entryPoints: [join(here, 'page.js')],
-  bundle: true,
-  minify: true,
-  format: 'iife',
-  target: 'es2022',
-  write: false,
-  legalComments: 'inline',  // three.js's licence notice stays with its code
-  logLevel: 'warning',
-  define: { workerSource: JSON.stringify(workerSource) },
-});
-// Inside <script>, "</script" would end the element early.
-const script = bundle.outputFiles[0].text.replaceAll('</script', '<\\/script');
+const script = await bundleScript(join(here, 'page.js'), { workerSource: JSON.stringify(workerSource) });
 const page = readFileSync(join(here, 'index.html'), 'utf8')
   .replace('/*RECON_STYLE*/', () => readFileSync(join(here, '..', 'report', 'style.css'), 'utf8'))
   .replace('/*WEBAPP_STYLE*/', () => readFileSync(join(here, 'style.css'), 'utf8'))
