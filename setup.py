@@ -16,7 +16,7 @@ Environment:
 The report viewer (recon --report, reconstruct(report=...)) is built in when
 Node.js and web/'s npm packages are there (scripts/setup), and left out
 otherwise: the build then still succeeds, and a report asked for says it is
-missing (src/report_page_missing.cpp).
+missing (src/report/report_page_missing.cpp).
 """
 
 from __future__ import annotations

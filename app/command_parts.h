@@ -6,10 +6,10 @@
 #include "summary.h"
 
 #include "recon/io/point_io.h"
-#include "recon/point_cloud.h"
-#include "recon/report.h"
-#include "recon/resource_usage.h"
-#include "recon/tangent_planes.h"
+#include "recon/core/point_cloud.h"
+#include "recon/report/report.h"
+#include "recon/core/resource_usage.h"
+#include "recon/phase1_planes/tangent_planes.h"
 
 #include <CLI/CLI.hpp>
 

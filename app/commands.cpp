@@ -8,20 +8,20 @@
 #include "run_reports.h"
 #include "summary.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/estimate_normals.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
-#include "recon/mesh.h"
+#include "recon/structures/mesh.h"
 #include "recon/reconstruct.h"
-#include "recon/report.h"
-#include "recon/resource_usage.h"
-#include "recon/orientation.h"
-#include "recon/parallel.h"
-#include "recon/shapes.h"
-#include "recon/spatial_order.h"  // permuted
-#include "recon/tangent_planes.h"
-#include "recon/timer.h"
+#include "recon/report/report.h"
+#include "recon/core/resource_usage.h"
+#include "recon/phase2_orientation/orientation.h"
+#include "recon/core/parallel.h"
+#include "recon/core/shapes.h"
+#include "recon/structures/spatial_order.h"  // permuted
+#include "recon/phase1_planes/tangent_planes.h"
+#include "recon/core/timer.h"
 
 #include <algorithm>
 #include <cctype>

@@ -3,12 +3,12 @@
 #include "run_reports.h"
 #include "summary.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/curve_io.h"
-#include "recon/parallel.h"
-#include "recon/memory_budget.h"
-#include "recon/reconstruct_curve.h"
-#include "recon/timer.h"
+#include "recon/core/parallel.h"
+#include "recon/core/memory_budget.h"
+#include "recon/curves/reconstruct_curve.h"
+#include "recon/core/timer.h"
 
 #include <algorithm>
 #include <cctype>

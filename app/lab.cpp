@@ -1,4 +1,4 @@
-// `recon lab INPUT`: the alternatives lab (recon/lab.h) from the command
+// `recon lab INPUT`: the alternatives lab (recon/alternatives/lab.h) from the command
 // line: a table on the terminal, --stats as JSON, --report with the lab panel.
 
 #include "command_parts.h"
@@ -6,8 +6,8 @@
 #include "number_options.h"
 #include "progress.h"
 
-#include "recon/lab.h"
-#include "recon/timer.h"
+#include "recon/alternatives/lab.h"
+#include "recon/core/timer.h"
 
 #include <cstdio>
 #include <limits>

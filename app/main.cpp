@@ -5,13 +5,13 @@
 #include "commands.h"
 #include "number_options.h"
 
-#include "recon/errors.h"
-#include "recon/fp_traps.h"
+#include "recon/core/errors.h"
+#include "recon/core/fp_traps.h"
 #include "recon/io/atomic_file.h"
 #include "recon/io/point_io.h"  // file_being_read
-#include "recon/parallel.h"
-#include "recon/tiles.h"
-#include "recon/version.h"
+#include "recon/core/parallel.h"
+#include "recon/tiles/tiles.h"
+#include "recon/core/version.h"
 
 #include <csignal>
 #include <cstdio>
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
   CLI::App app{"recon: triangle meshes and oriented normals from unorganized point clouds\n"
                "(Hoppe, DeRose, Duchamp, McDonald, Stuetzle: Surface reconstruction from unorganized points, 1992)"};
   app.require_subcommand(1);
-  // "recon 0.1.0+g1a2b3c4", exit status 0: what a bug report should quote (recon/version.h).
+  // "recon 0.1.0+g1a2b3c4", exit status 0: what a bug report should quote (recon/core/version.h).
   app.set_version_flag("--version", "recon " + std::string(recon::version()), "Print recon's version and exit");
   app.fallthrough();  // --quiet and --threads may also follow the subcommand
   recon::cli::GlobalOptions global;
@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", global.threads, "Threads for the parallel phases (default: all cores)")
       ->check(recon::cli::whole_number_up_to(std::numeric_limits<int>::max()));
   // A debugging aid, left out of --help: stop with SIGFPE at the first
-  // invalid operation, division by zero or overflow (see recon/fp_traps.h).
+  // invalid operation, division by zero or overflow (see recon/core/fp_traps.h).
   bool trap_fp = false;
   app.add_flag("--trap-fp", trap_fp, "Trap floating-point exceptions (debugging)")->group("");
 

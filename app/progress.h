@@ -2,7 +2,7 @@
 // A one-line progress display on a terminal. After a phase has run for a
 // second, its line is redrawn on stderr a few times a second, and cleared
 // when the run moves on. A phase that counts its work (a ProgressCounter
-// with a total, recon/progress.h) shows a bar, the counts and the time left
+// with a total, recon/core/progress.h) shows a bar, the counts and the time left
 // at the rate since it started:
 //
 //   recon: orientation [########............]  42%  (1234567 / 2900000)  ~1 min 10 s left
@@ -11,7 +11,7 @@
 // one that does not, the time it has taken: "recon: signed distance ... 3.2 s".
 // Silent when stderr is not a terminal or with --quiet.
 
-#include "recon/progress.h"
+#include "recon/core/progress.h"
 
 #include <chrono>
 #include <condition_variable>

@@ -1,8 +1,8 @@
 #include "run_reports.h"
 
-#include "recon/mesh.h"
-#include "recon/parallel.h"  // thread_count
-#include "recon/timer.h"
+#include "recon/structures/mesh.h"
+#include "recon/core/parallel.h"  // thread_count
+#include "recon/core/timer.h"
 
 #include <algorithm>
 #include <limits>

@@ -8,8 +8,8 @@
 
 #include "recon/io/point_io.h"  // ReadNotes
 #include "recon/reconstruct.h"
-#include "recon/report.h"
-#include "recon/resource_usage.h"
+#include "recon/report/report.h"
+#include "recon/core/resource_usage.h"
 
 #include <cstdint>
 #include <filesystem>

@@ -10,11 +10,11 @@
 #include "run_reports.h"
 #include "summary.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/mesh_io.h"
-#include "recon/simplification.h"
-#include "recon/timer.h"
-#include "recon/vertex_normals.h"
+#include "recon/phase6_simplify/simplification.h"
+#include "recon/core/timer.h"
+#include "recon/phase5_refine/vertex_normals.h"
 
 #include <memory>
 #include <optional>

@@ -1,8 +1,8 @@
 #include "summary.h"
 
 #include "recon/io/atomic_file.h"
-#include "recon/detail/float_chars.h"
-#include "recon/version.h"
+#include "recon/core/detail/float_chars.h"
+#include "recon/core/version.h"
 
 #include <algorithm>
 #include <charconv>

@@ -3,12 +3,12 @@
 #include "progress.h"
 #include "run_reports.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/mesh_io.h"
-#include "recon/memory_budget.h"
-#include "recon/resource_usage.h"
-#include "recon/tiles.h"
-#include "recon/timer.h"
+#include "recon/core/memory_budget.h"
+#include "recon/core/resource_usage.h"
+#include "recon/tiles/tiles.h"
+#include "recon/core/timer.h"
 
 #include <atomic>
 #include <cmath>

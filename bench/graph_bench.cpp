@@ -5,7 +5,7 @@
 // every contender.
 //
 //   prim_ours        prim_minimum_spanning_forest: indexed binary heap with
-//                    decrease-key (recon/binary_heap.h)
+//                    decrease-key (recon/structures/binary_heap.h)
 //   prim_lazy_std    the textbook alternative without decrease-key:
 //                    std::priority_queue holding every offered edge, stale
 //                    entries skipped when popped
@@ -16,11 +16,11 @@
 //
 // Built when Boost.Graph is installed (bench/run.sh installs it).
 
-#include "recon/minimum_spanning_tree.h"
-#include "recon/riemannian_graph.h"
-#include "recon/shapes.h"
-#include "recon/spatial_order.h"
-#include "recon/tangent_planes.h"
+#include "recon/phase2_orientation/minimum_spanning_tree.h"
+#include "recon/phase2_orientation/riemannian_graph.h"
+#include "recon/core/shapes.h"
+#include "recon/structures/spatial_order.h"
+#include "recon/phase1_planes/tangent_planes.h"
 
 #include <benchmark/benchmark.h>
 

@@ -34,12 +34,12 @@
 //
 // Run through bench/run.sh; results are discussed in docs/benchmarks.md.
 
-#include "recon/kdtree.h"
-#include "recon/parallel.h"
-#include "recon/shapes.h"
-#include "recon/tangent_planes.h"
-#include "recon/spatial_order.h"
-#include "recon/timer.h"
+#include "recon/structures/kdtree.h"
+#include "recon/core/parallel.h"
+#include "recon/core/shapes.h"
+#include "recon/phase1_planes/tangent_planes.h"
+#include "recon/structures/spatial_order.h"
+#include "recon/core/timer.h"
 
 #include <benchmark/benchmark.h>
 

@@ -15,18 +15,18 @@
 // union-find's own counters). Every tree must weigh the same (checked:
 // the program stops otherwise). Prints a markdown table.
 
-#include "recon/boruvka.h"
-#include "recon/counting_queue.h"
-#include "recon/fibonacci_heap.h"
-#include "recon/kruskal.h"
-#include "recon/list_heap.h"
-#include "recon/minimum_spanning_tree.h"
-#include "recon/pairing_heap.h"
-#include "recon/riemannian_graph.h"
-#include "recon/shapes.h"
-#include "recon/spatial_order.h"
-#include "recon/tangent_planes.h"
-#include "recon/timer.h"
+#include "recon/alternatives/boruvka.h"
+#include "recon/alternatives/counting_queue.h"
+#include "recon/structures/fibonacci_heap.h"
+#include "recon/alternatives/kruskal.h"
+#include "recon/structures/list_heap.h"
+#include "recon/phase2_orientation/minimum_spanning_tree.h"
+#include "recon/structures/pairing_heap.h"
+#include "recon/phase2_orientation/riemannian_graph.h"
+#include "recon/core/shapes.h"
+#include "recon/structures/spatial_order.h"
+#include "recon/phase1_planes/tangent_planes.h"
+#include "recon/core/timer.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 // then runs reconstruct() with all cores (and with one, given --one-thread),
 // timing each phase from the result's own seconds_* fields and taking each
 // phase's peak memory: the resident size of the whole process, sampled
-// while the phase runs (recon/resource_usage.h's StepPeaks), so a phase's
+// while the phase runs (recon/core/resource_usage.h's StepPeaks), so a phase's
 // figure includes everything still held from the phases before it.
 //
 // Accuracy is the Chamfer distance between the mesh and the true surface,
@@ -27,13 +27,13 @@
 // rho/4): contouring should cost about 4x per halving (the surface), not 8x
 // (the volume).
 
-#include "recon/kdtree.h"
-#include "recon/mesh.h"
-#include "recon/parallel.h"
+#include "recon/structures/kdtree.h"
+#include "recon/structures/mesh.h"
+#include "recon/core/parallel.h"
 #include "recon/reconstruct.h"
-#include "recon/resource_usage.h"
-#include "recon/shapes.h"
-#include "recon/timer.h"
+#include "recon/core/resource_usage.h"
+#include "recon/core/shapes.h"
+#include "recon/core/timer.h"
 
 #include <Eigen/Geometry>  // cross products
 

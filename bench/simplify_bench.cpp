@@ -19,13 +19,13 @@
 // mesh split along its creases (25 degrees: each side's vertices apart, so
 // the creases become borders) with LockBorder, welded back afterwards.
 #include "recon/io/mesh_io.h"
-#include "recon/mesh.h"
-#include "recon/parallel.h"
+#include "recon/structures/mesh.h"
+#include "recon/core/parallel.h"
 #include "recon/reconstruct.h"
-#include "recon/shapes.h"
-#include "recon/simplification.h"
-#include "recon/timer.h"
-#include "recon/union_find.h"
+#include "recon/core/shapes.h"
+#include "recon/phase6_simplify/simplification.h"
+#include "recon/core/timer.h"
+#include "recon/structures/union_find.h"
 
 #include <Eigen/Geometry>
 #include <meshoptimizer.h>

@@ -12,9 +12,9 @@
 // count, index and coordinate). The readers read files, so the bytes go to
 // a file in a folder of this process's own.
 
-#include "recon/detail/binary_file.h"
-#include "recon/errors.h"
-#include "tile_files.h"
+#include "tiles/binary_file.h"
+#include "recon/core/errors.h"
+#include "tiles/files.h"
 
 #include <unistd.h>
 

@@ -2,7 +2,7 @@
 
 #include "formats.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <string>
 #include <utility>

@@ -30,17 +30,17 @@
 #include "run_reports.h"
 #include "summary.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/estimate_normals.h"
-#include "recon/interruption.h"
+#include "recon/core/interruption.h"
 #include "recon/io/atomic_file.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
-#include "recon/parallel.h"
+#include "recon/core/parallel.h"
 #include "recon/reconstruct.h"
-#include "recon/tiles.h"
-#include "recon/timer.h"
-#include "recon/version.h"
+#include "recon/tiles/tiles.h"
+#include "recon/core/timer.h"
+#include "recon/core/version.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -788,7 +788,7 @@ PYBIND11_MODULE(_recon, m) {
   using namespace recon;
   using namespace recon::python;
   m.doc() = "The compiled part of recon (see the recon package for the documented interface).";
-  m.attr("__version__") = std::string(version());  // recon/version.h: the program's and the wheel's too
+  m.attr("__version__") = std::string(version());  // recon/core/version.h: the program's and the wheel's too
   py::register_exception<ResourceLimitError>(m, "ResourceLimitError", PyExc_MemoryError);
   py::register_exception_translator(translate);
   bind_point_cloud(m);

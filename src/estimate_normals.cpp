@@ -1,6 +1,6 @@
 #include "recon/estimate_normals.h"
 
-#include "recon/memory_budget.h"
+#include "recon/core/memory_budget.h"
 #include "recon/reconstruct.h"  // working_tree
 
 namespace recon {

@@ -1,8 +1,8 @@
-#include "recon/detail/first_wave.h"
+#include "first_wave.h"
 
-#include "recon/detail/parallel_for.h"
-#include "recon/parallel.h"
-#include "recon/timer.h"
+#include "recon/core/detail/parallel_for.h"
+#include "recon/core/parallel.h"
+#include "recon/core/timer.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,14 +1,14 @@
 #include "recon/reconstruct.h"
 
-#include "recon/detail/first_wave.h"
-#include "recon/errors.h"
-#include "recon/lattice.h"
-#include "recon/point_cloud.h"  // max_coordinate
-#include "recon/memory_budget.h"
-#include "recon/parallel.h"
-#include "recon/resource_usage.h"
-#include "recon/spatial_order.h"  // permuted
-#include "recon/timer.h"
+#include "first_wave.h"
+#include "recon/core/errors.h"
+#include "recon/structures/lattice.h"
+#include "recon/core/point_cloud.h"  // max_coordinate
+#include "recon/core/memory_budget.h"
+#include "recon/core/parallel.h"
+#include "recon/core/resource_usage.h"
+#include "recon/structures/spatial_order.h"  // permuted
+#include "recon/core/timer.h"
 
 #include <algorithm>
 #include <cmath>

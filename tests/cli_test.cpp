@@ -14,9 +14,9 @@
 
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
-#include "recon/mesh.h"
-#include "recon/shapes.h"
-#include "recon/version.h"
+#include "recon/structures/mesh.h"
+#include "recon/core/shapes.h"
+#include "recon/core/version.h"
 
 #include <gtest/gtest.h>
 
@@ -297,7 +297,7 @@ TEST_F(CliHelp, EachSubcommandListsItsOptions) {
 
 // ---------------------------------------------------------------- version
 
-// The program's version is the library's (recon/version.h; how it is made is
+// The program's version is the library's (recon/core/version.h; how it is made is
 // tested in python/tests/test_packaging.py), and every --stats file and
 // report page says it.
 TEST_F(CliHelp, VersionIsTheLibrarysInEveryStatsFileAndReport) {
@@ -790,7 +790,7 @@ TEST_F(CliMeshFormat, NormalsOnlyWhenAskedAndAlwaysInGlb) {
   EXPECT_EQ(glb.substr(0, 4), "glTF");
   EXPECT_NE(glb.find("\"NORMAL\":1"), std::string::npos);
   EXPECT_NE(glb.find("\"count\":" + std::to_string(3 * plain.faces) + ","), std::string::npos) << "the indices";
-  // Tiled: the same normals (tests/tiles_test.cpp compares them); GLB is refused there.
+  // Tiled: the same normals (tests/tiles/tiles_test.cpp compares them); GLB is refused there.
   ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "tiled.ply", "--normals", "--tile-size", "0.5"})));
   EXPECT_EQ(io::read_mesh(at("tiled.ply")).normals.size(), n.normals.size());
   const RunResult tiled_glb = recon({"reconstruct", "t.ply", "-o", "tiled.glb", "--tile-size", "0.5"});

@@ -2,10 +2,10 @@
 // message that says what to change (docs/robustness.md lists them).
 
 #include "io/io_test_helpers.h"
-#include "recon/errors.h"
-#include "recon/mesh.h"
+#include "recon/core/errors.h"
+#include "recon/structures/mesh.h"
 #include "recon/reconstruct.h"
-#include "recon/shapes.h"
+#include "recon/core/shapes.h"
 
 #include <gtest/gtest.h>
 

@@ -4,12 +4,12 @@
 
 #include "io/io_test_helpers.h"
 #include "mesh_compare.h"
-#include "recon/errors.h"
-#include "recon/lattice.h"
-#include "recon/mesh.h"
+#include "recon/core/errors.h"
+#include "recon/structures/lattice.h"
+#include "recon/structures/mesh.h"
 #include "recon/reconstruct.h"
-#include "recon/shapes.h"
-#include "recon/tiles.h"
+#include "recon/core/shapes.h"
+#include "recon/tiles/tiles.h"
 
 #include <Eigen/Geometry>  // cross
 #include <gtest/gtest.h>

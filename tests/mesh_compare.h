@@ -2,8 +2,8 @@
 // Comparing two meshes as sets of triangles (the tests of the textbook path
 // and of tiled runs).
 
-#include "recon/kdtree.h"
-#include "recon/mesh.h"
+#include "recon/structures/kdtree.h"
+#include "recon/structures/mesh.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // weights, self-loops, and several components (edges only join vertices of
 // one group, and sparse lists leave vertices alone).
 
-#include "recon/graph.h"
+#include "recon/structures/graph.h"
 
 #include <cstdint>
 #include <random>

@@ -1,11 +1,11 @@
 #include "recon/reconstruct.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
-#include "recon/mesh.h"
-#include "recon/parallel.h"
-#include "recon/shapes.h"
+#include "recon/structures/mesh.h"
+#include "recon/core/parallel.h"
+#include "recon/core/shapes.h"
 #include "test_data.h"
 
 #include <gtest/gtest.h>

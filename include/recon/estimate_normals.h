@@ -12,10 +12,10 @@
 // parameters) and ResourceLimitError when phases I-II are estimated to need
 // more than max_memory.
 
-#include "recon/orientation.h"
-#include "recon/point_cloud.h"
-#include "recon/progress.h"
-#include "recon/tangent_planes.h"
+#include "recon/phase2_orientation/orientation.h"
+#include "recon/core/point_cloud.h"
+#include "recon/core/progress.h"
+#include "recon/phase1_planes/tangent_planes.h"
 
 #include <cstdint>
 #include <functional>

@@ -10,18 +10,18 @@
 // sample). Phase IV's mesh of a refined run, an intermediate, has none.
 // ReconstructionOptions::mesh_colors turns this off.
 
-#include "recon/local_quadrics.h"
-#include "recon/marching_cubes.h"
-#include "recon/memory_budget.h"  // what reconstruct() refuses with ResourceLimitError
-#include "recon/orientation.h"
-#include "recon/progress.h"
-#include "recon/refinement.h"
-#include "recon/resource_usage.h"  // default_memory_limit
-#include "recon/signed_distance.h"
-#include "recon/simplification.h"
-#include "recon/tangent_planes.h"
-#include "recon/vertex_colors.h"
-#include "recon/vertex_normals.h"
+#include "recon/phase1_planes/local_quadrics.h"
+#include "recon/phase4_contour/marching_cubes.h"
+#include "recon/core/memory_budget.h"  // what reconstruct() refuses with ResourceLimitError
+#include "recon/phase2_orientation/orientation.h"
+#include "recon/core/progress.h"
+#include "recon/phase5_refine/refinement.h"
+#include "recon/core/resource_usage.h"  // default_memory_limit
+#include "recon/phase3_distance/signed_distance.h"
+#include "recon/phase6_simplify/simplification.h"
+#include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase5_refine/vertex_colors.h"
+#include "recon/phase5_refine/vertex_normals.h"
 
 #include <array>
 #include <cstdint>

@@ -39,7 +39,7 @@ import numpy as np
 from . import _recon
 from ._recon import ResourceLimitError
 
-#: recon's version, the compiled library's own (recon/version.h): the same
+#: recon's version, the compiled library's own (recon/core/version.h): the same
 #: string as ``recon --version``, the wheel's version and the "version" of
 #: every stats dict, e.g. "0.1.0" or "0.1.0+g1a2b3c4" (docs/releasing.md).
 __version__: str = _recon.__version__

@@ -1,4 +1,4 @@
-"""recon.distributed: the tiled reconstruction (include/recon/tiles.h) run as
+"""recon.distributed: the tiled reconstruction (include/recon/tiles/tiles.h) run as
 Dask tasks, on a cluster of machines or on local worker processes::
 
     python3 -m recon.distributed scan.ply -o mesh.ply --workers 2
@@ -230,7 +230,7 @@ def _check_address(scheduler: str) -> None:
 
 def _work_folder(work_dir: Optional[PathLike], output: str) -> Any:
     """A fresh folder for the run's files inside `work_dir` (or beside the
-    output), the program's own (include/recon/tiles.h, TileWorkspace): made
+    output), the program's own (include/recon/tiles/tiles.h, TileWorkspace): made
     by mkdtemp and locked for the run, so that two runs never share one, and
     removed when closed; stale ones there (their lock free: a run killed
     with SIGKILL) are removed first."""

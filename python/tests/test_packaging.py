@@ -185,7 +185,7 @@ def test_a_failed_build_step_is_one_line_naming_it():
 
 def test_without_web_packages_the_build_leaves_the_viewer_out(tmp_path, monkeypatch):
     """Where Node.js or web/node_modules is missing, setup.py configures with
-    RECON_REPORT=OFF (src/report_page_missing.cpp) instead of failing."""
+    RECON_REPORT=OFF (src/report/report_page_missing.cpp) instead of failing."""
     setup_py = load_setup_py()
     commands = []
     monkeypatch.setattr(setup_py, "run", commands.append)

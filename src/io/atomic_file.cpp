@@ -1,6 +1,6 @@
 #include "recon/io/atomic_file.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <atomic>
 #include <cerrno>

@@ -1,6 +1,6 @@
 #include "colors.h"
 
-#include "recon/detail/float_chars.h"
+#include "recon/core/detail/float_chars.h"
 
 #include <algorithm>
 #include <charconv>

@@ -11,9 +11,9 @@
 #include "point_parts.h"
 
 #include "recon/io/point_io.h"
-#include "recon/mesh.h"
-#include "recon/point_cloud.h"
-#include "recon/polyline.h"
+#include "recon/structures/mesh.h"
+#include "recon/core/point_cloud.h"
+#include "recon/structures/polyline.h"
 
 #include <array>
 #include <cstdint>

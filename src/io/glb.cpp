@@ -32,10 +32,10 @@
 #include "formats.h"
 #include "io_detail.h"
 
-#include "recon/detail/float_chars.h"
-#include "recon/errors.h"
-#include "recon/version.h"
-#include "recon/vertex_normals.h"
+#include "recon/core/detail/float_chars.h"
+#include "recon/core/errors.h"
+#include "recon/core/version.h"
+#include "recon/phase5_refine/vertex_normals.h"
 
 #include <charconv>
 #include <cmath>

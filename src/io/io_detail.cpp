@@ -1,10 +1,10 @@
 #include "io_detail.h"
 
-#include "recon/detail/float_chars.h"
+#include "recon/core/detail/float_chars.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/point_io.h"  // file_being_read
-#include "recon/resource_usage.h"  // default_memory_limit
+#include "recon/core/resource_usage.h"  // default_memory_limit
 
 #include <algorithm>
 #include <atomic>

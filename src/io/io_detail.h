@@ -5,8 +5,8 @@
 // order.
 
 #include "recon/io/point_io.h"
-#include "recon/mesh.h"
-#include "recon/point_cloud.h"
+#include "recon/structures/mesh.h"
+#include "recon/core/point_cloud.h"
 
 #include <array>
 #include <bit>

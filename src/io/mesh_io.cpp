@@ -6,7 +6,7 @@
 #include "formats.h"
 #include "io_detail.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/atomic_file.h"
 
 #include <cmath>

@@ -18,7 +18,7 @@
 #include "point_parts.h"
 #include "text_scanner.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <algorithm>
 #include <array>

@@ -23,7 +23,7 @@
 
 #include "io_detail.h"
 
-#include "recon/point_cloud.h"
+#include "recon/core/point_cloud.h"
 
 #include <algorithm>
 #include <cstddef>

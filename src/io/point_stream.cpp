@@ -9,7 +9,7 @@
 #include "io_detail.h"
 #include "point_parts.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <algorithm>
 #include <optional>

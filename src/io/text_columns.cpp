@@ -5,7 +5,7 @@
 
 #include "text_columns.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <array>
 #include <cstdio>

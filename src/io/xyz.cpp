@@ -21,7 +21,7 @@
 #include "text_columns.h"
 #include "text_scanner.h"
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <algorithm>
 #include <array>

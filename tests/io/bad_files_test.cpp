@@ -15,8 +15,8 @@
 #include "recon/io/point_io.h"
 
 #include "io/io_test_helpers.h"
-#include "recon/errors.h"
-#include "recon/resource_usage.h"
+#include "recon/core/errors.h"
+#include "recon/core/resource_usage.h"
 
 #include <gtest/gtest.h>
 

@@ -4,10 +4,10 @@
 // validator and three.js check the program's files too (web/tests/glb_*).
 
 #include "recon/io/mesh_io.h"
-#include "recon/vertex_normals.h"
+#include "recon/phase5_refine/vertex_normals.h"
 
 #include "io/io_test_helpers.h"
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <gtest/gtest.h>
 

@@ -4,11 +4,11 @@
 // colours, exact comparisons of clouds and meshes, and checks on exception
 // messages (one bad file, or a table of them).
 
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
-#include "recon/mesh.h"
-#include "recon/point_cloud.h"
+#include "recon/structures/mesh.h"
+#include "recon/core/point_cloud.h"
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 
 #include "io/io_test_helpers.h"
 #include "io/las_test_file.h"
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <gtest/gtest.h>
 

@@ -5,10 +5,10 @@
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 
-#include "recon/mesh.h"
+#include "recon/structures/mesh.h"
 
 #include "io/io_test_helpers.h"
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <gtest/gtest.h>
 

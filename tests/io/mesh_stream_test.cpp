@@ -6,7 +6,7 @@
 #include "recon/io/mesh_stream.h"
 
 #include "io/io_test_helpers.h"
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/mesh_io.h"
 
 #include <gtest/gtest.h>

@@ -7,7 +7,7 @@
 #include "recon/io/point_io.h"
 
 #include "io/io_test_helpers.h"
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 
 #include <gtest/gtest.h>
 

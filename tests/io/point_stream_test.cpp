@@ -9,9 +9,9 @@
 
 #include "io/io_test_helpers.h"
 #include "io/las_test_file.h"
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "recon/io/point_io.h"
-#include "recon/resource_usage.h"
+#include "recon/core/resource_usage.h"
 
 #include <gtest/gtest.h>
 

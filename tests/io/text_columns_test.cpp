@@ -8,7 +8,7 @@
 #include "recon/io/point_stream.h"
 
 #include "io/io_test_helpers.h"
-#include "recon/errors.h"
+#include "recon/core/errors.h"
 #include "test_data.h"
 
 #include <gtest/gtest.h>

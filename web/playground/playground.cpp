@@ -19,15 +19,15 @@
 //   recon_layer(id) / recon_layer_size(id): layer `id`'s doubles, laid out
 //     as described at `Layer` below, valid until the next recon_run.
 
-#include "recon/boruvka.h"
-#include "recon/counting_queue.h"
-#include "recon/errors.h"
-#include "recon/fibonacci_heap.h"
-#include "recon/kruskal.h"
-#include "recon/list_heap.h"
-#include "recon/pairing_heap.h"
-#include "recon/reconstruct_curve.h"
-#include "recon/timer.h"
+#include "recon/alternatives/boruvka.h"
+#include "recon/alternatives/counting_queue.h"
+#include "recon/core/errors.h"
+#include "recon/structures/fibonacci_heap.h"
+#include "recon/alternatives/kruskal.h"
+#include "recon/structures/list_heap.h"
+#include "recon/structures/pairing_heap.h"
+#include "recon/curves/reconstruct_curve.h"
+#include "recon/core/timer.h"
 
 #include <emscripten/emscripten.h>
 

@@ -1,7 +1,7 @@
 // The report's first view, as pure functions of plain arrays (no three.js),
 // so that web/tests/framing.test.mjs can check them in Node.
 //
-// The view frames the bounding sphere of everything drawn (src/report.cpp
+// The view frames the bounding sphere of everything drawn (src/report/report.cpp
 // writes the box, data.drawn_box): the camera looks at the sphere's centre
 // from a fixed direction, at the distance where the sphere fits inside the
 // narrower of the two fields of view. A sphere, not the box, so that the

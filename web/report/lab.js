@@ -1,4 +1,4 @@
-// The report's lab panel (recon lab --report; include/recon/report.h): the
+// The report's lab panel (recon lab --report; include/recon/report/report.h): the
 // alternatives lab's runs as a chart of their times and tables of what they
 // counted. Plain DOM, no three.js: viewer.js draws the lab's orientation
 // graphs as layers, into the element this panel leaves for them.

@@ -1,5 +1,5 @@
 // The report's script: the viewer (viewer.js) on the data block recon wrote
-// into the page (src/report.cpp): the JSON in #recon-data, each array
+// into the page (src/report/report.cpp): the JSON in #recon-data, each array
 // base64-encoded in #recon-array-N. Its handle is window.reconReport for the
 // browser tests (web/tests/report.test.mjs) and scripts/phase-pictures.
 import { showReport } from './viewer.js';

@@ -1,5 +1,5 @@
 // The report's viewer: reads the data block recon wrote into the page
-// (src/report.cpp) and draws each phase as a layer with three.js; with the
+// (src/report/report.cpp) and draws each phase as a layer with three.js; with the
 // alternatives lab's data, its panel too (lab.js) and a layer per
 // orientation graph. Bundled with three.js into one script by
 // web/report/build.mjs at build time, so the page needs nothing from the

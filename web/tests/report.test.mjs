@@ -8,7 +8,7 @@
 //
 // Each test makes its own data with the program (recon generate), writes a
 // report and opens it from disk with the network disabled. The lab panel's
-// report is written by tests/report_lab_page.cpp, a lab made by hand.
+// report is written by tests/report/report_lab_page.cpp, a lab made by hand.
 
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -122,7 +122,7 @@ test('a reconstruction report opens offline, and every layer toggle changes the 
   const opened = await open('two.html');
   const { page } = opened;
   assert.equal(await page.title(), 'recon report: two.ply');
-  // The footer names the recon that wrote the page (recon/version.h).
+  // The footer names the recon that wrote the page (recon/core/version.h).
   assert.equal(`recon ${await page.locator('#version').textContent()}`, run('--version').trim());
   assert.deepEqual(await page.evaluate(() => window.reconReport.layers.filter((l) => l.available).map((l) => l.id)), layerIds);
   // The refined mesh is shown first, the 1992 surface on demand.
@@ -453,7 +453,7 @@ async function assertCountsTables(page, runs) {
 }
 
 test('a lab report has a Lab panel: a bar per run, the skipped runs, the counts and a layer per graph',
-  { skip: !labPage && 'RECON_LAB_PAGE (tests/report_lab_page.cpp) not given' }, async () => {
+  { skip: !labPage && 'RECON_LAB_PAGE (tests/report/report_lab_page.cpp) not given' }, async () => {
     execFileSync(labPage, [join(work, 'lab.html')]);
     const opened = await open('lab.html');
     const { page } = opened;

@@ -1,7 +1,7 @@
 // The web page's window into the library (web/webapp/): the 3D
 // reconstruction as `recon reconstruct` runs it, driven from a Web Worker
 // (worker.js), with every phase's layers handed to the page as the report
-// draws them (src/report.cpp) and the outputs written by the program's own
+// draws them (src/report/report.cpp) and the outputs written by the program's own
 // writers.
 //
 // Files: the worker writes the dropped file into Emscripten's in-memory
@@ -36,17 +36,17 @@
 #include "run_reports.h"
 #include "summary.h"
 
-#include "recon/errors.h"
-#include "recon/interruption.h"
+#include "recon/core/errors.h"
+#include "recon/core/interruption.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
-#include "recon/memory_budget.h"
-#include "recon/parallel.h"  // thread_count
+#include "recon/core/memory_budget.h"
+#include "recon/core/parallel.h"  // thread_count
 #include "recon/reconstruct.h"
-#include "recon/report.h"
-#include "recon/shapes.h"
-#include "recon/progress.h"
-#include "recon/timer.h"
+#include "recon/report/report.h"
+#include "recon/core/shapes.h"
+#include "recon/core/progress.h"
+#include "recon/core/timer.h"
 
 #include <emscripten/emscripten.h>
 

@@ -27,7 +27,7 @@
 // polyline vertex out of range, or normals that are not one per point.
 
 #include "recon/io/point_io.h"
-#include "recon/polyline.h"
+#include "recon/structures/polyline.h"
 
 #include <filesystem>
 #include <span>

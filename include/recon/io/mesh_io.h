@@ -51,7 +51,7 @@
 // point_io.h), including the line limit and the count of vertices with a
 // coordinate that is not finite or beyond +-max_coordinate.
 
-#include "recon/mesh.h"
+#include "recon/structures/mesh.h"
 
 #include <filesystem>
 #include <string_view>

@@ -28,7 +28,7 @@
 // the largest such index); a call after finish().
 
 #include "recon/io/atomic_file.h"
-#include "recon/point_cloud.h"
+#include "recon/core/point_cloud.h"
 
 #include <array>
 #include <cstddef>

@@ -155,7 +155,7 @@
 // not to ply, ...": ply, pcd, las, obj, off, and .pts with Hoppe's
 // records): an option is refused rather than ignored.
 
-#include "recon/point_cloud.h"
+#include "recon/core/point_cloud.h"
 
 #include <cstddef>
 #include <filesystem>

@@ -45,7 +45,7 @@
 // caller.
 
 #include "recon/io/point_io.h"
-#include "recon/point_cloud.h"
+#include "recon/core/point_cloud.h"
 
 #include <cstddef>
 #include <filesystem>

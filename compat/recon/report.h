@@ -1,0 +1,8 @@
+#pragma once
+// Deprecated path (recon 0.1): the header moved to <recon/report/report.h> when the
+// sources were arranged by phase. Define RECON_ALLOW_OLD_HEADERS to include
+// it here without the warning.
+#ifndef RECON_ALLOW_OLD_HEADERS
+#pragma GCC warning "<recon/report.h> is deprecated: include <recon/report/report.h>"
+#endif
+#include "recon/report/report.h"

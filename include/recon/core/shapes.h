@@ -1,0 +1,103 @@
+#pragma once
+// Point samples of shapes whose surface is known exactly: the inputs of the
+// tests, the benchmarks and `recon generate`. Each sample comes with the true
+// outward normals, and each shape can measure the distance from any point to
+// its true surface, so results can be checked against the truth.
+//
+// Sampling is uniform by area (a Poisson sample: random, with the clumps and
+// gaps of random data), except the terrain's, which is grid-like as a
+// scanner's; all are reproducible from `seed`.
+
+#include "recon/core/point_cloud.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace recon {
+
+class Shape {
+ public:
+  virtual ~Shape() = default;
+  /// n points uniform by area, with their true outward normals.
+  [[nodiscard]] virtual PointCloud sample(std::size_t n, std::uint64_t seed) const = 0;
+  /// Unsigned distance from p to the true surface.
+  [[nodiscard]] virtual double distance(const Vec3& p) const = 0;
+  [[nodiscard]] virtual double area() const = 0;
+  /// Euler characteristic of the surface (2 - 2 genus per closed piece).
+  [[nodiscard]] virtual int euler_characteristic() const = 0;
+  [[nodiscard]] virtual int components() const { return 1; }
+};
+
+[[nodiscard]] std::unique_ptr<Shape> make_sphere(double radius = 1.0, Vec3 centre = Vec3::Zero());
+/// Ring of radius `major` around the z axis, tube radius `minor`.
+[[nodiscard]] std::unique_ptr<Shape> make_torus(double major = 1.0, double minor = 0.35);
+/// Semi-axes a, b, c along x, y, z.
+[[nodiscard]] std::unique_ptr<Shape> make_ellipsoid(double a = 1.0, double b = 0.7, double c = 0.45);
+/// Axis-aligned box centred at the origin with the given side lengths.
+[[nodiscard]] std::unique_ptr<Shape> make_box(Vec3 sides = Vec3(1.0, 0.8, 0.6));
+/// Sphere and torus side by side, `gap` apart at their closest.
+[[nodiscard]] std::unique_ptr<Shape> make_sphere_and_torus(double gap = 0.5);
+
+/// A scan-like open surface: the wavy height field
+/// z = 0.15 sin 2x cos 3y + 0.05 sin(5x + 4y) over [-1, 1]^2, sampled on a
+/// grid with 15 % jitter (rows of ceil(sqrt n) points; the last row may be
+/// partial) rather than uniformly at random. One boundary, Euler
+/// characteristic 1. Its distance() follows the surface from p's own
+/// (x, y): exact near the surface (within 0.3 of it, where the tests ask),
+/// it may come out too large farther away.
+[[nodiscard]] std::unique_ptr<Shape> make_terrain();
+
+/// A machined part, the kind of solid a CAD model describes: the slab
+/// [-1, 1] x [-0.5, 0.5] x [-0.2, 0.2] with three vertical round holes of
+/// radius 0.18 drilled through it, their axes at x = -0.6, 0, 0.6 (y = 0).
+/// Every hole stays 0.32 from the slab's rim and 0.24 from its neighbour.
+/// The surface has 11 patches: top and bottom (rectangles minus three
+/// disks), four side faces, three hole walls (their normals point towards
+/// the hole's axis, out of the solid). It has sharp creases (the edges of
+/// the slab, the rims of the holes) and corners, which smooth shapes lack.
+/// Genus 3: Euler characteristic 2 - 2 * 3 = -4, one component.
+[[nodiscard]] std::unique_ptr<Shape> make_machined_part();
+
+/// A long thin capsule: the points at distance 0.08 from the segment from
+/// (-1, 0, 0) to (1, 0, 0) (a cylinder closed by two hemispheres). Genus 0.
+/// Thin features are where a reconstruction's neighbourhoods reach across
+/// to the far side.
+[[nodiscard]] std::unique_ptr<Shape> make_handle();
+
+/// The course's data set: five separate closed solids in one cloud (about
+/// 16,000 points when `recon generate` writes it), standing on z = 0 in a
+/// row along x, at least 0.3 apart:
+///   0. a tall narrow cone, apex up (base radius 0.12, height 1.2), at x = -1.7;
+///   1. a short wide cone, apex up (base radius 0.35, height 0.4), at x = -0.8;
+///   2. an upright cylinder (radius 0.2, height 0.5, flat cap on top), at x = 0.15;
+///   3. a cylinder lying tilted (radius 0.15, length 0.6, its axis 60 degrees
+///      from vertical in the x-z plane), centred at (1.1, 0, 0.3);
+///   4. a sphere of radius 0.25 centred at (2.1, 0, 0.25).
+/// Each cone is closed by its base disk, each cylinder by two caps.
+/// Why the course used it: orienting normals (phase II) starts at the
+/// highest point of each piece, where the outward normal is known to point
+/// up, so every separate piece needs its own start, and the highest point
+/// is not always on a smooth cap: the tall narrow cone's highest point is
+/// its apex (a tip with no tangent plane), the tilted cylinder's is on the
+/// rim between a cap and its side (a crease). An orientation that handles
+/// those starts gets no piece inside out.
+/// Five components, Euler characteristic 5 * 2 = 10.
+[[nodiscard]] std::unique_ptr<Shape> make_conics();
+/// The five pieces of make_conics(), in the order listed there (to tell
+/// which piece a point of its sample belongs to: the nearest).
+[[nodiscard]] std::vector<std::unique_ptr<Shape>> make_conics_pieces();
+
+/// Adds Gaussian noise to every position: each coordinate gets an
+/// independent offset of standard deviation `fraction` times the diagonal
+/// of the cloud's bounding box (the scale `recon generate --noise` and the
+/// evaluation scripts use). Reproducible from `seed`; normals are kept.
+void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed);
+
+/// By name: "sphere", "torus", "ellipsoid", "box", "two" (sphere + torus),
+/// "terrain", "part" (make_machined_part), "handle", "conics".
+/// Throws InvalidInputError for another name.
+[[nodiscard]] std::unique_ptr<Shape> make_shape(const std::string& name);
+
+}  // namespace recon

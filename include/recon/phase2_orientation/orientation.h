@@ -1,0 +1,120 @@
+#pragma once
+// Phase II: consistent orientation of the tangent planes.
+//
+// PCA gives each plane a normal line but no direction. Neighbouring planes
+// on a smooth surface should point the same way, so the orientation is
+// propagated along the Riemannian graph, preferring edges between nearly
+// parallel planes: the propagation follows the graph's minimum spanning tree
+// (Prim's algorithm on our indexed binary heap), starting in each component
+// from the origin of largest z (last coordinate), whose normal is made to
+// point to +z: on a closed surface that point's outward normal does. Walking
+// the tree parents-first (Prim's own visiting order, no recursion), a child
+// whose normal points against its parent's (n_child . n_parent < 0) is
+// flipped.
+//
+// The refined method also decides each component's side more robustly than
+// by its highest point (sign_by_extremes). The highest point of a tall cone
+// is its apex, whose plane stands nearly upright, and "make it point up"
+// then picks a side at random; rims and creases on top do the same. So the
+// samples within two neighbourhood radii of the top are searched for the
+// normal nearest to vertical: where it is within 25 degrees of vertical,
+// it points up, as in Hoppe's rule. Where no normal up there is (a tip, a
+// crease), the same is asked of the other five axis directions (the
+// extremes of a closed surface have outward normals along them), and the
+// best-aligned one decides. The whole component is turned round when that
+// normal points inwards; the tree walk still decides every sign relative to
+// the others. (Open surfaces, a terrain, a facade, have no inside: there the
+// side facing up is kept, as before, wherever the top is well defined.)
+//
+// Facing sheets (the refined method). Where two sheets of surface lie
+// closer than a neighbourhood (the two sides of a thin plate, two objects
+// nearly touching), graph edges join them: their planes are parallel, the
+// edge costs nothing, and Hoppe's walk makes the two normals agree, turning
+// one sheet inside out. But facing sheets' outward normals point opposite
+// ways, whether the gap between them is solid (a plate) or empty (two
+// objects). With `sheet_misfit`, an edge between nearly parallel planes
+// (within 25 degrees) that leaves both of them steeply (more than 30
+// degrees from each plane, measured between the origins, which lie on the
+// fitted surfaces) and whose planes lie apart by more than three times
+// their fits' misfit (noise on one sheet tilts short edges, by less) joins
+// two facing sheets, and the walk and the vote carry the orientation
+// across it reversed. (With plane origins at the centroids of
+// neighbourhoods spanning both sheets, such edges cannot be told: this
+// needs local_quadrics.h's origins.)
+//
+// Sharp creases (the refined method). Across a crease sharper than a
+// right angle (a cone's rim, a wedge) outward normals point more than 90
+// degrees apart, and "agrees with its parent" is wrong for every tree edge
+// that crosses it: one face comes out inside out. Geometry tells: across a
+// crease the surface lies beyond both planes (convex) or beyond neither
+// (concave), so outward normals satisfy (d . n_i)(d . n_j) < 0 for
+// d = o_j - o_i. One edge can be fooled (a wavy surface sampled coarsely),
+// so after the walk the faces are found as patches (pieces joined by
+// nearly parallel, well-fitted planes) and every graph edge across a
+// crease between two patches votes; a patch that at least 8 votes, four
+// in five of them, say is inside out relative to its neighbours is turned
+// round (orientation.cpp, turn_crease_patches).
+//
+// An addition to Hoppe's method: a few rounds of a local vote afterwards. A
+// normal that points against the sum of its graph neighbours' normals is
+// turned round. On clean data nothing changes; with noise about half the
+// sample spacing, it corrects the few hundred in a hundred thousand that a
+// single tree edge got wrong, which would otherwise become bubbles.
+
+#include "recon/phase2_orientation/minimum_spanning_tree.h"
+#include "recon/phase2_orientation/riemannian_graph.h"
+#include "recon/phase1_planes/tangent_planes.h"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace recon {
+
+struct OrientationOptions {
+  RiemannianGraphOptions graph{};  ///< k, gap factor
+  int vote_rounds = 3;             ///< rounds of the neighbour vote after the tree walk (0: pure Hoppe)
+  bool sign_by_extremes = false;   ///< decide each component's side at its best extreme (see above; refined)
+  /// Per plane, the RMS misfit of its fit (LocalQuadrics::residual): when
+  /// given, the orientation is carried reversed between facing sheets (see
+  /// above; refined). Empty: never. Referenced, not copied.
+  std::span<const float> sheet_misfit;
+  /// Normals to carry the orientation with, on the same side as
+  /// planes.normals (empty: planes.normals). The refined method walks with
+  /// phase I's PCA normals: across a sharp edge the fitted planes of the two
+  /// faces meet at right angles, where "agrees with its parent" is a coin
+  /// toss, but the PCA planes of the neighbourhoods astride the edge turn
+  /// from one face to the other in steps. The signs found are then given to
+  /// planes.normals. Single precision: a direction is all it is asked for,
+  /// and it is held beside everything else during phase II. Referenced, not
+  /// copied. (3D only.)
+  std::span<const Eigen::Vector3f> guide;
+};
+
+template <int D>
+struct OrientedNormals {
+  std::vector<Vec<D>> normals;        ///< unit, consistently oriented
+  RiemannianGraph<D> graph;
+  SpanningForest tree;                ///< tree.roots[c] is the root of component c
+  std::vector<std::uint8_t> flipped;  ///< 1 where the normal was reversed from the PCA one
+  std::size_t flip_count = 0;         ///< normals reversed in the end
+  std::size_t vote_flips = 0;         ///< of which changed by the vote
+  std::size_t components_turned = 0;  ///< components turned round by sign_by_extremes
+  std::size_t sheet_edges = 0;        ///< tree edges between facing sheets (walked reversed)
+  std::size_t crease_patches_turned = 0;  ///< faces turned round across a sharp crease (see above)
+  double seconds_mst = 0.0;
+
+  [[nodiscard]] std::size_t component_count() const { return graph.components.sizes.size(); }
+};
+
+template <int D>
+[[nodiscard]] OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const OrientationOptions& options = {});
+
+/// The same over a Riemannian graph already built from `planes` (with
+/// options.graph ignored): lets the caller release planes.neighbors, the
+/// graph's source, before the walk.
+template <int D>
+[[nodiscard]] OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGraph<D> graph,
+                                                const OrientationOptions& options = {});
+
+}  // namespace recon
