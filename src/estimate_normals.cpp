@@ -1,7 +1,7 @@
 #include "recon/estimate_normals.h"
 
 #include "recon/core/memory_budget.h"
-#include "recon/reconstruct.h"  // working_tree
+#include "recon/reconstruct_parts.h"  // working_tree
 
 namespace recon {
 

@@ -1,4 +1,4 @@
-#include "recon/reconstruct.h"
+#include "recon/reconstruct_parts.h"
 
 #include "recon/core/errors.h"
 #include "recon/io/mesh_io.h"

@@ -1,6 +1,6 @@
 #include "recon/curves/reconstruct_curve.h"
 
-#include "recon/reconstruct.h"  // chosen_cell
+#include "recon/reconstruct_parts.h"  // chosen_cell
 #include "recon/core/timer.h"
 
 #include <functional>

@@ -4,6 +4,7 @@
 
 #include "recon/core/detail/mix64.h"
 #include "recon/core/errors.h"
+#include "recon/reconstruct_parts.h"
 #include "recon/io/point_stream.h"
 #include "recon/core/memory_budget.h"
 #include "recon/core/timer.h"

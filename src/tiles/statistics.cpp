@@ -3,6 +3,7 @@
 
 #include "tiles/binary_file.h"
 #include "recon/core/errors.h"
+#include "recon/reconstruct_parts.h"
 #include "tiles/files.h"
 
 #include <algorithm>

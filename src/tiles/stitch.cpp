@@ -23,7 +23,7 @@
 
 #include "recon/core/errors.h"
 #include "recon/io/mesh_stream.h"
-#include "recon/reconstruct.h"  // refuse_no_surface
+#include "recon/reconstruct_parts.h"  // refuse_no_surface
 #include "recon/core/timer.h"
 #include "recon/structures/union_find.h"
 #include "tiles/files.h"

@@ -3,6 +3,7 @@
 #include "recon/tiles/tiles.h"
 
 #include "recon/core/errors.h"
+#include "recon/reconstruct_parts.h"
 #include "recon/core/memory_budget.h"
 #include "recon/core/parallel.h"
 #include "recon/core/timer.h"

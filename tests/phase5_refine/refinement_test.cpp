@@ -3,7 +3,7 @@
 #include "recon/core/errors.h"
 #include "recon/structures/mesh.h"
 #include "recon/core/parallel.h"
-#include "recon/reconstruct.h"
+#include "recon/reconstruct_parts.h"
 #include "recon/core/shapes.h"
 
 #include <gtest/gtest.h>

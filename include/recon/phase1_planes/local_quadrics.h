@@ -34,7 +34,6 @@
 // Cost: one more least-squares fit (6 x 6) per neighbourhood, in parallel,
 // and 12 bytes a sample kept (the curvature, the residual).
 
-#include "recon/phase3_distance/signed_distance.h"  // crease_angle_degrees
 #include "recon/phase1_planes/tangent_planes.h"
 
 #include <array>

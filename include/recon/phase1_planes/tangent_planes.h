@@ -72,6 +72,11 @@ namespace recon {
 // few enough not to draw fins (measured on a box: docs/benchmarks.md).
 // Smaller k follows thinner features.
 
+/// Tangent planes whose normals are further apart than this meet at a
+/// crease: phase I's fits (local_quadrics.h), phase III's choice of plane
+/// (signed_distance.h) and phase V's creases (refinement.h) share it.
+inline constexpr double crease_angle_degrees = 25.0;
+
 /// A sample whose neighbourhood radius exceeds this many times that of the
 /// lower quarter of its neighbours is isolated (see above).
 inline constexpr double isolation_factor = 10.0;

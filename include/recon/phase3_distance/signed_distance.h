@@ -50,10 +50,6 @@
 
 namespace recon {
 
-/// Tangent planes whose normals are further apart than this meet at a
-/// crease (here and in the refinement of the mesh, refinement.h).
-inline constexpr double crease_angle_degrees = 25.0;
-
 struct SignedDistanceOptions {
   std::optional<double> delta;  ///< noise level; estimated when absent
   /// Planes considered (see above), 1 to 32; 1 is the nearest origin
