@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A tiled run under a memory limit too small for one phase I over the
-# whole cloud (tile_statistics.h) against the in-memory run, on the
+# whole cloud (tiles/statistics.h) against the in-memory run, on the
 # scan-like terrain of bench/terrain_stream.py: the cloud-wide measures
 # (k, rho, the cell) and the mesh's counts side by side, and each run's
 # seconds and peak (its --stats). docs/scaling.md keeps the figures.

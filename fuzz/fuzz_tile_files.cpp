@@ -1,4 +1,4 @@
-// A libFuzzer target for the readers of a tiled run's files (tile_files.h):
+// A libFuzzer target for the readers of a tiled run's files (tiles/files.h):
 // the plan, a tile's points and colours, its orientation, the
 // reconciliation's signs, a tile's mesh. A recon::Error is the right answer
 // to a bad file; a crash, a sanitizer report, a leak or another exception

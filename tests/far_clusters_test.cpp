@@ -40,7 +40,7 @@ PointCloud part_of(const PointCloud& cloud, std::size_t first, std::size_t count
   return part;
 }
 
-// The whole cloud's choices, as a tile of it is given them (tile_plan.cpp).
+// The whole cloud's choices, as a tile of it is given them (tiles/step1_plan.cpp).
 ReconstructionOptions whole_cloud_choices(const Reconstruction& whole) {
   ReconstructionOptions o;
   o.planes.k = whole.planes.k;

@@ -11,7 +11,7 @@
 // is a ParseError naming the file, not a wrong mesh. A CRC finds every
 // burst of up to 32 flipped bits and all but one in 2^32 other damage; it
 // is no defence against a file forged on purpose, so the readers still
-// check every index they use (tile_files.h).
+// check every index they use (tiles/files.h).
 
 #include "recon/core/errors.h"
 #include "recon/io/atomic_file.h"

@@ -1,4 +1,4 @@
-// The files of a tiled run (tile_files.h): each written whole with a
+// The files of a tiled run (tiles/files.h): each written whole with a
 // checksum (binary_file.h), each read back with every count and index
 // checked against what it may name, so that a damaged or foreign file is a
 // ParseError naming it, never a crash or a silently wrong mesh. Only
@@ -24,7 +24,7 @@ std::string at_record(const char* kind, std::size_t i) { return std::string(kind
 }  // namespace
 
 // ---------------------------------------------------------------------------
-// Step 1's points and colours (written by the binning, tile_plan.cpp).
+// Step 1's points and colours (written by the binning, tiles/step1_plan.cpp).
 
 std::vector<PointRecord> read_point_records(const std::filesystem::path& path) {
   detail::BinaryReader in(path, points_magic);
@@ -156,7 +156,7 @@ TileMesh read_mesh(const std::filesystem::path& path) {
     if (t.v[0] >= m.vertices.size() || t.v[1] >= m.vertices.size() || t.v[2] >= m.vertices.size() ||
         (t.peel != none && t.peel >= m.peel_open.size()))
       throw bad(in, at_record("triangle", i) + "names a vertex or a component it does not have");
-    const bool peelable = t.peel != none && !t.stray;  // (the stitch joins its vertices' atoms, tile_stitch.cpp)
+    const bool peelable = t.peel != none && !t.stray;  // (the stitch joins its vertices' atoms, tiles/step5_stitch.cpp)
     if (peelable && (m.vertices[t.v[0]].atom == none || m.vertices[t.v[1]].atom == none ||
                      m.vertices[t.v[2]].atom == none))
       throw bad(in, at_record("triangle", i) + "a vertex of this peelable triangle has no atom");
@@ -307,6 +307,25 @@ void format_tile_name(char (&out)[tile_name_size], std::uint64_t id, const char*
   out[n++] = '.';
   for (const char* c = kind; *c != '\0' && n + 1 < tile_name_size; ++c) out[n++] = *c;
   out[n] = '\0';
+}
+
+TilePoints read_points(const std::filesystem::path& dir, const TilePlan& plan, const TileInfo& info) {
+  const std::vector<PointRecord> records = read_point_records(of_tile(dir, info.id, "points"));
+  TilePoints t;
+  t.positions.reserve(records.size());
+  t.index.reserve(records.size());
+  for (const PointRecord& r : records) {
+    t.positions.emplace_back(r.x, r.y, r.z);
+    t.index.push_back(r.index);
+  }
+  if (plan.colors) {
+    const auto path = of_tile(dir, info.id, "colors");
+    t.colors = read_colors(path);
+    if (t.colors.size() != t.positions.size())
+      throw ParseError(path.string() + ": " + std::to_string(t.colors.size()) + " colours for " +
+                       std::to_string(t.positions.size()) + " points");
+  }
+  return t;
 }
 
 }  // namespace recon::tile_files

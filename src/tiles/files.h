@@ -50,7 +50,7 @@ inline constexpr std::uint32_t none = UINT32_MAX;
 /// phase V added on a crease the two edges whose vertices it lies between
 /// (the lesser first; corner[1] = UINT64_MAX for one). Shared: other
 /// tiles' triangles use it too. Atom and object: step 4 of phase V (see
-/// tiles.cpp), none where not needed.
+/// step4_contour.cpp), none where not needed.
 struct MeshVertex {
   double x = 0.0, y = 0.0, z = 0.0;
   std::uint64_t corner[2] = {0, UINT64_MAX};

@@ -1,4 +1,4 @@
-// Step 1's cloud-wide measures over the tiles (tile_statistics.h).
+// Step 1's cloud-wide measures over the tiles (tiles/statistics.h).
 #include "tiles/statistics.h"
 
 #include "tiles/binary_file.h"

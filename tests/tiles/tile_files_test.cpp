@@ -1,4 +1,4 @@
-// The files of a tiled run (tile_files.h, binary_file.h) and its workspace
+// The files of a tiled run (tiles/files.h, binary_file.h) and its workspace
 // (TileWorkspace): damaged files are errors naming the file and the tile,
 // never a crash or a hole in the mesh; a piece oriented the other way in a
 // tile's file is turned by the reconciliation; workspaces are exclusive,

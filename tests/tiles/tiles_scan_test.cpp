@@ -2,7 +2,7 @@
 // open terrain (its boundary trimmed across tile borders) with outliers
 // scattered above it, which grow sheets that phase V drops as strays and
 // fragments, some cut by tile borders. Phase V's last step is decided over
-// the whole mesh in both runs (tile_stitch.cpp), so the meshes must be the
+// the whole mesh in both runs (tiles/step5_stitch.cpp), so the meshes must be the
 // same. Runs everywhere (the real scans' test skips without ../shared/data).
 
 #include "recon/tiles/tiles.h"

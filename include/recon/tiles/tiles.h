@@ -49,7 +49,7 @@
 //      they come; vertices other tiles use too are welded by name, so there
 //      are no cracks and no doubled triangles. Phase V's last step (trim
 //      open boundaries, drop strays and fragments) is decided over the
-//      whole mesh first, from what each tile marked (tile_stitch.cpp); the
+//      whole mesh first, from what each tile marked (tiles/step5_stitch.cpp); the
 //      vertices without a fitted normal get their kept faces' mean.
 //
 // Steps 2 and 4 read and write only their tile's files in the work
@@ -57,7 +57,7 @@
 // sharing the directory (python -m recon.distributed runs them as Dask
 // tasks), and rerun after a failure: each output file appears whole or not
 // at all, and carries a checksum that every reader checks, as it checks
-// every index in it (tile_files.h): a damaged file is a ParseError naming
+// every index in it (tiles/files.h): a damaged file is a ParseError naming
 // it, and the step's error names its tile. Every step is deterministic, so the mesh does not depend on who
 // ran which tile.
 //

@@ -494,7 +494,7 @@ TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const s
   plan.seconds_binning = timer.lap();
   if (sample.patch > 0.0) {
     // The sample was part of the cloud: its measures made a first plan,
-    // whose tiles now measure the whole cloud exactly (tile_statistics.h);
+    // whose tiles now measure the whole cloud exactly (tiles/statistics.h);
     // the points are binned again under the plan those measures make.
     const tile_statistics::Measures exact = tile_statistics::measure_over_tiles(plan, work_dir, options.reconstruction);
     remove_tiles(plan, work_dir);

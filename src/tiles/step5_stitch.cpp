@@ -8,7 +8,7 @@
 //   - strays go (each tile marked them);
 //   - fragments: a component smaller than fragment_fraction of the largest
 //     drawn from the same object goes. Each tile joins its own triangles
-//     into atoms (see tiles.cpp); here atoms are joined through the
+//     into atoms (see step4_contour.cpp); here atoms are joined through the
 //     vertices tiles share and the peelable triangles that stay, and their
 //     triangles and votes are added up.
 //   - normals (when the plan has them): a vertex's fitted normal, written by

@@ -1,0 +1,142 @@
+// Step 3 of a tiled run (tiles.h): the tiles' orientations made to agree
+// where their borders overlap, by a spanning forest over the tiles'
+// pieces (union-find), one sign a piece.
+#include "recon/core/errors.h"
+#include "recon/core/timer.h"
+#include "recon/tiles/tiles.h"
+#include "tiles/files.h"
+#include "tiles/tile_input.h"
+#include "recon/structures/union_find.h"
+
+#include <algorithm>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+namespace recon {
+
+using tile_files::BorderRecord;
+using tile_files::outside_core;
+using tile_files::CoreBox;
+using tile_files::MeshVertex;
+using tile_files::Orientation;
+using tile_files::PieceTop;
+using tile_files::PointRecord;
+using tile_files::TilePoints;
+using namespace tile_input;
+
+namespace {
+
+struct Agreement {
+  std::uint64_t agree = 0, disagree = 0;
+};
+using NodePair = std::pair<std::uint32_t, std::uint32_t>;
+
+struct SignGraph {
+  std::vector<std::uint64_t> first_node;  // per tile, its first node
+  std::vector<PieceTop> tops;             // per node
+  std::map<NodePair, Agreement> edges;
+  std::size_t shared = 0;
+};
+
+// Nodes, and the edges between the pieces that orient the same samples.
+SignGraph sign_graph(const std::filesystem::path& dir, const TilePlan& plan) {
+  SignGraph g;
+  std::vector<BorderRecord> border;
+  for (const TileInfo& info : plan.tiles) {
+    Orientation o = tile_files::read_orientation(tile_files::of_tile(dir, info.id, "orient"));
+    g.first_node.push_back(g.tops.size());
+    if (o.tops.size() >= tile_files::none - g.tops.size())
+      throw ResourceLimitError("the tiles hold more than 2^32 pieces between them; use larger tiles");
+    for (BorderRecord& b : o.border) b.node += static_cast<std::uint32_t>(g.tops.size());
+    g.tops.insert(g.tops.end(), o.tops.begin(), o.tops.end());
+    border.insert(border.end(), o.border.begin(), o.border.end());
+  }
+  std::sort(border.begin(), border.end(), [](const BorderRecord& a, const BorderRecord& b) {
+    return std::tie(a.index, a.node) < std::tie(b.index, b.node);
+  });
+  for (std::size_t s = 0; s < border.size();) {
+    std::size_t e = s + 1;
+    while (e < border.size() && border[e].index == border[s].index) ++e;
+    for (std::size_t a = s; a < e; ++a)
+      for (std::size_t b = a + 1; b < e; ++b) {
+        const BorderRecord &x = border[a], &y = border[b];
+        const float dot = x.normal[0] * y.normal[0] + x.normal[1] * y.normal[1] + x.normal[2] * y.normal[2];
+        Agreement& edge = g.edges[{x.node, y.node}];
+        (dot >= 0.0f ? edge.agree : edge.disagree) += 1;
+        ++g.shared;
+      }
+    s = e;
+  }
+  return g;
+}
+
+// The maximum spanning forest by margin of agreement (Kruskal), walked
+// breadth-first from each object's highest piece, which keeps its sign.
+// Per node: its sign, and its object (the node it was walked from).
+struct Signs {
+  std::vector<std::int8_t> flip;
+  std::vector<std::uint32_t> object;
+};
+
+Signs reconcile(const SignGraph& g, TileReconciliation& result) {
+  const std::size_t n = g.tops.size();
+  std::vector<std::pair<NodePair, Agreement>> edges(g.edges.begin(), g.edges.end());
+  const auto margin = [](const Agreement& a) { return a.agree > a.disagree ? a.agree - a.disagree : a.disagree - a.agree; };
+  std::stable_sort(edges.begin(), edges.end(),
+                   [&](const auto& a, const auto& b) { return margin(a.second) > margin(b.second); });
+  UnionFind sets(n);
+  std::vector<std::vector<std::pair<std::uint32_t, std::int8_t>>> tree(n);
+  for (const auto& [nodes, agreement] : edges) {
+    if (!sets.unite(nodes.first, nodes.second)) continue;
+    const std::int8_t relation = agreement.agree >= agreement.disagree ? 1 : -1;
+    tree[nodes.first].emplace_back(nodes.second, relation);
+    tree[nodes.second].emplace_back(nodes.first, relation);
+  }
+  std::vector<std::uint32_t> root(n, UINT32_MAX);  // per set: its highest node
+  for (std::uint32_t v = 0; v < n; ++v) {
+    std::uint32_t& best = root[sets.find(v)];
+    const auto higher = [&](std::uint32_t a, std::uint32_t b) {
+      return std::tie(g.tops[a].z, g.tops[b].index) > std::tie(g.tops[b].z, g.tops[a].index);
+    };
+    if (best == UINT32_MAX || higher(v, best)) best = v;
+  }
+  Signs s{std::vector<std::int8_t>(n, 0), std::vector<std::uint32_t>(n, UINT32_MAX)};
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (root[v] == UINT32_MAX) continue;
+    if (g.tops[root[v]].index != UINT64_MAX) ++result.objects;  // (pieces of halos alone are no object)
+    std::vector<std::uint32_t> queue{root[v]};
+    s.flip[root[v]] = 1;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      s.object[queue[q]] = root[v];
+      for (const auto& [next, relation] : tree[queue[q]])
+        if (s.flip[next] == 0) {
+          s.flip[next] = static_cast<std::int8_t>(s.flip[queue[q]] * relation);
+          queue.push_back(next);
+        }
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
+  Timer timer;
+  const TilePlan plan = read_tile_plan(work_dir);
+  const SignGraph g = sign_graph(work_dir, plan);
+  TileReconciliation result;
+  const Signs signs = reconcile(g, result);
+  const std::vector<std::int8_t>& flip = signs.flip;
+  result.nodes = g.tops.size();
+  result.edges = g.edges.size();
+  result.shared_samples = g.shared;
+  result.turned = static_cast<std::size_t>(std::count(flip.begin(), flip.end(), std::int8_t{-1}));
+  for (const auto& [nodes, agreement] : g.edges)
+    result.disagreeing += flip[nodes.first] == flip[nodes.second] ? agreement.disagree : agreement.agree;
+  tile_files::write_flips(work_dir, {g.first_node, flip, signs.object});
+  result.seconds = timer.elapsed();
+  return result;
+}
+
+}  // namespace recon
