@@ -3,7 +3,6 @@
 // (step3_reconcile.cpp), contour each tile (step4_contour.cpp), stitch
 // (step5_stitch.cpp); the per-tile steps two tiles at a time when memory
 // allows.
-#include "recon/core/errors.h"
 #include "recon/core/memory_budget.h"
 #include "recon/core/parallel.h"
 #include "recon/core/timer.h"

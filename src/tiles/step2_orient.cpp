@@ -1,14 +1,11 @@
 // Step 2 of a tiled run (tiles.h): phases I and II on each tile with its
 // border, the planes written for step 4 and the border samples' signs for
 // step 3.
-#include "recon/core/errors.h"
 #include "recon/core/timer.h"
 #include "recon/tiles/tiles.h"
 #include "tiles/files.h"
 #include "tiles/tile_input.h"
 #include "recon/reconstruct_parts.h"
-
-#include <cmath>
 
 namespace recon {
 
