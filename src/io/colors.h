@@ -1,5 +1,5 @@
 #pragma once
-// Colours in files, shared by the formats that carry them (ply.cpp,
+// Colours in files, shared by the formats that carry them (ply_read.cpp, ply_write.cpp,
 // obj.cpp, off.cpp, xyz.cpp): how a stored value becomes 0 to 255, and the
 // text forms written.
 //

@@ -1,6 +1,6 @@
 #pragma once
 // The readers and writers of each file format, one source file per format
-// (ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp, las.cpp, stl.cpp, svg.cpp). point_io.cpp,
+// (ply_read.cpp, ply_write.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp, las.cpp, stl.cpp, svg.cpp). point_io.cpp,
 // mesh_io.cpp and curve_io.cpp choose among them.
 //
 // A reader gets the file name (for messages only) and the whole content of

@@ -1,5 +1,5 @@
 // Choosing a mesh format and handing the file to its reader or writer
-// (the formats themselves live in ply.cpp, obj.cpp, off.cpp, stl.cpp).
+// (the formats themselves live in ply_read.cpp, ply_write.cpp, obj.cpp, off.cpp, stl.cpp).
 
 #include "recon/io/mesh_io.h"
 

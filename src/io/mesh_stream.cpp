@@ -1,6 +1,6 @@
 // Writing a binary PLY mesh as it comes (mesh_stream.h): the records go to
 // two temporary parts through buffers of a megabyte, written by the same
-// functions as write_mesh's (ply.cpp), and finish() joins header and parts.
+// functions as write_mesh's (ply_write.cpp), and finish() joins header and parts.
 
 #include "recon/io/mesh_stream.h"
 

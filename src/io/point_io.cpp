@@ -1,5 +1,5 @@
 // Choosing a point cloud format and handing the file to its reader or writer
-// (the formats themselves live in ply.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp,
+// (the formats themselves live in ply_read.cpp, xyz.cpp, obj.cpp, off.cpp, pcd.cpp,
 // las.cpp), and leaving out invalid points when asked (skip_invalid).
 
 #include "recon/io/point_io.h"

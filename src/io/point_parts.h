@@ -1,5 +1,5 @@
 #pragma once
-// Where the streaming-capable readers (ply.cpp, xyz.cpp, las.cpp) put the
+// Where the streaming-capable readers (ply_read.cpp, xyz.cpp, las.cpp) put the
 // points they read: the whole cloud at once for read_points, or parts of a
 // bounded size handed on as they fill for read_points_in_chunks
 // (point_stream.h).
