@@ -1,5 +1,5 @@
 #pragma once
-// Pieces the subcommands share (commands.cpp, lab.cpp): reading the input,
+// Pieces the subcommands share (commands.cpp, lab_command.cpp): reading the input,
 // checking the outputs, the options of phases I and II, the report.
 
 #include "run_reports.h"

@@ -43,13 +43,14 @@ void lower(double& bound, double value) {
   }
 }
 
-// Borůvka's rounds (see emst.h), one step per member function. A component
-// is named by its root, a point of it; label_[i] is the root of point i's
-// component. The arrays are made once and serve every round.
+// Borůvka's rounds over the kd-tree (see emst.h; the textbook Borůvka over
+// a given graph is alternatives/boruvka.h), one step per member function.
+// A component is named by its root, a point of it; label_[i] is the root of
+// point i's component. The arrays are made once and serve every round.
 template <int D>
-class Boruvka {
+class KdTreeBoruvka {
  public:
-  Boruvka(const KdTree<D>& tree, std::span<const Vec<D>> points, const EmstHints& hints);
+  KdTreeBoruvka(const KdTree<D>& tree, std::span<const Vec<D>> points, const EmstHints& hints);
 
   [[nodiscard]] std::size_t component_count() const { return roots_.size(); }
   void scan_lists();
@@ -95,7 +96,7 @@ class Boruvka {
 };
 
 template <int D>
-Boruvka<D>::Boruvka(const KdTree<D>& tree, std::span<const Vec<D>> points, const EmstHints& hints)
+KdTreeBoruvka<D>::KdTreeBoruvka(const KdTree<D>& tree, std::span<const Vec<D>> points, const EmstHints& hints)
     : tree_(tree),
       points_(points),
       hints_(hints),
@@ -125,7 +126,7 @@ Boruvka<D>::Boruvka(const KdTree<D>& tree, std::span<const Vec<D>> points, const
 // is unique (the order is strict and two points of one component cannot
 // find the same edge), so the outcome does not depend on the order.
 template <int D>
-void Boruvka<D>::reduce(std::span<const std::uint32_t> which) {
+void KdTreeBoruvka<D>::reduce(std::span<const std::uint32_t> which) {
   parallel_for(which.size(), [&](std::size_t s) {
     const std::uint32_t i = which[s];
     if (!per_point_[i].valid()) return;
@@ -139,7 +140,7 @@ void Boruvka<D>::reduce(std::span<const std::uint32_t> which) {
 
 template <int D>
 template <class Body>
-void Boruvka<D>::for_roots(Body&& body) {
+void KdTreeBoruvka<D>::for_roots(Body&& body) {
   parallel_for(roots_.size(), [&](std::size_t s) { body(roots_[s]); });
 }
 
@@ -150,7 +151,7 @@ void Boruvka<D>::for_roots(Body&& body) {
 //    round reads on from where the last one stopped. Then each component's
 //    best so far, which bounds the queries of step 2.
 template <int D>
-void Boruvka<D>::scan_lists() {
+void KdTreeBoruvka<D>::scan_lists() {
   parallel_for(active_.size(), [&](std::size_t s) {
     const std::uint32_t i = active_[s];
     per_point_[i] = Candidate{};
@@ -173,7 +174,7 @@ void Boruvka<D>::scan_lists() {
 // Whether point i must query the tree: its list did not settle it, and it
 // could still beat its component's best.
 template <int D>
-bool Boruvka<D>::may_ask(std::uint32_t i) {
+bool KdTreeBoruvka<D>::may_ask(std::uint32_t i) {
   if (!hinted_) return true;
   const double limit = AtomicRef<double>(bound_[static_cast<std::size_t>(label_[i])]).load(std::memory_order_relaxed);
   // An exact copy of an earlier point (its list starts with that point)
@@ -187,7 +188,7 @@ bool Boruvka<D>::may_ask(std::uint32_t i) {
 //    work depends on the order, not the answer: the reduction keeps the
 //    least candidate under the strict order).
 template <int D>
-void Boruvka<D>::query_tree() {
+void KdTreeBoruvka<D>::query_tree() {
   queried_.clear();
   const auto count = static_cast<std::int64_t>(n_);
   // (Most rounds of a dense cloud ask nothing: the labels of the tree's
@@ -224,7 +225,7 @@ void Boruvka<D>::query_tree() {
 //    a root. place_ marks the roots that keep an edge: all but the roots
 //    without one and the larger root of each pair.
 template <int D>
-void Boruvka<D>::hook_components() {
+void KdTreeBoruvka<D>::hook_components() {
   for_roots([&](std::uint32_t r) {
     const std::uint32_t p = best_point_[r];
     if (p == none) {  // no outside point (not expected while two components remain)
@@ -247,7 +248,7 @@ void Boruvka<D>::hook_components() {
 // The round's edges join the tree, in root order: a prefix sum over the
 // roots gives each kept edge its place, so they are written in parallel.
 template <int D>
-void Boruvka<D>::add_round_edges() {
+void KdTreeBoruvka<D>::add_round_edges() {
   const std::size_t root_count = roots_.size();
   const auto end = place_.begin() + static_cast<std::ptrdiff_t>(root_count);
   std::inclusive_scan(place_.begin(), end, place_.begin());  // kept up to and including s
@@ -267,7 +268,7 @@ void Boruvka<D>::add_round_edges() {
 //    to its root, so 33 passes reach every root; a 34th would mean a
 //    cycle, which the strict order of the edges rules out.)
 template <int D>
-void Boruvka<D>::jump_to_roots() {
+void KdTreeBoruvka<D>::jump_to_roots() {
   const auto root_count = static_cast<std::int64_t>(roots_.size());
   int passes = 0;
   for (bool moved = true; moved;) {
@@ -289,7 +290,7 @@ void Boruvka<D>::jump_to_roots() {
 // 5. The points take the label of their new component's root; the roots
 //    and the active points shrink.
 template <int D>
-void Boruvka<D>::merge_components() {
+void KdTreeBoruvka<D>::merge_components() {
   for (const std::uint32_t i : queried_) per_point_[i] = Candidate{};  // not an active point's: cleared here
   std::erase_if(roots_, [&](std::uint32_t r) { return merged_into_[r] != r; });
   parallel_for(n_, [&](std::size_t s) {
@@ -306,7 +307,7 @@ template <int D>
 std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::span<const Vec<D>> points,
                                                   const EmstHints& hints) {
   if (points.size() < 2) return {};
-  Boruvka<D> boruvka(tree, points, hints);
+  KdTreeBoruvka<D> boruvka(tree, points, hints);
   ProgressCounter* const progress = progress_counter();  // counts the merges
   while (boruvka.component_count() > 1) {
     const std::size_t before = boruvka.component_count();

@@ -5,7 +5,7 @@
 // them. The five graphs are made as orientation_graphs.h describes them,
 // from phase I's planes and the Riemannian graph, and each is walked by
 // orient_normals; the runs are a hand-written text in the form of `recon
-// lab --stats` (app/lab.cpp), whose graph runs carry these graphs' figures.
+// lab --stats` (app/lab_command.cpp), whose graph runs carry these graphs' figures.
 
 #include "recon/alternatives/lab.h"
 #include "recon/core/point_cloud.h"

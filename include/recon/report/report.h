@@ -220,7 +220,7 @@ struct ReportLayers {
 /// The lab panel's data for a report whose layers were made from the same
 /// points (ReportInput::points and offset): `graphs` as run_lab keeps them
 /// (LabResult::graphs, with keep_graphs), `runs_json` as `recon lab`
-/// writes --stats (app/lab.cpp). Each graph is drawn as layer 4 is, within
+/// writes --stats (app/lab_command.cpp). Each graph is drawn as layer 4 is, within
 /// options.max_edges, and its components are given for the points layer 1
 /// draws. So `recon lab` makes its report as
 ///   ReportLayers layers = make_report_layers(input, options);  // planes, default_orientation
