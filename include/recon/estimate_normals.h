@@ -8,9 +8,9 @@
 // The points are moved near the origin first (working_offset in
 // reconstruct.h) and worked on in the kd-tree's leaf order, as reconstruct()
 // does; normals_in_input_order() gives the result back in the input's order.
-// Throws what the phases throw (InvalidInputError for unusable data or
-// parameters) and ResourceLimitError when phases I-II are estimated to need
-// more than max_memory.
+//
+// Cost: O(n k log n) for n points at k: phase I's neighbour searches and fits, phase II's graph and its
+// spanning tree (Prim, O(E log n) for its E ~ n k edges).
 
 #include "recon/phase2_orientation/orientation.h"
 #include "recon/core/point_cloud.h"
@@ -46,9 +46,18 @@ struct NormalEstimation {
   /// The input positions in spatial order, minus offset.
   [[nodiscard]] std::span<const Vec3> points() const { return planes.point_tree.points(); }
   /// The oriented normals, entry i for input point i.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: none.
   [[nodiscard]] std::vector<Vec3> normals_in_input_order() const;
 };
 
+/// Phases I and II on `cloud` (its positions; colours and normals are not read): planes and oriented normals,
+/// in spatial order.
+/// Cost: O(n k log n) (see above).
+/// Throws: InvalidInputError for unusable data or parameters (what phases I and II throw); ResourceLimitError when
+/// phases I-II are estimated to need more than max_memory; what on_phase or an interruption check throws.
+/// Pre: none.
 [[nodiscard]] NormalEstimation estimate_normals(PointCloudView cloud, const NormalEstimationOptions& options = {});
 
 }  // namespace recon

@@ -21,20 +21,16 @@
 //
 // Order and ties: under that order the forest is unique: the very edges
 // Kruskal (kruskal.h) keeps. An edge of weight +infinity is never taken.
-// Costs: every tree with an edge out merges with at least one other, so
+// Rounds: every tree with an edge out merges with at least one other, so
 // their number at least halves each round: at most log2(V) rounds of
-// O(V + E), O((V + E) log V) in all; memory 16 bytes per edge, 20 per
-// vertex. Counts: `rounds` (the rounds that joined trees), `finds` and
-// `unions` (the union-find's).
+// O(V + E). Memory: 16 bytes per edge, 20 per vertex. Counts: `rounds`
+// (the rounds that joined trees), `finds` and `unions` (the union-find's).
 // Result: the forest's edges, round by round and within a round by the
 // picking tree's root; each with u < v.
 //
 // The same algorithm on the complete Euclidean graph of a point set, where
 // the edges are too many to list and a tree's cheapest edge out comes from
 // kd-tree queries instead, is phase II's EMST: emst.h, src/phase2_orientation/emst.cpp.
-//
-// Throws InvalidInputError for a NaN weight, an endpoint out of range (in
-// the edge-list form) or a graph without stored weights (in that form).
 
 #include "recon/structures/graph.h"
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
@@ -44,15 +40,24 @@
 
 namespace recon {
 
-/// From a list of edges over the vertices 0..vertex_count-1, in any order
+/// The minimum spanning forest of a list of edges over the vertices 0..vertex_count-1, in any order
 /// and either direction; self-loops and repeated edges are allowed.
+/// Cost: O((V + E) log V).
+/// Throws: InvalidInputError for an endpoint out of range or a NaN weight.
+/// Pre: none.
 [[nodiscard]] MinimumSpanningEdges boruvka_minimum_spanning_forest(std::size_t vertex_count, std::vector<Edge> edges);
 
-/// From a graph with stored weights.
+/// The same from a graph with stored weights.
+/// Cost: O((V + E) log V).
+/// Throws: InvalidInputError when the graph has no stored weights or one is NaN.
+/// Pre: none.
 [[nodiscard]] MinimumSpanningEdges boruvka_minimum_spanning_forest(const Graph& graph);
 
-/// From a graph and `weight(v, e)`, the weight of the edge at CSR position e
+/// The same from a graph and `weight(v, e)`, the weight of the edge at CSR position e
 /// of row v, as Prim takes it; asked once per edge, in its smaller end's row.
+/// Cost: O((V + E) log V).
+/// Throws: InvalidInputError for a NaN weight; what `weight` throws.
+/// Pre: none.
 template <class Weight>
 [[nodiscard]] MinimumSpanningEdges boruvka_minimum_spanning_forest(const Graph& graph, Weight&& weight) {
   return boruvka_minimum_spanning_forest(graph.vertex_count(), edge_list(graph, weight));

@@ -20,10 +20,6 @@
 //   brute_force_all_knn (each point's distance to itself included: every
 //   query is a plain scan of all n points).
 //
-// Errors: InvalidInputError for k < 1, k > n, more than 2^32 - 2 points
-// (indices are 32-bit), or coordinates (of the points or of q) that are not
-// finite or beyond +-max_coordinate.
-//
 // D is not deduced from a std::vector: call brute_force_all_knn<3>(points, k).
 
 #include "recon/structures/kdtree.h"
@@ -36,6 +32,10 @@
 namespace recon {
 
 /// The k nearest of `points` to q, in (squared distance, index) order.
+/// Cost: O(n log k): n distances and a partial sort.
+/// Throws: InvalidInputError for k < 1, k > n, more than 2^32 - 2 points (indices are 32-bit), or coordinates
+/// (of the points or of q) that are not finite or beyond +-max_coordinate.
+/// Pre: none.
 template <int D>
 [[nodiscard]] std::vector<Neighbor> brute_force_knn(std::span<const Vec<D>> points, const Vec<D>& q, int k,
                                                     OperationCounts* counts = nullptr);
@@ -43,6 +43,10 @@ template <int D>
 /// The k nearest neighbours of every point (itself included), as
 /// KdTree::all_knn returns them: row i lists point i's k nearest. Queries
 /// run in parallel; the table does not depend on the thread count.
+/// Cost: O(n^2 log k): n^2 distances.
+/// Throws: InvalidInputError for k < 1, k > n, more than 2^32 - 2 points, or coordinates that are not finite
+/// or beyond +-max_coordinate.
+/// Pre: none.
 template <int D>
 [[nodiscard]] KnnTable brute_force_all_knn(std::span<const Vec<D>> points, int k, OperationCounts* counts = nullptr);
 

@@ -11,8 +11,7 @@
 //   3. the outside point with the cheapest entry joins, with that edge (both
 //      steps are one pass over the array);
 //   4. repeat from 2 until every point is in.
-// n - 1 passes of O(n): O(n^2) time and exactly n(n-1)/2 distances, O(n)
-// memory. The textbook alternative to the EMST of emst.h (Borůvka with
+// n - 1 passes of O(n) each, O(n) memory. The textbook alternative to the EMST of emst.h (Borůvka with
 // kd-tree queries, about O(n log n) a round): the same tree, edge for edge,
 // as both compare edges by lighter() on (squared length, smaller endpoint,
 // larger endpoint), a strict total order under which the tree is unique;
@@ -22,9 +21,6 @@
 // Result: n - 1 edges (none for n <= 1) in the order their points joined,
 // each with u < v and weight = Euclidean length; counts.distance_evaluations
 // = n(n-1)/2 (squared distances computed), other counters 0.
-// Throws InvalidInputError for a coordinate that is not finite or beyond
-// +-max_coordinate (check_coordinates, kdtree.h), or for 2^32 - 1 points or
-// more.
 
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
 #include "recon/core/point_cloud.h"
@@ -33,7 +29,11 @@
 
 namespace recon {
 
-/// Points: n by D. D = 2 and 3 are compiled.
+/// The Euclidean minimum spanning tree of `points` (n by D; D = 2 and 3 are compiled).
+/// Cost: O(n^2): exactly n(n-1)/2 distances.
+/// Throws: InvalidInputError for a coordinate that is not finite or beyond +-max_coordinate
+/// (check_coordinates, kdtree.h), or for 2^32 - 1 points or more.
+/// Pre: none.
 template <int D>
 [[nodiscard]] MinimumSpanningEdges complete_graph_minimum_spanning_tree(std::span<const Vec<D>> points);
 

@@ -14,15 +14,11 @@
 // breaks ties its own way: the same total weight, maybe other edges among
 // equal weights. An edge of weight +infinity is never taken (as in Prim).
 //
-// Costs: O(E log E) for the sort, then O(E alpha(V)) for the union-find;
-// memory 16 bytes per edge and 8 per vertex. Counts: `comparisons` are the
+// Memory: 16 bytes per edge and 8 per vertex. Counts: `comparisons` are the
 // sort's comparisons of two edges, `finds` and `unions` the union-find's
 // (two finds per edge; a union per edge kept).
 // Result: the forest's edges in the order taken (by lighter()), each with
 // u < v; V - (number of trees) of them.
-//
-// Throws InvalidInputError for a NaN weight, an endpoint out of range (in
-// the edge-list form) or a graph without stored weights (in that form).
 
 #include "recon/structures/graph.h"
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
@@ -32,16 +28,25 @@
 
 namespace recon {
 
-/// From a list of edges over the vertices 0..vertex_count-1, in any order
+/// The minimum spanning forest of a list of edges over the vertices 0..vertex_count-1, in any order
 /// and either direction; self-loops and repeated edges are allowed (a repeat
 /// is never kept twice).
+/// Cost: O(E log E) for the sort, then O(E alpha(V)) for the union-find.
+/// Throws: InvalidInputError for an endpoint out of range or a NaN weight.
+/// Pre: none.
 [[nodiscard]] MinimumSpanningEdges kruskal_minimum_spanning_forest(std::size_t vertex_count, std::vector<Edge> edges);
 
-/// From a graph with stored weights.
+/// The same from a graph with stored weights.
+/// Cost: O(E log E).
+/// Throws: InvalidInputError when the graph has no stored weights or one is NaN.
+/// Pre: none.
 [[nodiscard]] MinimumSpanningEdges kruskal_minimum_spanning_forest(const Graph& graph);
 
-/// From a graph and `weight(v, e)`, the weight of the edge at CSR position e
+/// The same from a graph and `weight(v, e)`, the weight of the edge at CSR position e
 /// of row v, as Prim takes it; asked once per edge, in its smaller end's row.
+/// Cost: O(E log E).
+/// Throws: InvalidInputError for a NaN weight; what `weight` throws.
+/// Pre: none.
 template <class Weight>
 [[nodiscard]] MinimumSpanningEdges kruskal_minimum_spanning_forest(const Graph& graph, Weight&& weight) {
   return kruskal_minimum_spanning_forest(graph.vertex_count(), edge_list(graph, weight));

@@ -112,9 +112,14 @@ struct LabResult {
   double seconds_planes = 0.0;
 };
 
-/// Throws what phase I throws for unusable input (InvalidInputError), and
-/// LabDisagreementError when two alternatives that must agree do not
-/// (the message names both and their figures).
+/// Every run of the lab (see above) on `points`, in the order listed there.
+/// Cost: the sum of its runs: O(n^2) for the complete graph, brute force and the list heap up to their limits
+/// (max_points_*), about O(n k log n) for the others; with simplify, a reconstruction and three simplifications.
+/// Throws: InvalidInputError when true_normals are neither empty nor one per point, `spoil` names no run that ran,
+/// or phase I (and with simplify, reconstruct()) finds the input unusable; ResourceLimitError from reconstruct()
+/// with simplify; LabDisagreementError when two alternatives that must agree do not (the message names both and
+/// their figures); what an interruption check throws.
+/// Pre: none.
 [[nodiscard]] LabResult run_lab(std::span<const Vec3> points, const LabOptions& options = {});
 
 }  // namespace recon

@@ -47,14 +47,19 @@ inline constexpr OrientationGraph all_orientation_graphs[] = {
 /// "complete", "emst", "knn", "mutual-knn", "riemannian".
 [[nodiscard]] std::string_view name_of(OrientationGraph graph);
 /// The graph named so, or nothing.
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] std::optional<OrientationGraph> orientation_graph_named(std::string_view name);
 
 /// The graph `kind` over planes' samples, its components computed.
 /// options.k as for the Riemannian graph (0: phase I's k); `counts`, when
 /// given, receives the distance evaluations of the complete graph.
-/// The complete graph costs O(n^2) time (n^2 / 2 distances): callers bound
-/// n (the lab skips it beyond a few thousand points). Throws what
-/// build_riemannian_graph throws.
+/// Cost: complete O(n^2), n^2 / 2 distances (callers bound n: the lab skips it beyond a few thousand points);
+/// knn O(n k log k); mutual_knn O(n k^2); emst and riemannian as build_riemannian_graph.
+/// Throws: InvalidInputError when options.k is negative or exceeds phase I's k; what build_riemannian_graph
+/// throws (emst, riemannian).
+/// Pre: planes from estimate_tangent_planes.
 template <int D>
 [[nodiscard]] RiemannianGraph<D> build_orientation_graph(const TangentPlanes<D>& planes, OrientationGraph kind,
                                                          const RiemannianGraphOptions& options = {},

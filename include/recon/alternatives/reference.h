@@ -35,9 +35,8 @@
 // The optimised path adds what this one leaves out: the estimated and
 // local rho, the automatic k, the separation of nearby objects, the
 // neighbour vote, isolated samples, the working offset. plain_options()
-// turns those off so that the two can be compared. Costs: O(n^2) time in
-// phases I and II, O(n) per corner in phase III; meant for a few thousand
-// points.
+// turns those off so that the two can be compared. Meant for a few
+// thousand points.
 
 #include "recon/structures/mesh.h"
 #include "recon/core/point_cloud.h"
@@ -66,12 +65,20 @@ struct Result {
   Mesh mesh;                    ///< phase IV's
 };
 
-/// The four phases in a row. Throws InvalidInputError for fewer than k
-/// points, k < 3, or a rho or cell that is not positive.
+/// The four phases in a row, on `points` as given (no renumbering, no offset).
+/// Cost: O(n^2 + c n) for c lattice corners: O(n^2) in phases I and II (every pair compared), O(n) per corner in
+/// phase III.
+/// Throws: InvalidInputError for fewer than k points, k < 3, a rho or cell that is not positive, a negative delta,
+/// an infinite cell, or a coordinate that is not finite or beyond +-max_coordinate; ResourceLimitError when the
+/// lattice needs more than Lattice<3>::max_cells_per_axis cubes along an axis.
+/// Pre: none.
 [[nodiscard]] Result reconstruct(std::span<const Vec3> points, const Options& options);
 
 /// The options under which reconstruct() with Method::hoppe92 computes what
 /// reference::reconstruct does (see above).
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] ReconstructionOptions plain_options(const Options& options);
 
 }  // namespace recon::reference

@@ -71,11 +71,6 @@
 // - Cell sizes above 4 * max_coordinate all make the same one-cell grid and
 //   are taken as 4 * max_coordinate, so that squared distances in cells
 //   cannot overflow.
-// Errors: InvalidInputError for a cell size that is not finite or not
-// positive, a cell size that breaks the guard above, more than 2^32 - 2
-// points, coordinates not finite or beyond +-max_coordinate (of the points,
-// or of a query), and k < 1 or k > size() (knn too: it does not answer with
-// fewer as KdTree::knn does).
 
 #include "recon/structures/kdtree.h"
 #include "recon/core/operation_counts.h"
@@ -99,13 +94,22 @@ class UniformGrid {
   static constexpr double target_points_per_cell = 8.0;  ///< m of the default cell size (see above)
 
   /// Builds the grid with cells of default_cell_size(points).
+  /// Cost: O(n) (a hash per point); here O(n log n), a sort by cell for the CSR order.
+  /// Throws: InvalidInputError for more than 2^32 - 2 points or coordinates not finite or beyond +-max_coordinate.
+  /// Pre: none.
   explicit UniformGrid(std::span<const Point> points);
-  /// Builds the grid with cells of edge `cell_size`. Throws as stated above.
+  /// Builds the grid with cells of edge `cell_size`.
+  /// Cost: as above.
+  /// Throws: InvalidInputError as above, and for a cell size that is not finite, not positive, or so small that
+  /// the points span more than max_cells_across cells along an axis (the guard above).
+  /// Pre: none.
   UniformGrid(std::span<const Point> points, double cell_size);
 
   /// L * sqrt(m / n) in 3D, 2 L * m / n in 2D (L the bounding box's diagonal,
   /// m = target_points_per_cell); 1 when L is 0 or there are no points.
-  /// Throws InvalidInputError for coordinates the grid refuses.
+  /// Cost: O(n).
+  /// Throws: InvalidInputError for coordinates not finite or beyond +-max_coordinate.
+  /// Pre: none.
   [[nodiscard]] static double default_cell_size(std::span<const Point> points);
 
   [[nodiscard]] std::size_t size() const { return points_.size(); }
@@ -119,12 +123,20 @@ class UniformGrid {
   [[nodiscard]] std::size_t occupied_cells() const { return occupied_cells_; }
 
   /// The k nearest points to q, in (distance, index) order.
+  /// Cost: O(C + p k) for the C cells searched and the p points in them, a point that enters the k best being
+  /// inserted in order (most queries at the default size: 27 cells of about 8 points); at worst O(n k).
+  /// Throws: InvalidInputError for k < 1 or k > size() (it does not answer with fewer as KdTree::knn does), or a
+  /// coordinate of q that is not finite or beyond +-max_coordinate.
+  /// Pre: none.
   [[nodiscard]] std::vector<Neighbor> knn(const Point& q, int k, OperationCounts* counts = nullptr) const;
 
   /// The k nearest neighbours of every point (itself included), as
   /// KdTree::all_knn returns them: row i lists point i's k nearest. Computed
   /// in parallel, visiting the points cell by cell; the table does not
   /// depend on the thread count.
+  /// Cost: n queries as knn's.
+  /// Throws: InvalidInputError for k < 1 or k > size().
+  /// Pre: none.
   [[nodiscard]] KnnTable all_knn(int k, OperationCounts* counts = nullptr) const;
 
  private:

@@ -17,6 +17,9 @@
 // Unlike reconstruct(), the points are not renumbered in spatial order nor
 // moved near the origin: 2D inputs are small (drawings, clicks, sections)
 // and the phases work on differences of doubles, which keep their precision.
+//
+// Cost: O(n k log n) for phases I-II over n points at k, then phase IV's s squares with a nearest-line query each
+// (O(s log n)); the complete orientation graph, if chosen, is O(n^2).
 
 #include "recon/phase4_contour/marching_squares.h"
 #include "recon/phase2_orientation/orientation.h"
@@ -69,16 +72,21 @@ struct CurveReconstruction {
 /// side of the points' bounding box over the resolution, or rho / 2. (With
 /// rho / 2, measured on circles of 100 to 1000 samples, the lattice's own
 /// error h^2 / (8 r) stays a tenth of the distance from the curve to the
-/// true one, which the tangent lines set; squares are cheap in 2D.) Throws
-/// InvalidInputError when both cell and resolution are given, or either is
-/// not positive.
+/// true one, which the tangent lines set; squares are cheap in 2D.)
+/// Cost: O(1); O(n) with a resolution (the bounding box).
+/// Throws: InvalidInputError when both cell and resolution are given, or the one given is not positive
+/// (a cell not finite either).
+/// Pre: rho > 0 when neither is given; points not empty with a resolution.
 [[nodiscard]] double curve_lattice_cell(std::span<const Vec2> points, double rho,
                                         const CurveReconstructionOptions& options);
 
-/// Throws what the phases throw: InvalidInputError for unusable data or
+/// Phases I to IV on `points`, every phase's result kept (see above).
+/// Cost: O(n k log n + s log n) (see above).
+/// Throws: what the phases throw: InvalidInputError for unusable data or
 /// parameters (fewer than k + 1 distinct points, all points identical,
-/// non-finite coordinates, a bad rho, delta or cell), ResourceLimitError for
-/// a lattice too large.
+/// non-finite coordinates, a bad rho, delta, cell or max_slope), ResourceLimitError for
+/// a lattice too large or a walk past max_squares; what an interruption check throws.
+/// Pre: none.
 [[nodiscard]] CurveReconstruction reconstruct_curve(std::span<const Vec2> points,
                                                     const CurveReconstructionOptions& options = {});
 

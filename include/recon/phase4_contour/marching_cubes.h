@@ -29,6 +29,9 @@
 // is indexed. A corner where f = 0 counts as outside; a vertex is kept at
 // least 1/1000 of the edge away from the corners so that no triangle has
 // zero area.
+//
+// Cost: textbook O(N^3) evaluations of f for a lattice of N^3 cubes; here
+// O(c) for the c cubes visited (about 1.5 A / cell^2 for a surface of area A).
 
 #include "recon/structures/lattice.h"
 #include "recon/structures/mesh.h"
@@ -103,20 +106,29 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 
 /// Estimated cubes a walk will visit for `samples` points on a surface
 /// where each sample stands for a spacing x spacing square, at cube side
-/// `cell` (used to refuse before allocating; an upper estimate).
+/// `cell` (used to refuse before allocating): an upper estimate, at least
+/// `samples`.
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: cell > 0.
 [[nodiscard]] double estimate_visited_cubes(std::size_t samples, double spacing, double cell);
 /// The same as expected rather than at most: a surface of area A crosses
 /// about 1.5 A / cell^2 cubes on average over its orientations (the estimate
 /// above takes the diagonal's 3 A / cell^2). A progress display's total.
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: cell > 0.
 [[nodiscard]] inline double expected_visited_cubes(std::size_t samples, double spacing, double cell) {
   return 1.5 * static_cast<double>(samples) * spacing * spacing / (cell * cell);
 }
 
-/// Contours f = 0 starting from the cubes that contain `seeds` (normally the
-/// input points). Throws InvalidInputError for a cell that is not a positive
-/// length, ResourceLimitError when the lattice needs more than
-/// Lattice<3>::max_cells_per_axis cubes along an axis or the walk would
-/// exceed max_cubes.
+/// The triangle mesh of f = 0, walked from the cubes that contain `seeds`
+/// (normally the input points), in the seeds' coordinates. No seeds: an empty mesh.
+/// Cost: O(N^3) for the whole N^3 lattice; here O(c) evaluations of f and expected O(1) table work per cube visited.
+/// Throws: InvalidInputError when the cell is not a positive, finite length or options.region's cell is another;
+/// ResourceLimitError when an axis needs more than Lattice<3>::max_cells_per_axis cubes or the walk passes
+/// max_cubes; whatever f or an interruption check (interruption.h) throws.
+/// Pre: finite seeds; f safe to call from several threads at once.
 [[nodiscard]] MarchingCubesResult marching_cubes(const ScalarField& f, std::span<const Vec3> seeds,
                                                  const MarchingCubesOptions& options);
 
@@ -126,6 +138,9 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 /// (tests/phase4_contour/marching_cubes_test.cpp), and at least a thousandth of an edge
 /// from a corner, so the centroid lies inside, by a margin rounding cannot
 /// cross.)
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: `triangle` < result.mesh.triangles.size(); the result as marching_cubes() made it.
 [[nodiscard]] std::uint64_t triangle_cube(const MarchingCubesResult& result, std::size_t triangle);
 
 /// Reorders the result's triangles by their cubes' keys (each cube's in
@@ -137,6 +152,9 @@ using ScalarField = std::function<std::optional<double>(const Vec3&)>;
 /// choices (which crease vertex comes first) follow the triangles' order,
 /// then makes the same choices in both. Vertex edges and triangle cubes,
 /// if kept, follow.
+/// Cost: O(T log T) for T triangles (a sort of the runs of triangles by cube), O(V) to renumber.
+/// Throws: nothing.
+/// Pre: the result as marching_cubes() made it (each cube's triangles in one run).
 void sort_by_cube(MarchingCubesResult& result);
 
 }  // namespace recon

@@ -28,6 +28,9 @@ namespace recon::mc {
 
 /// Edge e runs along axis edge_axis(e) from corner edge_corners(e)[0]
 /// (coordinate 0 on that axis) to edge_corners(e)[1] (coordinate 1).
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: 0 <= e < 12.
 [[nodiscard]] int edge_axis(int e);
 [[nodiscard]] std::array<int, 2> edge_corners(int e);
 
@@ -47,7 +50,10 @@ struct CubeCase {
   std::array<Loop, 4> loops{};
 };
 
-/// The triangulation of a configuration (0..255).
+/// The triangulation of a configuration (its low 8 bits; 0..255).
+/// Cost: O(1), a table look-up; the first call builds the 256 cases.
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] const CubeCase& cube_case(unsigned configuration);
 
 }  // namespace recon::mc

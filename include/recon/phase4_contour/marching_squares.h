@@ -44,6 +44,9 @@
 // shared vertices they form the polylines, closed when the chain comes back
 // to its start, open when it ends at an undefined square or the lattice's
 // edge.
+//
+// Cost: textbook O(N^2) evaluations of f for a lattice of N^2 squares; here
+// O(s) for the s squares visited (about the curve's length / cell).
 
 #include "recon/structures/lattice.h"
 #include "recon/core/point_cloud.h"
@@ -88,11 +91,13 @@ struct MarchingSquaresResult {
 /// The function contoured: its value at a point, or nullopt where undefined.
 using ScalarField2 = std::function<std::optional<double>(const Vec2&)>;
 
-/// Contours f = 0 starting from the squares that contain `seeds` (normally
-/// the input points). No seeds: no curves. Throws InvalidInputError for a
-/// cell that is not a positive length, ResourceLimitError when the lattice
-/// needs more than Lattice<2>::max_cells_per_axis (2^30) squares along an
-/// axis or the walk would exceed max_squares.
+/// The polylines of f = 0, walked from the squares that contain `seeds`
+/// (normally the input points), in the seeds' coordinates. No seeds: no curves.
+/// Cost: O(N^2) for the whole N^2 lattice; here O(s) evaluations of f and expected O(1) table work per square visited.
+/// Throws: InvalidInputError when the cell is not a positive, finite length or max_slope is negative or not finite;
+/// ResourceLimitError when an axis needs more than Lattice<2>::max_cells_per_axis (2^30) squares or the walk
+/// passes max_squares; whatever f throws.
+/// Pre: finite seeds.
 [[nodiscard]] MarchingSquaresResult marching_squares(const ScalarField2& f, std::span<const Vec2> seeds,
                                                      const MarchingSquaresOptions& options);
 

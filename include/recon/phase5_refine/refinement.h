@@ -47,6 +47,8 @@
 // whole; refine_mesh is refine_patch followed by step 4.
 //
 // Vertices, triangles and their order are the same for any thread count.
+//
+// Cost: Hoppe's 1993 optimisation iterates a global fit; this one pass is O(V log n) for V vertices over n planes.
 
 #include "recon/phase1_planes/local_quadrics.h"
 #include "recon/structures/mesh.h"
@@ -133,14 +135,26 @@ struct RefinedPatch {
   std::vector<std::uint32_t> source;  ///< per triangle: the contoured triangle it was cut from
   std::size_t crease_vertices = 0, brought_back = 0, corner_vertices = 0, unmoved = 0;
 
-  /// Keeps the triangles marked 1 and the vertices they use, in order.
+  /// Keeps the triangles marked 1 and the vertices they use, in order, with their per-vertex entries.
+  /// Cost: O(V + F).
+  /// Throws: nothing.
+  /// Pre: keep_triangle holds one entry per triangle.
   void keep(const std::vector<std::uint8_t>& keep_triangle);
 };
 
-/// Throws InvalidInputError when the input's arrays differ in length or f is
-/// missing. The contoured mesh must lie in the origins' coordinates.
+/// Steps 1 to 3 on `contoured` (phase IV's mesh, or part of it), with what step 4 needs marked, nothing removed.
+/// Cost: O(V log n) for V vertices over n planes: a nearest-plane query each (and a blend-NN and a sample query
+/// when asked), then O(V + F) for the local steps.
+/// Throws: InvalidInputError when origins, both normals, curvature and piece (if given) differ in length, there are
+/// no planes, f is missing, or blend > 1 without a tree over the origins; what an interruption check throws
+/// (interruption.h).
+/// Pre: the mesh in the origins' coordinates, its indices in range; spacing and local_rho empty or one per plane.
 [[nodiscard]] RefinedPatch refine_patch(const Mesh& contoured, const RefinementInput& input,
                                         const RefinementOptions& options = {});
+/// The whole of phase V: refine_patch, then step 4 over the whole mesh.
+/// Cost: as refine_patch, plus O(V + F) for step 4.
+/// Throws: as refine_patch.
+/// Pre: as refine_patch.
 [[nodiscard]] Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input,
                                      const RefinementOptions& options = {});
 

@@ -45,8 +45,10 @@ struct VertexColorOptions {
 /// sample positions, in the same coordinates as the vertices) and
 /// `colors[i]`, the colour of the tree's point i. Shapes: vertices #V,
 /// colors #samples; the result #V.
-/// Throws InvalidInputError when colors are not one per sample, the tree is
+/// Cost: O(V (log n + k)) expected for n samples: a k-nearest query per vertex.
+/// Throws: InvalidInputError when colors are not one per sample, the tree is
 /// empty (and there are vertices), or k is outside 1 to 64.
+/// Pre: finite vertices.
 [[nodiscard]] std::vector<Color> vertex_colors(std::span<const Vec3> vertices, const KdTree<3>& samples,
                                                std::span<const Color> colors, const VertexColorOptions& options = {});
 

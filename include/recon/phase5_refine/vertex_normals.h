@@ -36,10 +36,12 @@ struct FaceNormalFill {
 /// Makes mesh.normals one unit normal per vertex: entries that are zero
 /// (all of them when mesh.normals is empty) get the area-weighted mean of
 /// the normals of the triangles around them (see above); the others are
-/// kept as they are. Cost: O(V + F), one pass over the triangles.
-/// Throws InvalidInputError when mesh.normals is neither empty nor one per
+/// kept as they are. The result does not depend on the thread count (it
+/// runs serially).
+/// Cost: O(V + F), one pass over the triangles.
+/// Throws: InvalidInputError when mesh.normals is neither empty nor one per
 /// vertex, or a triangle names a vertex the mesh does not have.
-/// The result does not depend on the thread count (it runs serially).
+/// Pre: the non-zero normals given are unit (they are kept).
 FaceNormalFill fill_face_normals(Mesh& mesh);
 
 }  // namespace recon

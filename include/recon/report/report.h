@@ -102,9 +102,12 @@ struct ReportInput {
   const Refinement* refinement = nullptr;            ///< phase V (input coordinates); null: no layer 8 (hoppe92)
 };
 
-/// A Reconstruction made with keep_graph and keep_corners (without them,
+/// What a report draws of a Reconstruction made with keep_graph and keep_corners (without them,
 /// layers 4 and 6 are left out). Layer 7 is its contour's mesh, layer 8 its
-/// refinement when it has one.
+/// refinement when it has one. The input points to `r`'s arrays: `r` must outlive it.
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] ReportInput report_input(const Reconstruction& r);
 
 /// A mesh as drawn (layers 7 and 8): float positions relative to the
@@ -212,9 +215,13 @@ struct ReportLayers {
   std::optional<ReportLab> lab;
 };
 
-/// Throws InvalidInputError when input.planes is null or the spans' sizes
-/// disagree (colors: one per point, or none; a mesh's colours: one per
-/// vertex, or none).
+/// The layers as drawn (see above), each within its budget of `options`.
+/// Cost: O(n + E + c + F log F) for the points, graph edges, corners and triangles (the boundary edges sorted);
+/// with a refinement, a kd-tree over layer 7's vertices and a nearest-triangle search per drawn vertex of layer 8.
+/// Throws: InvalidInputError when input.planes is null or the spans' sizes
+/// disagree (planes and normals: one per point, or no normals; colors: one per point, or none; a mesh's colours:
+/// one per vertex, or none).
+/// Pre: the meshes' indices in range; contour, mesh and refinement from the run of these points.
 [[nodiscard]] ReportLayers make_report_layers(const ReportInput& input, const ReportOptions& options = {});
 
 /// The lab panel's data for a report whose layers were made from the same
@@ -225,9 +232,11 @@ struct ReportLayers {
 /// draws. So `recon lab` makes its report as
 ///   ReportLayers layers = make_report_layers(input, options);  // planes, default_orientation
 ///   layers.lab = make_report_lab(result.graphs, stats_json, input.points, input.offset, layers, options);
-/// Throws InvalidInputError when the points are not as many as the layers
+/// Cost: O(n + E) per graph, for its E edges.
+/// Throws: InvalidInputError when the points are not as many as the layers
 /// were made from, or a graph's vertices, tree, signs or component labels
 /// are not one per point.
+/// Pre: the points those the layers were made from (only their number is checked).
 [[nodiscard]] ReportLab make_report_lab(std::span<const LabGraph> graphs, std::string runs_json,
                                         std::span<const Vec3> points, Vec3 offset, const ReportLayers& layers,
                                         const ReportOptions& options = {});
@@ -240,11 +249,21 @@ struct ReportData {
   std::string json;
   std::vector<std::span<const std::byte>> arrays;
 };
+/// The JSON and the arrays of `layers`, as above.
+/// Cost: O(size of the layers).
+/// Throws: nothing.
+/// Pre: options.stats_json and the lab's runs_json are JSON (copied as they are).
 [[nodiscard]] ReportData report_data(const ReportLayers& layers, const ReportOptions& options = {});
-/// The whole page: the viewer (HTML, CSS, bundled JavaScript) and the data.
+/// The whole page: the viewer (HTML, CSS, bundled JavaScript) and the data (its arrays base64-encoded).
+/// Cost: O(size of the layers + the viewer's).
+/// Throws: InvalidInputError in a recon built without the viewer (RECON_REPORT=OFF).
+/// Pre: as report_data.
 [[nodiscard]] std::string report_html(const ReportLayers& layers, const ReportOptions& options = {});
 
-/// report_html written atomically to `path` (IoError when it cannot be).
+/// report_html written atomically to `path` (io/atomic_file.h).
+/// Cost: as report_html, and the write.
+/// Throws: IoError when the file cannot be written; InvalidInputError as report_html.
+/// Pre: as report_data.
 void write_report(const std::filesystem::path& path, const ReportLayers& layers, const ReportOptions& options = {});
 
 /// The viewer's page around the data, as bundled at build time:
@@ -252,6 +271,9 @@ void write_report(const std::filesystem::path& path, const ReportLayers& layers,
 struct ReportPage {
   std::string_view head, tail;
 };
+/// Cost: O(1).
+/// Throws: InvalidInputError in a recon built without the viewer (RECON_REPORT=OFF).
+/// Pre: none.
 [[nodiscard]] ReportPage report_page();
 
 }  // namespace recon

@@ -89,6 +89,9 @@
 // the statistics run and the radius at 1.5 times its own; each tile counts
 // the samples near its core (isolated ones aside) whose neighbourhood may
 // reach past its points (TileOrientation::inexact_samples), which should be 0.
+//
+// Cost: reconstruct()'s, O(n k log n) for n points at k, spread over the tiles (the halos' points counted again),
+// one tile in memory at a time; plus three or four streamed passes over the input, and the tiles' files.
 
 #include "recon/io/point_io.h"
 #include "recon/core/progress.h"
@@ -208,21 +211,48 @@ struct StitchedMesh {
   double seconds = 0.0;
 };
 
-/// Step 1. Creates `work_dir` (which must not hold a plan already) and
-/// fills it. Throws InvalidInputError for an empty cloud or bad options,
-/// ResourceLimitError when a tile of the size asked for cannot fit
-/// max_memory, what the pass throws (reading errors), IoError for the files.
+/// Step 1. Creates `work_dir` and fills it: the plan, and each tile's points (core and halo).
+/// Cost: O(n) per pass over the input: three (the bounds, the statistics' sample, the binning), four for a cloud
+/// beyond statistics_points (binned again once phase I has measured it over the tiles); phase I on up to
+/// statistics_points.
+/// Throws: InvalidInputError when `work_dir` holds a plan already, for an empty cloud, a coordinate not finite or
+/// beyond +-max_coordinate, a tile size that is not a finite positive length, or bad options; ResourceLimitError
+/// when the one lattice over the cloud is too large or the statistics or the densest tile cannot fit max_memory;
+/// what the pass throws (reading errors); IoError for the files (std::filesystem::filesystem_error when `work_dir`
+/// cannot be made); what an interruption check throws.
+/// Pre: every pass gives the same points in the same order.
 TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const std::filesystem::path& work_dir);
-/// The plan written in `work_dir` (ParseError/IoError when absent or damaged).
+/// The plan written in `work_dir`.
+/// Cost: O(tiles).
+/// Throws: ParseError/IoError when absent or damaged.
+/// Pre: none.
 [[nodiscard]] TilePlan read_tile_plan(const std::filesystem::path& work_dir);
-/// Step 2 for tile `tile` (an index into plan.tiles).
+/// Step 2 for tile `tile` (an index into plan.tiles): writes its planes and its pieces' signs near its border.
+/// Cost: phases I-II on the tile's m points, O(m k log m).
+/// Throws: InvalidInputError for a tile index out of range; ParseError/IoError when a file it reads is absent or
+/// damaged, IoError when it cannot write; each message names the step and the tile. What an interruption check
+/// throws.
+/// Pre: plan_tiles done in `work_dir`.
 TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t tile);
-/// Step 3, once every tile is oriented.
+/// Step 3, once every tile is oriented: writes each piece's sign.
+/// Cost: O(B log B) for the B border samples of all tiles (a sort), and Kruskal over the pieces' graph.
+/// Throws: ParseError/IoError when a file is absent or damaged, IoError when it cannot write; ResourceLimitError
+/// for more than 2^32 pieces in all.
+/// Pre: every tile oriented.
 TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir);
-/// Step 4 for tile `tile`, once reconciled.
+/// Step 4 for tile `tile`, once reconciled: writes the triangles of its own cubes.
+/// Cost: phases III-V on the tile: O(c log m) for the c cubes its walk visits (a nearest-plane query per corner),
+/// phase V O(V log m).
+/// Throws: as orient_tile, and ResourceLimitError when the walk would pass what max_memory allows (named alike).
+/// Pre: reconcile_tiles done.
 TileContour contour_tile(const std::filesystem::path& work_dir, std::size_t tile);
 /// Step 5, once every tile is contoured: the mesh into `output` (binary
 /// PLY, written to a temporary file and renamed).
+/// Cost: O(F log F) at most for the F triangles of all tiles (a hash welds the vertices, ordered maps count votes);
+/// each tile's mesh file read two or three times, never all at once.
+/// Throws: ParseError/IoError when a tile's file is absent or damaged; IoError when `output` cannot be written;
+/// InvalidInputError when no tile holds a triangle.
+/// Pre: every tile contoured.
 StitchedMesh stitch_tiles(const std::filesystem::path& work_dir, const std::filesystem::path& output);
 
 /// The whole tiled run in this process, steps 1 to 5, the tiles one after
@@ -238,14 +268,24 @@ struct TiledRun {
   StitchedMesh mesh;
   double seconds = 0.0;
 };
+/// Cost: the steps' (see the header).
+/// Throws: what the steps throw (the first failure, once the tiles running are done), and what on_tile throws.
+/// Pre: as plan_tiles.
 TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, const std::filesystem::path& work_dir,
                            const std::filesystem::path& output,
                            const std::function<void(const char* step, std::size_t done, std::size_t total)>& on_tile = {});
 
 /// A pass over the points of an in-memory cloud, in chunks of `chunk`.
+/// Cost: O(1); each pass O(n / chunk) chunk views.
+/// Throws: nothing; a pass throws what `take` throws.
+/// Pre: the cloud outlives the pass (it is viewed, not copied); chunk > 0.
 [[nodiscard]] PointPass pass_over(PointCloudView cloud, std::size_t chunk = std::size_t{1} << 20);
 /// A pass over a point file, read as it streams by (io/point_stream.h):
 /// never held whole for the formats that stream (PLY, XYZ/CSV, LAS).
+/// Cost: O(1); each pass reads the file, O(n).
+/// Throws: nothing; a pass throws what io::read_points_in_chunks throws (IoError, ParseError, InvalidInputError)
+/// and what `take` throws.
+/// Pre: the file does not change between passes.
 [[nodiscard]] PointPass pass_over_file(const std::filesystem::path& path, const io::ReadPointsOptions& options = {});
 
 /// A directory for a tiled run's files: `parent`/recon-tiles-XXXXXX, made
@@ -254,12 +294,13 @@ TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, 
 /// recon-tiles.lock inside it), and removed with everything in it when
 /// destroyed (also when unwinding from an error or an interruption). First
 /// removes the stale workspaces in `parent` (remove_stale_tile_workspaces).
-/// Throws InvalidInputError when `parent`'s path is longer than
-/// max_workspace_path allows (a signal handler must be able to clean it),
-/// IoError when the folder or its lock cannot be made.
 inline constexpr std::size_t max_workspace_path = 4000;  ///< characters of a workspace's path
 class TileWorkspace {
  public:
+  /// Cost: a mkdtemp, an open and flock, and remove_stale_tile_workspaces(parent).
+  /// Throws: InvalidInputError when `parent`'s path is longer than max_workspace_path allows (a signal handler
+  /// must be able to clean it); IoError when the folder or its lock cannot be made (no `parent`, say).
+  /// Pre: none.
   explicit TileWorkspace(const std::filesystem::path& parent);
   ~TileWorkspace();
   TileWorkspace(const TileWorkspace&) = delete;
@@ -276,13 +317,18 @@ class TileWorkspace {
 /// links) named recon-tiles-*, holding a recon-tiles.lock whose lock is
 /// free, as a run killed by SIGKILL leaves them. Never touches anything
 /// else (a folder without the lock file, another program's). Returns how
-/// many it removed; errors (a parent it cannot read) are ignored. Cost: a
-/// listing of `parent` and an open and flock per workspace found.
+/// many it removed; errors (a parent it cannot read) are ignored.
+/// Cost: a listing of `parent` and an open and flock per workspace found.
+/// Throws: nothing.
+/// Pre: none.
 std::size_t remove_stale_tile_workspaces(const std::filesystem::path& parent) noexcept;
 
 /// Removes every file of every TileWorkspace alive, and the folders, also
 /// while other threads are still committing files into them. Async-signal-safe:
 /// for the handlers of SIGINT, SIGTERM, SIGBUS of a program about to end.
+/// Cost: a listing and an unlink per file of each live workspace.
+/// Throws: nothing.
+/// Pre: none (the runs still using them fail then: call it only when the program ends).
 void remove_tile_workspaces() noexcept;
 
 }  // namespace recon
