@@ -36,7 +36,10 @@ class Shape {
   [[nodiscard]] virtual int components() const { return 1; }
 };
 
-/// The factories below make a shape in O(1) and throw nothing; their sizes must be positive (not checked).
+/// The factories below (make_sphere to make_conics_pieces) make the shapes described.
+/// Cost: O(1) each.
+/// Throws: nothing.
+/// Pre: positive sizes (not checked).
 [[nodiscard]] std::unique_ptr<Shape> make_sphere(double radius = 1.0, Vec3 centre = Vec3::Zero());
 /// Ring of radius `major` around the z axis, tube radius `minor`.
 [[nodiscard]] std::unique_ptr<Shape> make_torus(double major = 1.0, double minor = 0.35);

@@ -219,7 +219,7 @@ struct TangentPlanes {
 
 /// Phase I over n points in D dimensions: a plane per point (TangentPlanes, indexed like `points`), the
 /// local and cloud-wide sampling measures, and the kd-tree phase III queries.
-/// Cost: O(n log n + n k) expected (see the header); run twice when adapt_k raises k.
+/// Cost: O(n log n + n k) expected (see the header).
 /// Throws: InvalidInputError when k < D or k > 256, the given rho is not a positive finite length, there
 /// are fewer than k + 1 points or k + 1 distinct points, a coordinate is not finite or beyond
 /// +-max_coordinate, there are more than 2^32 - 1 points, options.tree.leaf_size < 1, or every

@@ -48,7 +48,7 @@ struct EmstHints {
 
 /// The EMST of n points: its n - 1 edges (none for n <= 1), with weight = Euclidean length.
 /// Cost: O(n^2) textbook (Prim on the complete graph); here about O(n log n) a round, at most log2 n
-/// rounds, in parallel (most rounds query few points when hinted).
+/// rounds, in parallel.
 /// Throws: std::logic_error only when hints that break their promises make the components' choices
 /// form a cycle; nothing else.
 /// Pre: `tree` was built over `points` (or numbered by leaf order over its own copy of them).

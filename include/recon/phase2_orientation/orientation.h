@@ -62,7 +62,7 @@
 // single tree edge got wrong, which would otherwise become bubbles.
 //
 // Cost: O(n k log n) for n planes at k: the Riemannian graph, then Prim's O(E log V) on its E ~ n k
-// edges; each vote round and the crease patches O(n k).
+// edges; then O(n k) a vote round.
 
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
 #include "recon/phase2_orientation/riemannian_graph.h"

@@ -47,8 +47,8 @@
 // connected components of what remains are the separate objects, and each is
 // oriented alone.
 //
-// Cost: the EMST's (emst.h), then O(n k) for the rows, in parallel; the textbook list-and-sort
-// construction is O(n k log(n k)).
+// Cost: the EMST's (emst.h), then O(n k) for the rows, in parallel; the textbook edge list through
+// make_graph takes O(n k log k) for them.
 
 #include "recon/structures/graph.h"
 #include "recon/structures/kdtree.h"

@@ -117,7 +117,10 @@ class KdTree {
   /// The same over the points moved by -shift (points[i] - shift, computed
   /// as the tree copies them: the caller's array is neither copied first nor
   /// changed). reconstruct() builds its tree this way from a cloud it does
-  /// not own. Cost and throws as above (the coordinates are checked before the shift).
+  /// not own.
+  /// Cost: as above.
+  /// Throws: as above (the coordinates are checked before the shift).
+  /// Pre: none.
   KdTree(std::span<const Point> points, KdTreeOptions options, const Point& shift);
 
   [[nodiscard]] std::size_t size() const { return points_.size(); }

@@ -55,7 +55,10 @@ class LatticeTable {
       if (slot == absent || keys_[slot] == key) return slot;
     }
   }
-  /// The key of a slot. Precondition: slot < size().
+  /// The key of a slot.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: slot < size().
   [[nodiscard]] std::uint64_t key(std::uint32_t slot) const { return keys_[slot]; }
 
   /// The slot of `key`, and whether it was added (as slot size() - 1).

@@ -64,8 +64,8 @@ struct MeshTopology {
 };
 
 /// The topology of `mesh` (#V vertices, #F triangles): the counts above, its components and boundary loops.
-/// Cost: O(V + F) (half-edges by a counting sort, union-find for components and loops); here
-/// O(V + F log F) at worst, for sorting the components and the boundary's vertices.
+/// Cost: O(V + F); here the half-edges are counted out by vertex and each vertex's d of them ordered by
+/// insertion (O(d^2) there), and the components and the boundary's ends are sorted (O(F log F) at most).
 /// Throws: InvalidInputError for a vertex index past the end, or more than 2^32 - 1 triangles.
 /// Pre: none.
 [[nodiscard]] MeshTopology analyze_topology(const Mesh& mesh);
