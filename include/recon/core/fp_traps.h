@@ -13,14 +13,19 @@ namespace recon {
 
 /// Turns the traps on or off in the calling thread and in the threads of the
 /// parallel phases (OpenMP's pool, and the threads it starts later, which
-/// inherit the caller's floating-point environment). Call it from the thread
-/// that runs the phases, outside any parallel region. Returns false, and
+/// inherit the caller's floating-point environment). Returns false, and
 /// changes nothing, where the platform cannot trap (glibc's feenableexcept
 /// is needed).
+/// Cost: O(threads).
+/// Throws: nothing.
+/// Pre: called from the thread that runs the phases, outside any parallel region.
 bool set_fp_traps(bool on);
 
 /// Whether the traps are on in the calling thread and in every thread a
 /// parallel phase would use now.
+/// Cost: O(threads).
+/// Throws: nothing.
+/// Pre: called outside any parallel region.
 [[nodiscard]] bool fp_traps_enabled();
 
 }  // namespace recon

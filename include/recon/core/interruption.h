@@ -24,6 +24,9 @@ class InterruptionCheck {
  public:
   /// Installs `check` on this thread until destroyed (the previous one,
   /// if any, comes back then).
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: destroyed on the thread that made it, in the reverse order of installation (a scope object).
   explicit InterruptionCheck(std::function<void()> check);
   ~InterruptionCheck();
   InterruptionCheck(const InterruptionCheck&) = delete;
@@ -34,7 +37,10 @@ class InterruptionCheck {
   const std::function<void()>* previous_;
 };
 
-/// Runs the check installed on this thread, if any (which may throw).
+/// Runs the check installed on this thread, if any.
+/// Cost: O(1) and the check's own; a thread-local load and a branch without one.
+/// Throws: whatever the installed check throws; nothing without one.
+/// Pre: none.
 void interruption_point();
 
 }  // namespace recon

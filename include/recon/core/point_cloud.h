@@ -73,6 +73,10 @@ struct Box {
   [[nodiscard]] double diagonal() const { return empty() ? 0.0 : extent().norm(); }
 };
 
+/// The smallest box holding `points`; empty() for no points.
+/// Cost: O(n).
+/// Throws: nothing.
+/// Pre: finite coordinates.
 template <int D>
 [[nodiscard]] Box<D> bounding_box(std::span<const Vec<D>> points) {
   Box<D> box;

@@ -17,20 +17,36 @@
 
 namespace recon {
 
-/// Resident memory now, in bytes.
+/// Resident memory now (VmRSS), in bytes; empty where /proc cannot say.
+/// Cost: one read of /proc/self/status.
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] std::optional<std::size_t> resident_bytes();
-/// Peak resident memory since the process started (or the last reset), in bytes.
+/// Peak resident memory (VmHWM) since the process started (or the last reset), in bytes; empty where
+/// /proc cannot say.
+/// Cost: one read of /proc/self/status.
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] std::optional<std::size_t> peak_resident_bytes();
 /// Sets the peak back to the current resident size; false where refused.
 /// For tests and benchmarks that measure one call in a process of their
 /// own; the library and the program never call it (see above).
+/// Cost: one write to /proc/self/clear_refs.
+/// Throws: nothing.
+/// Pre: none.
 bool reset_peak_resident();
 /// Physical memory of the machine, in bytes (0 if unknown).
+/// Cost: O(1) (sysconf).
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] std::size_t physical_memory_bytes();
 /// What recon lets one run hold unless told otherwise: half the physical
 /// memory (4 GB when it cannot be read). reconstruct() refuses work
 /// estimated beyond it (ReconstructionOptions::max_memory), the readers a
 /// stream longer than it (ReadPointsOptions::max_stream_bytes).
+/// Cost: O(1) (sysconf).
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] std::size_t default_memory_limit();
 
 /// The peak of each step of a run: start(step) ends the step before (taking
@@ -41,10 +57,11 @@ bool reset_peak_resident();
 /// process's high-water mark rose has that mark as its peak, exactly; for
 /// the others the samples are the figure, which can miss a spike shorter
 /// than the interval. The largest of the steps' peaks is the whole run's
-/// peak whenever the steps cover the run. Cost: one read of
-/// /proc/self/statm per interval (microseconds); the thread wakes at once
-/// to stop, so finish() and the destructor return within a read.
-/// Not itself thread-safe: start and finish are called from one thread.
+/// peak whenever the steps cover the run. The thread wakes at once to stop,
+/// so finish() and the destructor return within a read.
+/// Cost: one read of /proc/self/statm per interval (microseconds) while a step runs.
+/// Throws: start() throws std::system_error when the sampling thread cannot start; nothing else does.
+/// Pre: start and finish are called from one thread (the class is not itself thread-safe).
 class StepPeaks {
  public:
   static constexpr int sample_interval_ms = 5;

@@ -20,9 +20,15 @@ namespace recon {
 class Shape {
  public:
   virtual ~Shape() = default;
-  /// n points uniform by area, with their true outward normals.
+  /// n points uniform by area, with their true outward normals; the same for the same seed.
+  /// Cost: O(n) expected (rejection sampling where a patch is not a rectangle).
+  /// Throws: nothing.
+  /// Pre: none.
   [[nodiscard]] virtual PointCloud sample(std::size_t n, std::uint64_t seed) const = 0;
   /// Unsigned distance from p to the true surface.
+  /// Cost: O(1) (a closed form, or at most a fixed number of Newton steps).
+  /// Throws: nothing.
+  /// Pre: p finite.
   [[nodiscard]] virtual double distance(const Vec3& p) const = 0;
   [[nodiscard]] virtual double area() const = 0;
   /// Euler characteristic of the surface (2 - 2 genus per closed piece).
@@ -30,6 +36,10 @@ class Shape {
   [[nodiscard]] virtual int components() const { return 1; }
 };
 
+/// The factories below (make_sphere to make_conics_pieces) make the shapes described.
+/// Cost: O(1) each.
+/// Throws: nothing.
+/// Pre: positive sizes (not checked).
 [[nodiscard]] std::unique_ptr<Shape> make_sphere(double radius = 1.0, Vec3 centre = Vec3::Zero());
 /// Ring of radius `major` around the z axis, tube radius `minor`.
 [[nodiscard]] std::unique_ptr<Shape> make_torus(double major = 1.0, double minor = 0.35);
@@ -93,11 +103,16 @@ class Shape {
 /// independent offset of standard deviation `fraction` times the diagonal
 /// of the cloud's bounding box (the scale `recon generate --noise` and the
 /// evaluation scripts use). Reproducible from `seed`; normals are kept.
+/// Cost: O(n).
+/// Throws: nothing.
+/// Pre: fraction > 0 and at least two distinct positions (std::normal_distribution needs a positive spread).
 void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed);
 
-/// By name: "sphere", "torus", "ellipsoid", "box", "two" (sphere + torus),
+/// A shape by name, at its default sizes: "sphere", "torus", "ellipsoid", "box", "two" (sphere + torus),
 /// "terrain", "part" (make_machined_part), "handle", "conics".
-/// Throws InvalidInputError for another name.
+/// Cost: O(1).
+/// Throws: InvalidInputError for another name.
+/// Pre: none.
 [[nodiscard]] std::unique_ptr<Shape> make_shape(const std::string& name);
 
 }  // namespace recon

@@ -12,7 +12,9 @@ namespace recon {
 /// v0.1.0, or a tarball without git), "0.1.0+g1a2b3c4" (another commit) or
 /// "0.1.0+g1a2b3c4.dirty" (uncommitted changes). A valid PEP 440 version.
 /// Made at build time by cmake/recon_version.cmake (docs/releasing.md).
-/// Cost: none (a constant). Throws nothing.
+/// Cost: O(1) (a constant).
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] std::string_view version() noexcept;
 
 }  // namespace recon

@@ -34,10 +34,11 @@ struct OutputTarget {
 };
 
 /// Decides how `target` is written, looking at the file system only (it
-/// opens nothing, so it can be asked of any path). Cost: a stat and one
-/// readlink per symbolic link. Throws IoError "TARGET: cannot write: it is
-/// a folder" (or "a block device", "a socket"), or for more than 40 links
-/// in a chain.
+/// opens nothing, so it can be asked of any path).
+/// Cost: a stat and one readlink per symbolic link.
+/// Throws: IoError "TARGET: cannot write: it is a folder" (or "a block device", "a socket"), for more than
+/// 40 links in a chain, or a link that cannot be read.
+/// Pre: none.
 [[nodiscard]] OutputTarget output_target(const std::filesystem::path& target);
 
 class AtomicFile {
@@ -49,8 +50,11 @@ class AtomicFile {
   enum class Use { output, scratch };
 
   /// Opens a temporary file next to the target (same folder, so the final
-  /// rename cannot cross file systems), or the stream itself. Throws
-  /// IoError when it cannot, or when output_target() refuses the target.
+  /// rename cannot cross file systems), or the stream itself (a FIFO waits here for its reader).
+  /// Cost: O(1) system calls (and output_target's).
+  /// Throws: IoError when it cannot (no such folder, not writable, the old file's mode cannot be given),
+  /// or when output_target() refuses the target.
+  /// Pre: none.
   explicit AtomicFile(std::filesystem::path target, Use use = Use::output);
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
@@ -63,7 +67,10 @@ class AtomicFile {
   /// stream, the stream's path.
   [[nodiscard]] const std::filesystem::path& temporary() const { return temporary_; }
   /// Flushes, closes, syncs and renames onto the target (a stream: flushes
-  /// and closes). Throws IoError on failure.
+  /// and closes).
+  /// Cost: O(bytes not yet flushed), two fsyncs and a rename.
+  /// Throws: IoError when a write, sync or the rename fails, and for a scratch file.
+  /// Pre: called once.
   void commit();
 
  private:
@@ -87,6 +94,9 @@ class AtomicFile {
 /// unlink): a SIGINT handler calls it before the program ends, so an
 /// interrupted run leaves no partial file behind (the previous output,
 /// never touched before commit(), stays as it was).
+/// Cost: O(files pending).
+/// Throws: nothing.
+/// Pre: none.
 void remove_pending_temporaries() noexcept;
 
 }  // namespace recon::io

@@ -22,9 +22,6 @@
 //   txt - "x y" lines, a blank line between curves, a comment line before
 //         each saying closed or open; a closed curve repeats its first vertex.
 // Numbers are written with the shortest decimals that read back exactly.
-// write_curves throws InvalidInputError, before creating anything, for a
-// coordinate or normal that is not finite or beyond +-max_coordinate, a
-// polyline vertex out of range, or normals that are not one per point.
 
 #include "recon/io/point_io.h"
 #include "recon/structures/polyline.h"
@@ -39,22 +36,33 @@ namespace recon::io {
 /// columns, or Hoppe's .pts records with the same x on every point (the
 /// curve format of his programs). A 3D file that happens to be flat is not
 /// taken for 2D here: it reconstructs as a flat surface unless a curve
-/// output is asked for. Throws what read_points throws for a file it
-/// cannot read.
+/// output is asked for. A file of another format than xyz or pts is not opened: false.
+/// Cost: O(file size) at most (a .pts file with records is read whole).
+/// Throws: what read_points throws for a file it cannot read (IoError, ParseError); InvalidInputError for
+/// an unknown extension.
+/// Pre: the file does not change while it is read.
 [[nodiscard]] bool holds_2d_points(const std::filesystem::path& path, const ReadPointsOptions& options = {});
 /// As above, on a source opened once (a stream is not read again).
+/// Cost, throws and preconditions as above (but the IoErrors of opening were the source's).
 [[nodiscard]] bool holds_2d_points(const PointSource& source, const ReadPointsOptions& options = {});
 
 /// The 2D points of a file (see above).
+/// Cost: O(file size).
+/// Throws: the readers' errors (see above; IoError, ParseError, InvalidInputError as read_points), and
+/// ParseError "FILE: the points are not 2D: ..." when no coordinate is shared by every point.
+/// Pre: the file does not change while it is read.
 [[nodiscard]] std::vector<Vec2> read_points_2d(const std::filesystem::path& path,
                                                const ReadPointsOptions& options = {});
 /// As above, on a source opened once.
+/// Cost, throws and preconditions as above (but the IoErrors of opening were the source's).
 [[nodiscard]] std::vector<Vec2> read_points_2d(const PointSource& source, const ReadPointsOptions& options = {});
 
 enum class CurveFormat { automatic, svg, obj, txt };
 
-/// From the extension (.svg, .obj, .txt; case-insensitive); throws
-/// InvalidInputError naming the known ones otherwise.
+/// From the extension (.svg, .obj, .txt; case-insensitive).
+/// Cost: O(1).
+/// Throws: InvalidInputError naming the known ones for another extension or none.
+/// Pre: none.
 [[nodiscard]] CurveFormat curve_format_from_path(const std::filesystem::path& path);
 
 struct WriteCurvesOptions {
@@ -64,6 +72,12 @@ struct WriteCurvesOptions {
   double normal_length = 0.0;                   ///< drawn length of a normal; 0: 1/40 of the picture's diagonal
 };
 
+/// Writes `curves` (and for SVG the points and normals of `options`) atomically, in the format chosen.
+/// Cost: O(V + m) for V vertices and m polyline entries (and the points drawn).
+/// Throws: InvalidInputError, before creating anything, for a coordinate that is not finite or beyond
+/// +-max_coordinate, a normal that is not finite, a polyline vertex out of range, normals that are not
+/// one per point, or an unknown extension; IoError when the file cannot be written (atomic_file.h).
+/// Pre: none.
 void write_curves(const std::filesystem::path& path, const PolylineSet& curves, const WriteCurvesOptions& options = {});
 
 }  // namespace recon::io

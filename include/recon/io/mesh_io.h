@@ -60,6 +60,10 @@ namespace recon::io {
 
 enum class MeshFormat { automatic, ply, obj, off, stl, glb };
 
+/// The format of the path's extension: .ply, .obj, .off, .stl, .glb (case-insensitive).
+/// Cost: O(1).
+/// Throws: InvalidInputError for another extension or none.
+/// Pre: none.
 [[nodiscard]] MeshFormat mesh_format_from_path(const std::filesystem::path& path);
 
 struct WriteMeshOptions {
@@ -67,7 +71,17 @@ struct WriteMeshOptions {
   bool ascii = false;  ///< PLY only
 };
 
+/// Writes `mesh` (#V vertices, #F triangles) atomically in the format chosen (see above).
+/// Cost: O(V + F).
+/// Throws: InvalidInputError, before creating anything, as listed above (and for an unknown extension);
+/// IoError when the file cannot be written (atomic_file.h).
+/// Pre: none.
 void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const WriteMeshOptions& options = {});
+/// Reads a PLY, OBJ or OFF mesh (see "Reading" above).
+/// Cost: O(file size).
+/// Throws: ParseError and IoError as read_points (point_io.h) and as listed above; InvalidInputError for
+/// STL, GLB or an unknown extension.
+/// Pre: the file does not change while it is read.
 [[nodiscard]] Mesh read_mesh(const std::filesystem::path& path);
 
 }  // namespace recon::io

@@ -40,9 +40,8 @@
 // read_points refuses them; with ReadPointsOptions::skip_invalid they are
 // left out of the chunks instead (a chunk may then hold fewer points, and a
 // chunk left empty is not handed out), and "FILE: no points: every point is
-// invalid (...)" comes at the end when none was left. InvalidInputError when
-// chunk_points is 0. Whatever `take` throws ends the reading and goes to the
-// caller.
+// invalid (...)" comes at the end when none was left. Whatever `take` throws
+// ends the reading and goes to the caller.
 
 #include "recon/io/point_io.h"
 #include "recon/core/point_cloud.h"
@@ -69,8 +68,11 @@ struct StreamedCloud {
 /// Calls take(chunk, first) for consecutive chunks of the file's points, in
 /// file order; `first` is the index of the chunk's first point in the whole
 /// cloud. The chunk view is valid during the call only. `notes`, when given,
-/// receives what read_points would say (ReadNotes). The file must not change
-/// while it is read (see file_being_read() in point_io.h).
+/// receives what read_points would say (ReadNotes).
+/// Cost: O(file size), twice for a file whose meaning the whole decides (see above); memory one chunk.
+/// Throws: what read_points throws (see above for when); InvalidInputError when chunk_points is 0;
+/// what `take` throws.
+/// Pre: the file does not change while it is read (see file_being_read() in point_io.h).
 StreamedCloud read_points_in_chunks(const std::filesystem::path& path, const PointChunkOptions& options,
                                     const std::function<void(PointCloudView chunk, std::size_t first)>& take,
                                     ReadNotes* notes = nullptr);

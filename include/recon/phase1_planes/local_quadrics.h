@@ -31,7 +31,7 @@
 //   (phase II then carries the orientation across the gap reversed:
 //   orientation.h).
 //
-// Cost: one more least-squares fit (6 x 6) per neighbourhood, in parallel,
+// Cost: O(n k) beyond phase I, one more least-squares fit (6 x 6) per neighbourhood, in parallel;
 // and 12 bytes a sample kept (the curvature, the residual).
 
 #include "recon/phase1_planes/tangent_planes.h"
@@ -111,12 +111,18 @@ struct LocalQuadrics {
 
 /// An orthonormal basis (t1, t2) of the plane normal to the unit vector n,
 /// a fixed function of n (not continuous where n.z changes sign).
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: n is a unit vector.
 [[nodiscard]] std::array<Vec3, 2> tangent_basis(const Vec3& n);
 
-/// Precondition: planes from estimate_tangent_planes over a tree numbered by
-/// leaf order (as reconstruct() builds it), with its neighbour lists
-/// (planes.neighbors not yet released); InvalidInputError otherwise.
-/// Neighbourhoods of copies of one point keep their plane (curvature 0).
+/// A quadric per neighbourhood of phase I's n samples at k, with the foot points, normals and curvatures
+/// it gives (see the header). Neighbourhoods of copies of one point keep their plane (curvature 0).
+/// Cost: O(n k), a 6 x 6 least-squares fit per neighbourhood; here also O(k log k) per neighbourhood tested
+/// for two sheets and O(k^2) per poor fit looking among its neighbours' neighbours for a better one.
+/// Throws: InvalidInputError unless the planes come from estimate_tangent_planes over a tree numbered by
+/// leaf order (as reconstruct() builds it), their neighbour lists not yet released.
+/// Pre: none.
 [[nodiscard]] LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuadricOptions& options = {});
 
 /// The refined method's phase I: the quadrics' origins and normals take
@@ -124,7 +130,9 @@ struct LocalQuadrics {
 /// become `quadrics.guide` (they guide phase II, orientation.h), and the
 /// noise (phase III's delta is twice it) becomes what the quadrics miss:
 /// the curvature a plane cannot follow, or a second sheet, is no noise.
-/// Precondition: quadrics was fitted to `planes`.
+/// Cost: O(n).
+/// Throws: nothing.
+/// Pre: quadrics was fitted to `planes` by fit_local_quadrics, and not adopted before.
 void adopt_second_order(TangentPlanes<3>& planes, LocalQuadrics& quadrics);
 
 /// A point of a fitted surface and the unit normal there.
@@ -136,6 +144,9 @@ struct SurfacePoint {
 /// p moved onto the quadric through `origin` with unit `normal` and
 /// `curvature` (as LocalQuadrics holds them), along the quadric's normal:
 /// the nearest point of the quadric for p within about 1 / |curvature|.
+/// Cost: O(1) (three fixed-point steps).
+/// Throws: nothing.
+/// Pre: `normal` is a unit vector.
 [[nodiscard]] SurfacePoint project_onto_quadric(const Vec3& origin, const Vec3& normal, const Curvature& curvature,
                                                 const Vec3& p);
 

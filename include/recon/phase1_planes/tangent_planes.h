@@ -45,6 +45,9 @@
 // the same nodes), bounds each query by the previous one's k-th distance
 // plus the step between them, and answers a run of exact copies with one
 // query. The answers are those of the textbook loop.
+//
+// Cost: O(n log n + n k) expected for n points at k (the tree, then a query and an O(k) fit per
+// point); here the same shared among the threads, twice when adapt_k raises k.
 
 #include "recon/structures/kdtree.h"
 #include "recon/core/point_cloud.h"
@@ -109,18 +112,31 @@ struct SpacingSums {
   __extension__ typedef unsigned __int128 Wide;  // (a GCC and Clang extension)
   std::uint64_t count = 0;
   Wide sum = 0, sum2 = 0;
+  /// Adds one relative spacing, or another part's sums.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: 0 <= relative <= k, as phase I's are (the fixed-point sums must not overflow).
   void add(float relative);
   void add(const SpacingSums& other);
   /// Standard deviation over mean of the relative spacings (0 for none).
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: none.
   [[nodiscard]] double irregularity() const;
 };
 
 /// rho_i from gap_i, the neighbourhood radius and the cloud's irregularity
-/// (see the header).
+/// (see the header): between min(1.5 gap, radius) for a regular sampling and the radius for a random one.
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] float local_rho_of(float gap, float radius, double irregularity);
 
 /// Whether the sample at p is one of the about 2000 samples of a cloud of
-/// n that tell noise from curvature (all of them up to 2000).
+/// n that tell noise from curvature (all of them up to 2000), chosen by a hash of p.
+/// Cost: O(D).
+/// Throws: nothing.
+/// Pre: none.
 template <int D>
 [[nodiscard]] bool is_noise_probe(const Vec<D>& p, std::size_t n);
 
@@ -128,12 +144,18 @@ struct TangentPlaneOptions;
 
 /// The median of the noise probes' residuals (the upper one of an even
 /// count; infinity for none, which raises no k).
+/// Cost: O(m) for m residuals (a selection).
+/// Throws: nothing.
+/// Pre: no NaN residual.
 [[nodiscard]] double probes_median(std::vector<double> residuals);
 
 /// The k to run phase I again with, or 0 (see above): from the cloud's
 /// noise and rho, its distinct samples (n of them in all), and the median
 /// residual of the noise probes' neighbourhoods of 2k samples, asked for
 /// only when the rest calls for a raise.
+/// Cost: O(1), and at most one call of probe_median.
+/// Throws: what probe_median throws; nothing else.
+/// Pre: none.
 [[nodiscard]] int raised_k(const TangentPlaneOptions& options, double noise, double rho, std::size_t distinct,
                            std::size_t n, const std::function<double()>& probe_median);
 
@@ -200,10 +222,14 @@ struct TangentPlanes {
   }
 };
 
-/// Throws InvalidInputError when k < D or k > 256, when there are fewer than
-/// k + 1 distinct points, when a coordinate is not finite, when the given rho
-/// is not positive, or when every neighbourhood is degenerate (all points on
-/// one line, or identical).
+/// Phase I over n points in D dimensions: a plane per point (TangentPlanes, indexed like `points`), the
+/// local and cloud-wide sampling measures, and the kd-tree phase III queries.
+/// Cost: O(n log n + n k) expected (see the header).
+/// Throws: InvalidInputError when k < D or k > 256, the given rho is not a positive finite length, there
+/// are fewer than k + 1 points or k + 1 distinct points, a coordinate is not finite or beyond
+/// +-max_coordinate, there are more than 2^32 - 1 points, options.tree.leaf_size < 1, or every
+/// neighbourhood is degenerate (all points on one line, or identical); what an interruption check throws.
+/// Pre: none.
 template <int D>
 [[nodiscard]] TangentPlanes<D> estimate_tangent_planes(std::span<const Vec<D>> points,
                                                        const TangentPlaneOptions& options = {});
@@ -212,17 +238,27 @@ template <int D>
 /// (KdTree::renumber_by_leaf_order): its own copy of the points is THE point
 /// set, point i being tree.points()[i]. No second copy of the points is made;
 /// this is how reconstruct() works. options.tree is not used.
+/// Cost: as above, less the tree's build.
+/// Throws: InvalidInputError when the tree is not numbered by leaf order, and as above.
+/// Pre: none.
 template <int D>
 [[nodiscard]] TangentPlanes<D> estimate_tangent_planes(KdTree<D>&& tree, const TangentPlaneOptions& options = {});
 
 /// The RMS distance to their plane of the `wider_k` samples nearest p: a
 /// noise probe's residual (see above).
+/// Cost: O(log n + wider_k) expected (a query and a fit).
+/// Throws: nothing.
+/// Pre: `points` are the planes' samples, indexed like them (as samples_of gives, or the tree's own points
+/// when numbered by leaf order); 1 <= wider_k <= n.
 template <int D>
 [[nodiscard]] double probe_residual(const TangentPlanes<D>& planes, std::span<const Vec<D>> points, const Vec<D>& p,
                                     int wider_k);
 
 /// The samples x_i, indexed like the planes (the kd-tree keeps its copy of
 /// them in its own order).
+/// Cost: O(n).
+/// Throws: nothing.
+/// Pre: none.
 template <int D>
 [[nodiscard]] std::vector<Vec<D>> samples_of(const TangentPlanes<D>& planes);
 

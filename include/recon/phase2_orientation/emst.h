@@ -26,7 +26,7 @@
 // passes phase I's neighbourhoods.
 // Edges are compared by (length, smaller endpoint, larger endpoint), a strict
 // total order, so the tree is unique and equals what Prim or Kruskal on the
-// complete graph give under the same order. Cost about O(n log n) per round.
+// complete graph give under the same order.
 
 #include "recon/structures/graph.h"
 #include "recon/structures/kdtree.h"
@@ -46,14 +46,21 @@ struct EmstHints {
   std::span<const double> certain_radius2;
 };
 
-/// Returns the n - 1 edges (n - 1 for n >= 1 points; none for n <= 1), with
-/// weight = Euclidean length. `tree` must have been built over `points`.
+/// The EMST of n points: its n - 1 edges (none for n <= 1), with weight = Euclidean length.
+/// Cost: O(n^2) textbook (Prim on the complete graph); here about O(n log n) a round, at most log2 n
+/// rounds, in parallel.
+/// Throws: std::logic_error only when hints that break their promises make the components' choices
+/// form a cycle; nothing else.
+/// Pre: `tree` was built over `points` (or numbered by leaf order over its own copy of them).
 template <int D>
 [[nodiscard]] std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree,
                                                                 std::span<const Vec<D>> points,
                                                                 const EmstHints& hints = {});
 
 /// The same, with hints from tree.all_knn(k) for some k.
+/// Cost: as above, plus O(n k) to copy the table into hints.
+/// Throws: as above.
+/// Pre: as above, and `knn` is tree.all_knn(k) with k >= 1 over the same points.
 template <int D>
 [[nodiscard]] std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree,
                                                                 std::span<const Vec<D>> points,

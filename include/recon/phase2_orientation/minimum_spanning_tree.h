@@ -7,7 +7,7 @@
 // adds that vertex and edge, and its neighbours' keys are lowered. A vertex
 // leaves the heap only after its parent did, so `order` lists the vertices
 // parents-first: walking it is a traversal of the tree from the root with
-// no recursion. Cost O(E log V).
+// no recursion.
 //
 // As in the textbook, each vertex also has its key in an array of its own:
 // +infinity until an edge reaches it, -infinity once it is in the tree. One
@@ -72,7 +72,10 @@ struct MinimumSpanningEdges {
 /// The strict total order in which Kruskal and Borůvka take edges (and
 /// complete-graph Prim and the EMST compare them): by weight, then smaller
 /// endpoint, then larger endpoint. Under it no two edges tie, so the minimum
-/// spanning forest is unique. For edges with u < v.
+/// spanning forest is unique.
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: u < v in both edges; no NaN weight.
 [[nodiscard]] inline bool lighter(const Edge& a, const Edge& b) {
   if (a.weight != b.weight) return a.weight < b.weight;
   if (a.u != b.u) return a.u < b.u;
@@ -81,9 +84,11 @@ struct MinimumSpanningEdges {
 
 /// The edges of a list that a spanning forest may take, where Kruskal and
 /// Borůvka start: each turned to have u < v; self-loops and edges of weight
-/// +infinity left out (as Prim never takes them). Throws InvalidInputError,
-/// its message starting with `algorithm`, for an endpoint not below
+/// +infinity left out (as Prim never takes them).
+/// Cost: O(E).
+/// Throws: InvalidInputError, its message starting with `algorithm`, for an endpoint not below
 /// vertex_count or a NaN weight (NaN has no place in the order).
+/// Pre: none.
 [[nodiscard]] std::vector<Edge> spanning_forest_candidates(std::size_t vertex_count, std::vector<Edge> edges,
                                                            std::string_view algorithm);
 
@@ -99,9 +104,12 @@ concept counts_operations = requires(const Queue& queue) {
 /// Ties between equal weights go to the smaller vertex index, so the forest
 /// is deterministic. `weight(v, e)` gives the weight of the edge at CSR
 /// position e of row v (graph.targets[e] is its other end); an edge of
-/// infinite weight is never taken. Precondition: no weight is NaN.
+/// infinite weight is never taken.
 /// `Queue`: see the header comment; prim_minimum_spanning_forest<MyQueue>(
 /// graph, roots, weight) runs on MyQueue.
+/// Cost: O(E log V) with a binary heap (O(E + V log V) with a Fibonacci heap), E calls of `weight`.
+/// Throws: what `weight`, the queue or an interruption check (every 65536 vertices) throws; nothing else.
+/// Pre: no weight is NaN; every root < V.
 template <class Queue = IndexedBinaryHeap<double>, class Weight>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph, std::span<const std::uint32_t> roots,
                                                           Weight&& weight) {
@@ -156,15 +164,18 @@ template <class Queue = IndexedBinaryHeap<double>, class Weight>
   return forest;
 }
 
-/// The same with the graph's stored weights. Throws InvalidInputError when
-/// the graph has none.
+/// The same with the graph's stored weights.
+/// Cost: O(E log V).
+/// Throws: InvalidInputError when the graph has no stored weights; what an interruption check throws.
+/// Pre: no weight is NaN; every root < V.
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph,
                                                           std::span<const std::uint32_t> roots = {});
 
 /// The graph's stored weights as a weight function (weight(v, e) =
-/// graph.weights[e]), for the algorithms' stored-weight forms. Throws
-/// InvalidInputError, its message starting with `algorithm`, when the graph
-/// has none.
+/// graph.weights[e]), for the algorithms' stored-weight forms.
+/// Cost: O(1).
+/// Throws: InvalidInputError, its message starting with `algorithm`, when the graph has none.
+/// Pre: `graph` outlives the function returned.
 [[nodiscard]] inline auto stored_weights(const Graph& graph, std::string_view algorithm) {
   if (graph.weights.size() != graph.targets.size())
     throw InvalidInputError(std::string(algorithm) + ": the graph has no stored weights; pass a weight function");
@@ -172,6 +183,7 @@ template <class Queue = IndexedBinaryHeap<double>, class Weight>
 }
 
 /// The same on another queue: prim_minimum_spanning_forest<MyQueue>(graph).
+/// Cost, throws and preconditions as the stored-weight form above, with MyQueue's costs.
 template <class Queue>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph,
                                                           std::span<const std::uint32_t> roots = {}) {

@@ -60,6 +60,9 @@
 // turned round. On clean data nothing changes; with noise about half the
 // sample spacing, it corrects the few hundred in a hundred thousand that a
 // single tree edge got wrong, which would otherwise become bubbles.
+//
+// Cost: O(n k log n) for n planes at k: the Riemannian graph, then Prim's O(E log V) on its E ~ n k
+// edges; then O(n k) a vote round.
 
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
 #include "recon/phase2_orientation/riemannian_graph.h"
@@ -107,12 +110,23 @@ struct OrientedNormals {
   [[nodiscard]] std::size_t component_count() const { return graph.components.sizes.size(); }
 };
 
+/// Phase II: the planes' normals, consistently oriented (one per plane, unit), with the Riemannian
+/// graph and the spanning forest that carried the orientation.
+/// Cost: O(n k log n) (see the header).
+/// Throws: InvalidInputError when options.graph.k is negative or exceeds phase I's k, the planes'
+/// neighbour lists were released, or options.guide is given but not one per plane; what an
+/// interruption check throws.
+/// Pre: planes comes from estimate_tangent_planes (normals unit); options.sheet_misfit empty or one per plane.
 template <int D>
 [[nodiscard]] OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, const OrientationOptions& options = {});
 
 /// The same over a Riemannian graph already built from `planes` (with
 /// options.graph ignored): lets the caller release planes.neighbors, the
 /// graph's source, before the walk.
+/// Cost: O(n k log n), less the graph's construction.
+/// Throws: InvalidInputError when options.guide is given but not one per plane; what an interruption
+/// check throws.
+/// Pre: as above, and `graph` was built from these planes.
 template <int D>
 [[nodiscard]] OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGraph<D> graph,
                                                 const OrientationOptions& options = {});

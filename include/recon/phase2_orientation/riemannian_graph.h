@@ -46,6 +46,9 @@
 // crease, an outlier) are joined back through their shortest EMST edge; the
 // connected components of what remains are the separate objects, and each is
 // oriented alone.
+//
+// Cost: the EMST's (emst.h), then O(n k) for the rows, in parallel; the textbook edge list through
+// make_graph takes O(n k log k) for them.
 
 #include "recon/structures/graph.h"
 #include "recon/structures/kdtree.h"
@@ -57,7 +60,10 @@
 
 namespace recon {
 
-/// The cost of carrying an orientation across an edge.
+/// The cost of carrying an orientation across an edge: 1 - |n_i . n_j|, in [0, 1] up to rounding.
+/// Cost: O(D).
+/// Throws: nothing.
+/// Pre: unit normals.
 template <int D>
 [[nodiscard]] inline double orientation_cost(const Vec<D>& n_i, const Vec<D>& n_j) {
   return 1.0 - std::abs(n_i.dot(n_j));
@@ -68,6 +74,9 @@ template <int D>
 /// 1 - |n_i . n_j| a hair below it), for the algorithms that read stored
 /// weights: Kruskal, Borůvka, the lab's queues, the benchmarks. Phase II
 /// computes the costs as it goes instead.
+/// Cost: O(V + E).
+/// Throws: nothing.
+/// Pre: one unit normal per vertex.
 template <int D>
 [[nodiscard]] Graph with_orientation_costs(Graph graph, std::span<const Vec<D>> normals);
 
@@ -88,8 +97,12 @@ struct RiemannianGraph {
   double seconds_emst = 0.0, seconds_graph = 0.0;
 };
 
-/// Precondition: planes comes from estimate_tangent_planes (normals unit).
-/// Throws InvalidInputError when k is negative or exceeds phase I's k.
+/// The Riemannian graph over phase I's n planes: the kept EMST and k-NN edges, the EMST itself, and the
+/// separate pieces of the data (see the header).
+/// Cost: see the header.
+/// Throws: InvalidInputError when options.k is negative or exceeds phase I's k, or the planes' neighbour
+/// lists were released; what an interruption check throws.
+/// Pre: planes comes from estimate_tangent_planes (normals unit).
 template <int D>
 [[nodiscard]] RiemannianGraph<D> build_riemannian_graph(const TangentPlanes<D>& planes,
                                                         const RiemannianGraphOptions& options = {});

@@ -40,6 +40,9 @@
 // convex edge (each origin behind the other's plane) the solid is the
 // intersection of the two half-spaces and f the larger value, at a concave
 // edge their union and f the smaller.
+//
+// Cost: O(log n) expected per evaluation of f (a nearest-origin query and a bounded query for a sample;
+// O(log n + c) with c candidates); the phase is as many evaluations as phase IV's walk asks for.
 
 #include "recon/structures/kdtree.h"
 #include "recon/phase1_planes/tangent_planes.h"
@@ -66,6 +69,9 @@ template <int D>
 class SignedDistance {
  public:
   /// The value at p, or std::nullopt where f is undefined.
+  /// Cost: O(log n) expected (see the header).
+  /// Throws: nothing.
+  /// Pre: p finite; what make_signed_distance was given still lives.
   [[nodiscard]] std::optional<double> operator()(const Vec<D>& p) const { return evaluate(p).value; }
 
   /// The same, with the plane it came from (the origin nearest p).
@@ -82,9 +88,15 @@ class SignedDistance {
   /// `hint`: any plane, typically the previous point's when points come in
   /// spatial order; its origin's distance bounds the nearest-origin search
   /// from the start (with one candidate). The answer does not depend on it.
+  /// Cost: O(log n) expected, O(log n + c) with c candidates; a near hint saves most of the search.
+  /// Throws: nothing.
+  /// Pre: p finite; what make_signed_distance was given still lives.
   [[nodiscard]] Evaluation evaluate(const Vec<D>& p, std::uint32_t hint = no_hint) const;
 
   /// The plane f uses at p (see "Which plane" above).
+  /// Cost: O(log n) expected, O(log n + c) with c candidates.
+  /// Throws: nothing.
+  /// Pre: as evaluate.
   [[nodiscard]] std::uint32_t plane_for(const Vec<D>& p, std::uint32_t hint = no_hint) const;
 
   [[nodiscard]] double delta() const { return delta_; }
@@ -111,9 +123,13 @@ class SignedDistance {
 
 /// Builds f over the planes (origins, local rho, the tree of the samples),
 /// their oriented unit normals (one per origin), and a kd-tree over the
-/// origins (phase II builds one). All are referenced, not copied: they must
-/// outlive the returned function. Throws InvalidInputError for a negative or
-/// non-finite delta, normals of the wrong count, or candidates outside 1..32.
+/// origins (phase II builds one). All are referenced, not copied. Without a
+/// given delta, delta = 2 * planes.noise.
+/// Cost: O(1).
+/// Throws: InvalidInputError for a negative or non-finite delta, normals or a tree of origins of the
+/// wrong count, candidates outside 1..32, or near_crease neither empty nor one per plane.
+/// Pre: the planes, normals, origin tree and near_crease outlive the function; the tree's point i is
+/// planes.origins[i]; unit normals.
 template <int D>
 [[nodiscard]] SignedDistance<D> make_signed_distance(const TangentPlanes<D>& planes, std::span<const Vec<D>> normals,
                                                      const KdTree<D>& origin_tree,

@@ -46,21 +46,29 @@ struct Graph {
   }
 };
 
-/// Builds the graph on `vertex_count` vertices from an edge list. Self-loops
+/// Builds the graph on `vertex_count` vertices (V) from a list of E edges. Self-loops
 /// are dropped; an edge listed more than once is kept once, with the smallest
-/// of its weights. Throws InvalidInputError for an endpoint out of range.
+/// of its weights.
+/// Cost: O(V + E) (counting into rows); here O(V + E log d), each row of at most d entries sorted.
+/// Throws: InvalidInputError for an endpoint out of range.
+/// Pre: no more than 2^32 - 1 vertices.
 [[nodiscard]] Graph make_graph(std::size_t vertex_count, std::span<const Edge> edges);
 
 /// `graph` with the undirected `edges` added (rows stay sorted; an edge
-/// already present is not repeated). Weights are kept when the graph has
-/// them, taken from the new edges. Throws InvalidInputError for an endpoint
-/// out of range.
+/// already present is not repeated, the lighter weight kept). Weights are
+/// kept when the graph has them, taken from the new edges.
+/// Cost: O(V + E log d), a make_graph over the old and the new edges.
+/// Throws: InvalidInputError for an endpoint out of range.
+/// Pre: none.
 [[nodiscard]] Graph with_edges(const Graph& graph, std::span<const Edge> edges);
 
 /// Every undirected edge once, as {u, v, weight(u, e)} with u < v and e its
 /// position in row u; in row order. Self-loops are left out. `weight(v, e)`
 /// is the weight of the edge at CSR position e of row v, as Prim takes it
 /// (minimum_spanning_tree.h).
+/// Cost: O(V + E) and E calls of `weight`.
+/// Throws: what `weight` throws; nothing else.
+/// Pre: none.
 template <class Weight>
 [[nodiscard]] std::vector<Edge> edge_list(const Graph& graph, Weight&& weight) {
   std::vector<Edge> edges;
@@ -78,6 +86,10 @@ struct Components {
   std::vector<std::uint32_t> label;
   std::vector<std::uint32_t> sizes;  ///< vertices per component
 };
+/// The components of `graph`, by breadth-first search from each vertex not yet labelled, in index order.
+/// Cost: O(V + E).
+/// Throws: nothing.
+/// Pre: none.
 [[nodiscard]] Components connected_components(const Graph& graph);
 
 }  // namespace recon

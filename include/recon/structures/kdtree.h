@@ -73,8 +73,11 @@ struct NeighborLists {
   }
 };
 
-/// Throws InvalidInputError when coordinates are NaN, infinite or beyond
-/// +-max_coordinate, saying how many points have one and which comes first.
+/// Checks that every coordinate is usable: finite and within +-max_coordinate.
+/// Cost: O(n).
+/// Throws: InvalidInputError when some are NaN, infinite or beyond +-max_coordinate (the message
+/// says how many points have one and which comes first).
+/// Pre: none.
 template <int D>
 void check_coordinates(std::span<const Vec<D>> points);
 
@@ -105,21 +108,29 @@ class KdTree {
   };
 
   KdTree() = default;
-  /// Builds the tree over `points`. Throws InvalidInputError for more than
-  /// 2^32 - 1 points, a leaf size below 1, or coordinates that are not finite
-  /// or beyond +-max_coordinate (the message counts them and names the first).
+  /// Builds the tree over `points` (n of them).
+  /// Cost: O(n log n), a linear median selection per level; subtrees over 65536 points are built in parallel.
+  /// Throws: InvalidInputError for more than 2^32 - 1 points, a leaf size below 1, or coordinates that are
+  /// not finite or beyond +-max_coordinate (the message counts them and names the first).
+  /// Pre: none.
   explicit KdTree(std::span<const Point> points, KdTreeOptions options = {});
   /// The same over the points moved by -shift (points[i] - shift, computed
   /// as the tree copies them: the caller's array is neither copied first nor
   /// changed). reconstruct() builds its tree this way from a cloud it does
   /// not own.
+  /// Cost: as above.
+  /// Throws: as above (the coordinates are checked before the shift).
+  /// Pre: none.
   KdTree(std::span<const Point> points, KdTreeOptions options, const Point& shift);
 
   [[nodiscard]] std::size_t size() const { return points_.size(); }
   [[nodiscard]] bool empty() const { return points_.empty(); }
 
   /// The k nearest points to q, in (distance, index) order; fewer when the
-  /// tree holds fewer than k points.
+  /// tree holds fewer than k points (none for k <= 0).
+  /// Cost: O(log n + k) expected for well-spread points (Friedman, Bentley, Finkel); O(n) at worst.
+  /// Throws: nothing.
+  /// Pre: q finite.
   [[nodiscard]] std::vector<Neighbor> knn(const Point& q, int k) const;
   /// Same, writing into `out` (capacity k = out.size()); returns how many
   /// were written. No allocation: this is the form for hot loops. Only
@@ -127,37 +138,56 @@ class KdTree {
   /// caller knows k points lie that close (for the next point of a walk,
   /// the previous one's k-th distance plus the step), the answer is the same
   /// and the search prunes from the start.
+  /// Cost: as knn above.
+  /// Throws: nothing.
+  /// Pre: q finite.
   std::size_t knn(const Point& q, std::span<Neighbor> out,
                   double within2 = std::numeric_limits<double>::infinity()) const;
 
-  /// The nearest point to q. Precondition: the tree is not empty.
+  /// The nearest point to q; {no_child, infinity} when the tree is empty.
+  /// Cost: O(log n) expected; O(n) at worst.
+  /// Throws: nothing.
+  /// Pre: q finite.
   [[nodiscard]] Neighbor nearest(const Point& q) const;
 
   /// Whether some point lies within distance sqrt(radius2) of q
-  /// (inclusive). Stops at the first one found: cheaper than asking for the
-  /// nearest and comparing.
+  /// (inclusive); false for a negative or NaN radius2. Stops at the first
+  /// one found: cheaper than asking for the nearest and comparing.
+  /// Cost: O(log n) expected; O(n) at worst.
+  /// Throws: nothing.
+  /// Pre: q finite.
   [[nodiscard]] bool any_within(const Point& q, double radius2) const;
 
   /// Every point within distance sqrt(radius2) of q (inclusive), in
   /// (distance, index) order.
+  /// Cost: O(log n + m log m) expected for m points found (the sort); O(n + m log m) at worst.
+  /// Throws: nothing.
+  /// Pre: q finite.
   [[nodiscard]] std::vector<Neighbor> radius(const Point& q, double radius2) const;
 
   /// The nearest point whose label differs from `own_label`, among points
   /// at squared distance <= max_distance2; index == no_child when none is.
-  /// `point_labels` is indexed like the input points; `node_labels` comes
-  /// from node_labels(point_labels) and lets whole subtrees of one label be
-  /// skipped. Used by the Borůvka EMST to find each component's nearest
-  /// outside point.
+  /// Subtrees whose points all carry `own_label` are skipped. Used by the
+  /// Borůvka EMST to find each component's nearest outside point.
+  /// Cost: O(log n) expected when the other labels are near; O(n) at worst.
+  /// Throws: nothing.
+  /// Pre: point_labels has one label per input point, node_labels is node_labels(point_labels) of this
+  /// tree; q finite.
   [[nodiscard]] Neighbor nearest_with_other_label(const Point& q, std::int32_t own_label,
                                                   std::span<const std::int32_t> point_labels,
                                                   std::span<const std::int32_t> node_labels,
                                                   double max_distance2) const;
   /// Per node: the label all its points share, or -1 if they differ.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: point_labels has one non-negative label per input point.
   [[nodiscard]] std::vector<std::int32_t> node_labels(std::span<const std::int32_t> point_labels) const;
 
   /// The k nearest neighbours of every point in the tree (itself included),
   /// computed in parallel, visiting the points in leaf order for locality.
-  /// Precondition: 1 <= k <= size().
+  /// Cost: O(n (log n + k)) expected, shared among the threads.
+  /// Throws: InvalidInputError unless 1 <= k <= size().
+  /// Pre: none.
   [[nodiscard]] KnnTable all_knn(int k) const;
   /// The same table, counted for the alternatives lab: adds to
   /// counts->distance_evaluations one for every point of every leaf the
@@ -165,6 +195,7 @@ class KdTree {
   /// slab bounds that prune subtrees are not counted). counts == nullptr is
   /// all_knn(k). The plain all_knn(k) counts nothing and is not slowed: the
   /// counting is compiled into a separate instance of the search.
+  /// Cost, throws and preconditions as all_knn(k).
   [[nodiscard]] KnnTable all_knn(int k, OperationCounts* counts) const;
 
   /// Renumbers the points by tree position: point t of points() becomes
@@ -172,6 +203,9 @@ class KdTree {
   /// identity. Returns the former index of each point (the permutation from
   /// the new numbering to the old). The leaf order is a spatial order as good
   /// as a space-filling curve: reconstruct() adopts it for all its arrays.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: none.
   std::vector<std::uint32_t> renumber_by_leaf_order();
   /// True after renumber_by_leaf_order().
   [[nodiscard]] bool numbered_by_leaf_order() const { return leaf_numbered_; }
@@ -181,8 +215,10 @@ class KdTree {
   /// and splits are recomputed from the new points. Searches are exact for
   /// any points; they are as fast as in a tree built afresh when each point
   /// lies near the one it replaces, as a tangent plane's origin lies near
-  /// its sample. O(n), a small fraction of a build. Throws InvalidInputError
-  /// for a different count or unusable coordinates (see check_coordinates).
+  /// its sample.
+  /// Cost: O(n), a small fraction of a build.
+  /// Throws: InvalidInputError for a different count or unusable coordinates (see check_coordinates).
+  /// Pre: none.
   [[nodiscard]] KdTree refit(std::span<const Point> points) const;
 
   /// Nodes in pre-order; nodes()[0] is the root.

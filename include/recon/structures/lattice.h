@@ -87,24 +87,33 @@ struct Lattice {
   static constexpr std::size_t axes = D, shift = key_bits;
 };
 
-/// The lattice the walks lay over `seeds` (not empty) at cell side `cell`.
-/// Throws InvalidInputError for a cell that is not a positive length, and
-/// ResourceLimitError when an axis would need more than max_cells_per_axis
-/// cells.
+/// The lattice the walks lay over `seeds` at cell side `cell`.
+/// Cost: O(n) for the bounding box of n seeds.
+/// Throws: InvalidInputError for a cell that is not a positive, finite length; ResourceLimitError when an
+/// axis would need more than max_cells_per_axis cells.
+/// Pre: seeds not empty, with finite coordinates.
 template <int D>
 [[nodiscard]] Lattice<D> make_lattice(std::span<const Vec<D>> seeds, double cell);
-/// The same over the seeds' bounding box, known beforehand (not empty).
+/// The same over the seeds' bounding box, known beforehand.
+/// Cost: O(D).
+/// Throws: as above.
+/// Pre: box not empty, finite.
 template <int D>
 [[nodiscard]] Lattice<D> make_lattice(const Box<D>& box, double cell);
 
-/// Whether make_lattice(box, cell) would fit (box not empty): false where it
-/// would throw ResourceLimitError. Costs D divisions; throws
-/// InvalidInputError for a cell that is not a positive length. (reconstruct()
-/// asks before laying one lattice over a cloud of far-apart clusters.)
+/// Whether make_lattice(box, cell) would fit: false where it would throw
+/// ResourceLimitError. (reconstruct() asks before laying one lattice over a
+/// cloud of far-apart clusters.)
+/// Cost: O(D), D divisions.
+/// Throws: InvalidInputError for a cell that is not a positive, finite length.
+/// Pre: box not empty, finite.
 template <int D>
 [[nodiscard]] bool lattice_fits(const Box<D>& box, double cell);
 
-/// Throws InvalidInputError unless `cell` is a positive, finite length.
+/// Checks that `cell` can be a lattice's cell side.
+/// Cost: O(1).
+/// Throws: InvalidInputError unless `cell` is a positive, finite length.
+/// Pre: none.
 void check_lattice_cell(double cell);
 
 }  // namespace recon

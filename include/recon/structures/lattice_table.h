@@ -16,11 +16,8 @@
 // inserted, and never change (growing rehashes the table, not the slots), so
 // callers keep what they know of a key in arrays indexed by slot.
 //
-// Costs: find and insert take expected O(1) probes, the table being at most
-// half full; it doubles when it would be fuller, rehashing every key
-// (amortised O(1) per insert). Memory: 8 bytes per key, plus 8 to 16 bytes
-// per key for the table. Precondition: fewer than 2^32 keys (slots are
-// 32-bit, and the largest value marks an empty cell).
+// Memory: 8 bytes per key, plus 8 to 16 bytes per key for the table (at
+// most half full; it doubles when it would be fuller, rehashing every key).
 //
 // Threads: find() and key() are safe from many threads at once while
 // nothing is inserted; insert() is not.
@@ -49,16 +46,25 @@ class LatticeTable {
   [[nodiscard]] std::size_t capacity() const { return table_.size(); }
 
   /// The slot of `key`, or `absent`.
+  /// Cost: O(1) expected probes (the table is at most half full).
+  /// Throws: nothing.
+  /// Pre: none.
   [[nodiscard]] std::uint32_t find(std::uint64_t key) const {
     for (std::size_t h = hash(key);; h = (h + 1) & (table_.size() - 1)) {
       const std::uint32_t slot = table_[h];
       if (slot == absent || keys_[slot] == key) return slot;
     }
   }
-  /// The key of a slot. Precondition: slot < size().
+  /// The key of a slot.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: slot < size().
   [[nodiscard]] std::uint64_t key(std::uint32_t slot) const { return keys_[slot]; }
 
   /// The slot of `key`, and whether it was added (as slot size() - 1).
+  /// Cost: O(1) expected probes, amortised over the doublings that rehash every key.
+  /// Throws: nothing.
+  /// Pre: fewer than 2^32 - 1 keys so far (slots are 32-bit, and the largest value marks an empty cell).
   std::pair<std::uint32_t, bool> insert(std::uint64_t key) {
     if (2 * (keys_.size() + 1) > table_.size()) grow();
     std::size_t h = hash(key);

@@ -28,9 +28,15 @@ struct PolylineSet {
 };
 
 /// Total length of the segments of `line` (with the closing one when closed).
+/// Cost: O(m) for m vertices in `line`.
+/// Throws: nothing.
+/// Pre: line's indices are below set.vertices.size().
 [[nodiscard]] double length(const PolylineSet& set, const Polyline& line);
 /// Signed area enclosed by a closed polyline (shoelace formula): positive
 /// when it runs counter-clockwise. 0 for an open one.
+/// Cost: O(m) for m vertices in `line`.
+/// Throws: nothing.
+/// Pre: line's indices are below set.vertices.size().
 [[nodiscard]] double signed_area(const PolylineSet& set, const Polyline& line);
 
 }  // namespace recon

@@ -21,23 +21,38 @@ namespace recon {
 
 /// order[j] = index of the point that comes j-th along the Z-order curve of
 /// the points' bounding box, quantized to 2^21 cells per axis (points in one
-/// cell keep their input order). Cost: O(n log n), one sort of 64-bit keys.
+/// cell keep their input order).
+/// Cost: O(n log n), one sort of 64-bit keys.
+/// Throws: nothing.
+/// Pre: fewer than 2^32 points, finite coordinates.
 [[nodiscard]] std::vector<std::uint32_t> spatial_order(std::span<const Vec3> points);
 
 /// Each point's place on that curve: its 63-bit Z-order code (the key
-/// spatial_order sorts by). Cost: O(n).
+/// spatial_order sorts by).
+/// Cost: O(n).
+/// Throws: nothing.
+/// Pre: finite coordinates.
 [[nodiscard]] std::vector<std::uint64_t> spatial_keys(std::span<const Vec3> points);
 
 /// Each point's cell on that grid: its coordinates quantized to 0 ..
 /// 2^21 - 1 across the bounding box, per axis (what spatial_keys
-/// interleaves). Cost: O(n).
+/// interleaves).
+/// Cost: O(n).
+/// Throws: nothing.
+/// Pre: finite coordinates.
 [[nodiscard]] std::vector<std::array<std::uint32_t, 3>> spatial_cells(std::span<const Vec3> points);
 
 /// The Z-order codes of cells spatial_cells gave (spatial_keys of the
-/// points they came from). Cost: O(n).
+/// points they came from).
+/// Cost: O(n).
+/// Throws: nothing.
+/// Pre: none (bits above the 21st of each coordinate are ignored).
 [[nodiscard]] std::vector<std::uint64_t> spatial_keys(std::span<const std::array<std::uint32_t, 3>> cells);
 
 /// values[order[0]], values[order[1]], ...
+/// Cost: O(m) for m = order.size().
+/// Throws: nothing.
+/// Pre: every order[j] < values.size().
 template <class T>
 [[nodiscard]] std::vector<T> permuted(std::span<const T> values, std::span<const std::uint32_t> order) {
   std::vector<T> out;

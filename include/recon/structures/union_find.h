@@ -29,21 +29,36 @@ namespace recon {
 class UnionFind {
  public:
   /// n singleton sets {0}, {1}, ..., {n-1}.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: n < 2^32.
   explicit UnionFind(std::size_t n);
 
   /// Adds the singleton set {size()} and returns its element.
+  /// Cost: O(1) amortized.
+  /// Throws: nothing.
+  /// Pre: size() < 2^32 - 1.
   std::uint32_t add();
   [[nodiscard]] std::size_t size() const { return parent_.size(); }
 
   /// The root of x's set. Shortens the path it walks (path halving).
+  /// Cost: O(alpha(n)) amortized; O(log n) at worst (union by size).
+  /// Throws: nothing.
+  /// Pre: x < size().
   std::uint32_t find(std::uint32_t x);
   /// The same without shortening paths: safe from many threads at once
   /// while nothing is united.
+  /// Cost: O(log n) (union by size bounds the height).
+  /// Throws: nothing.
+  /// Pre: x < size().
   [[nodiscard]] std::uint32_t root(std::uint32_t x) const {
     while (parent_[x] != x) x = parent_[x];
     return x;
   }
   /// Joins the sets of a and b. Returns false when they were already one.
+  /// Cost: O(alpha(n)) amortized, two finds.
+  /// Throws: nothing.
+  /// Pre: a, b < size().
   bool unite(std::uint32_t a, std::uint32_t b);
 
   [[nodiscard]] std::size_t set_count() const { return sets_; }
