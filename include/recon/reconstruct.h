@@ -104,8 +104,12 @@ struct ReconstructionOptions {
   ProgressCounter* progress = nullptr;
 };
 
-/// "refined" or "hoppe92"; InvalidInputError for another name.
+/// The method named "refined" or "hoppe92".
+/// Cost: O(1).
+/// Throws: InvalidInputError for another name.
+/// Pre: none.
 [[nodiscard]] Method method_from_name(std::string_view name);
+/// The method's name, as method_from_name reads it. Cost: O(1). Throws: nothing. Pre: none.
 [[nodiscard]] const char* method_name(Method method);
 
 /// One of the far-apart clusters of a cloud too wide for one lattice (see
@@ -187,13 +191,12 @@ struct Reconstruction {
   FaceNormalFill face_normals;                 ///< the normals filled from the faces (vertex_normals)
 };
 
-/// The phases run in order (reference.h writes them out plainly), except
-/// that with more than one thread phase III's values at the corners of the
-/// cubes holding a sample are computed on a thread of their own while phase
-/// II's Prim (serial) runs, from the unoriented planes; the result is the
-/// same bit for bit (src/first_wave.h). Before phases I-II and before
-/// the lattice, the memory they will hold is estimated (memory_budget.h)
-/// and ResourceLimitError thrown when it exceeds max_memory.
+/// A triangle mesh from `cloud`, by the phases in order, keeping every
+/// phase's result. alternatives/reference.h writes the same phases out
+/// plainly; here, with more than one thread, phase III's values at the
+/// corners of the cubes that hold a sample are computed on a thread of
+/// their own while phase II's Prim (serial) runs, from the unoriented
+/// planes, which gives the same result bit for bit (src/first_wave.h).
 ///
 /// Far-apart clusters. One lattice over the whole cloud needs at most
 /// Lattice<3>::max_cells_per_axis cubes along an axis (2^21 - 2: its keys
@@ -204,27 +207,30 @@ struct Reconstruction {
 /// slab along an axis (recursively) wider than twice the farthest reach of
 /// any phase (the widest neighbourhood of a sample that draws, f's reach
 /// past a plane, phase V's, a lattice's margin): no phase links two of them.
-/// Each cluster is contoured (phase IV) on a lattice over its own samples
-/// (a cluster of isolated samples only, stray points, draws nothing and is
-/// skipped),
-/// as a run over that cluster alone with the same choices would be; phase V
-/// refines the meshes, concatenated in the clusters' order
-/// (Reconstruction::clusters). Cost: a sort of the samples per axis and
-/// level of splitting; nothing when one lattice fits, and then the result is
-/// the same, bit for bit, as before this existed. Phase II's first wave is
-/// not computed beside it then (it lays one lattice).
+/// Each cluster is contoured (phase IV) on a lattice over its own samples (a
+/// cluster of stray points draws nothing and is skipped), as a run over that
+/// cluster alone with the same choices would be; phase V refines the meshes,
+/// concatenated in the clusters' order (Reconstruction::clusters). This
+/// costs a sort of the samples per axis and level of splitting, and nothing
+/// when one lattice fits (the usual case, whose result it leaves bit for bit
+/// as it was). Phase II's first wave is not computed beside it then.
 ///
-/// Throws what the phases throw (InvalidInputError for unusable data or
-/// parameters, a simplify step's bad values included, checked before phase
-/// I; a triangle target above the mesh's triangles once it is known), and
-/// as before (InvalidInputError for unusable data or
-/// parameters, ResourceLimitError for a lattice too large: when one of the
-/// clusters alone is too wide for one lattice, the message says so), and
-/// InvalidInputError when use_input_normals is set but the cloud has none,
-/// or the cloud's colours are not one per point, and when phase IV finds no
-/// surface (an empty contour; the message gives the cell, rho, delta and
-/// the cloud's size, and says to lower the cell when it is as large as the
-/// cloud) rather than return an empty mesh.
+/// Cost: textbook (reference.h) O(n^2) for n points; here O(n k log n)
+/// expected at k neighbours (phase I's searches and phase II's Prim
+/// dominate), plus O(c) for the c lattice cubes the surface crosses (about
+/// n at the default cell), phases I and III-V on all threads.
+/// Throws: InvalidInputError for unusable data or parameters, checked
+/// before phase I where they can be (a simplify step's values, the cell or
+/// resolution, use_input_normals on a cloud without normals, colours not
+/// one per point), later what the phases throw, a triangle target above the
+/// mesh's triangles, and "no surface found" when phase IV finds none (the
+/// message gives the cell, rho, delta and the cloud's size, and says to
+/// lower the cell when it is as large as the cloud) rather than return an
+/// empty mesh; ResourceLimitError when the memory estimated before phases
+/// I-II or before the lattice (memory_budget.h) exceeds max_memory, or a
+/// single cluster is too wide for one lattice; whatever the installed
+/// interruption check throws (core/interruption.h).
+/// Pre: none.
 [[nodiscard]] Reconstruction reconstruct(const PointCloud& cloud, const ReconstructionOptions& options = {});
 /// The same on a cloud held elsewhere (numpy arrays, a memory map): read in
 /// place, never copied; phase I's kd-tree makes the one working copy of the
@@ -234,7 +240,8 @@ struct Reconstruction {
 /// I's kd-tree holds the points, which lowers the peak memory.
 [[nodiscard]] Reconstruction reconstruct(PointCloud&& cloud, const ReconstructionOptions& options = {});
 /// The three above: `release` is called as soon as nothing more is read
-/// from `cloud` (the caller may free it then).
+/// from `cloud` (the caller may free it then). Cost, Throws: reconstruct()'s.
+/// Pre: `cloud`'s arrays live until `release` is called.
 [[nodiscard]] Reconstruction reconstruct_from(PointCloudView cloud, const ReconstructionOptions& options,
                                               const std::function<void()>& release);
 
@@ -243,29 +250,39 @@ struct Reconstruction {
 /// web/webapp/): phases I and II, then phases III to VI and the colours on
 /// their result, as often as wanted. The mesh is reconstruct()'s bit for
 /// bit (phase III's values are computed after phase II rather than beside
-/// it, which gives the same values: src/first_wave.h). Cost: that of
-/// reconstruct(), and each later call that of phases III-VI; the graph
-/// stays in the result while keep_graph asks for it.
-/// Phases I-II read options' method, planes, orientation, quadrics,
-/// use_input_normals, max_memory, offset, keep_graph and, in the refined
-/// method, the cell (phase I's second-order fits tell two sheets apart at
-/// 1.5 cells): a later call with another cell in the refined method does
-/// not give reconstruct()'s mesh for that cell; in hoppe92 it does.
-/// Throws what reconstruct() throws for those phases.
+/// it, which gives the same values: src/first_wave.h). The graph stays in
+/// the result while keep_graph asks for it. Phases I-II read options'
+/// method, planes, orientation, quadrics, use_input_normals, max_memory,
+/// offset, keep_graph and, in the refined method, the cell (phase I's
+/// second-order fits tell two sheets apart at 1.5 cells): a later call with
+/// another cell in the refined method does not give reconstruct()'s mesh
+/// for that cell; in hoppe92 it does.
+/// Cost: O(n k log n) expected, as reconstruct()'s phases I-II.
+/// Throws: what reconstruct() throws for those phases.
+/// Pre: none.
 [[nodiscard]] Reconstruction reconstruct_phases_1_2(PointCloudView cloud, const ReconstructionOptions& options);
-/// Phase II alone on `r` from reconstruct_phase_1 (below) with the same
-/// options: reconstruct_phases_1_2 is the two in a row (the web page shows
-/// phase I's layers between them). Throws what reconstruct() throws there.
+/// Phase II alone on `r` from reconstruct_phase_1 (below):
+/// reconstruct_phases_1_2 is the two in a row (the web page shows phase I's
+/// layers between them).
+/// Cost: O(n k log n) expected (the graph and Prim).
+/// Throws: what reconstruct() throws in phase II.
+/// Pre: `r` from reconstruct_phase_1 with the same options, phase II not yet run on it.
 void reconstruct_phase_2_on(Reconstruction& r, const ReconstructionOptions& options);
-/// Phases III-VI on `r` from reconstruct_phases_1_2 (its later results, if
-/// any, replaced). Throws what reconstruct() throws for those phases, and
-/// InvalidInputError when options.method is not the method of r's phase I.
+/// Phases III-VI and the colours on `r` (its later results, if any,
+/// replaced).
+/// Cost: O(n log n + c) expected, as reconstruct()'s phases III-VI.
+/// Throws: what reconstruct() throws for those phases; InvalidInputError
+/// when options.method is not the method of r's phase I.
+/// Pre: `r` from reconstruct_phases_1_2 (or phase 1 then phase 2 on it).
 void reconstruct_phases_3_on(Reconstruction& r, const ReconstructionOptions& options);
 /// Phase I alone, as reconstruct() runs it: the planes, and in the refined
 /// method the second-order fits (with a raised k undone where they find
 /// two sheets); r.order, r.offset and r.planes (neighbour lists kept), and
 /// r.quadrics. Tiled runs (tiles.h) take the cloud-wide measures from it
-/// and run the later phases tile by tile. Throws what reconstruct() does.
+/// and run the later phases tile by tile.
+/// Cost: O(n k log n) expected (the tree, the searches, the fits).
+/// Throws: what reconstruct() throws before and in phase I.
+/// Pre: none.
 [[nodiscard]] Reconstruction reconstruct_phase_1(PointCloudView cloud, const ReconstructionOptions& options);
 
 }  // namespace recon
