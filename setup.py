@@ -40,7 +40,7 @@ def cmake_build_dir() -> Path:
 
 
 def viewer_can_be_built(root: Path) -> bool:
-    """Node.js and the npm packages the viewer is bundled from (src/CMakeLists.txt checks the same)."""
+    """Node.js and the npm packages the viewer is bundled from (src/report/CMakeLists.txt checks the same)."""
     modules = root / "web" / "node_modules"
     has_node = shutil.which("node") is not None or shutil.which("nodejs") is not None
     return has_node and (modules / "esbuild").exists() and (modules / "three").exists()

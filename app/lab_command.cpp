@@ -80,20 +80,25 @@ std::string counts_line(const LabRun& r) {
 
 void print_tables(const LabResult& result, Summary& summary) {
   summary.say("");
-  summary.say("kind    run                      graph                  time       tree weight  pieces    flips   default     truth");
+  summary.say(
+      "kind    run                      graph                  time       tree weight  pieces    flips   default     "
+      "truth");
   for (const LabRun& r : result.runs)
     if (r.skipped.empty()) summary.say(run_line(r));
   summary.say("");
-  summary.say("run                          pushes       pops  decr.-key  comparisons      finds     unions     distances rounds");
+  summary.say(
+      "run                          pushes       pops  decr.-key  comparisons      finds     unions     distances "
+      "rounds");
   for (const LabRun& r : result.runs)
     if (r.skipped.empty() && r.counts != OperationCounts{}) summary.say(counts_line(r));
   for (const LabRun& r : result.runs)
     if (!r.skipped.empty()) summary.say("skipped " + r.name + ": " + r.skipped);
   summary.say("");
-  summary.say("default: share of normals on the side the Riemannian graph (the default) gives them; truth: on the "
-              "side of the input's own normals, where it has them. All the searches found the same neighbours, and "
-              "all the trees of one graph weigh the same (checked); with --simplify, every queue gave the same mesh "
-              "(checked; decr.-key counts its key updates, up or down).");
+  summary.say(
+      "default: share of normals on the side the Riemannian graph (the default) gives them; truth: on the "
+      "side of the input's own normals, where it has them. All the searches found the same neighbours, and "
+      "all the trees of one graph weigh the same (checked); with --simplify, every queue gave the same mesh "
+      "(checked; decr.-key counts its key updates, up or down).");
 }
 
 Json counts_json(const OperationCounts& c) {
@@ -143,8 +148,8 @@ void record(const LabResult& result, Summary& summary) {
 }
 
 // The report: layers 1 to 5 of the default run, and the lab panel.
-void write_lab_report(const std::filesystem::path& path, const LabResult& result,
-                      const std::filesystem::path& source, Summary& summary) {
+void write_lab_report(const std::filesystem::path& path, const LabResult& result, const std::filesystem::path& source,
+                      Summary& summary) {
   Timer timer;
   const ReportOptions options = run_report_options(source, summary);
   ReportInput input;

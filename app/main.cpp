@@ -7,11 +7,11 @@
 
 #include "recon/core/errors.h"
 #include "recon/core/fp_traps.h"
+#include "recon/core/parallel.h"
+#include "recon/core/version.h"
 #include "recon/io/atomic_file.h"
 #include "recon/io/point_io.h"  // file_being_read
-#include "recon/core/parallel.h"
 #include "recon/tiles/tiles.h"
-#include "recon/core/version.h"
 
 #include <csignal>
 #include <cstdio>
@@ -109,8 +109,9 @@ int main(int argc, char** argv) {
   // more peak memory on a million points, measured.)
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
 #endif
-  CLI::App app{"recon: triangle meshes and oriented normals from unorganized point clouds\n"
-               "(Hoppe, DeRose, Duchamp, McDonald, Stuetzle: Surface reconstruction from unorganized points, 1992)"};
+  CLI::App app{
+      "recon: triangle meshes and oriented normals from unorganized point clouds\n"
+      "(Hoppe, DeRose, Duchamp, McDonald, Stuetzle: Surface reconstruction from unorganized points, 1992)"};
   app.require_subcommand(1);
   // "recon 0.1.0+g1a2b3c4", exit status 0: what a bug report should quote (recon/core/version.h).
   app.set_version_flag("--version", "recon " + std::string(recon::version()), "Print recon's version and exit");

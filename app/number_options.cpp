@@ -73,8 +73,9 @@ std::pair<std::size_t, double> simplify_target_of(const std::string& text) {
 }
 
 CLI::Validator simplify_target() {
-  const std::string expected = "a triangle count (a whole number of 1 or more), a ratio between 0 and 1, or a "
-                               "percentage below 100% (e.g. 5000, 0.1, 10%)";
+  const std::string expected =
+      "a triangle count (a whole number of 1 or more), a ratio between 0 and 1, or a "
+      "percentage below 100% (e.g. 5000, 0.1, 10%)";
   return CLI::Validator(
       [expected](std::string& text) -> std::string {
         const auto [count, ratio] = simplify_target_of(text);

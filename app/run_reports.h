@@ -6,10 +6,10 @@
 
 #include "summary.h"
 
+#include "recon/core/resource_usage.h"
 #include "recon/io/point_io.h"  // ReadNotes
 #include "recon/reconstruct.h"
 #include "recon/report/report.h"
-#include "recon/core/resource_usage.h"
 
 #include <cstdint>
 #include <filesystem>

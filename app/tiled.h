@@ -16,7 +16,7 @@ namespace recon::cli {
 /// nothing when it runs in memory as usual. May stream the input once to
 /// count its points (only when its size leaves doubt).
 [[nodiscard]] std::optional<std::string> tiling_reason(const ReconstructCommandOptions& o,
-                                                      const ReconstructionOptions& options);
+                                                       const ReconstructionOptions& options);
 
 /// The tiled run: streams the input into tiles under --tmpdir (default: the
 /// output's folder), reconstructs them one after the other and streams the

@@ -16,11 +16,11 @@
 //
 // Built when Boost.Graph is installed (bench/run.sh installs it).
 
+#include "recon/core/shapes.h"
+#include "recon/phase1_planes/tangent_planes.h"
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
 #include "recon/phase2_orientation/riemannian_graph.h"
-#include "recon/core/shapes.h"
 #include "recon/structures/spatial_order.h"
-#include "recon/phase1_planes/tangent_planes.h"
 
 #include <benchmark/benchmark.h>
 

@@ -34,12 +34,12 @@
 //
 // Run through bench/run.sh; results are discussed in docs/benchmarks.md.
 
-#include "recon/structures/kdtree.h"
 #include "recon/core/parallel.h"
 #include "recon/core/shapes.h"
-#include "recon/phase1_planes/tangent_planes.h"
-#include "recon/structures/spatial_order.h"
 #include "recon/core/timer.h"
+#include "recon/phase1_planes/tangent_planes.h"
+#include "recon/structures/kdtree.h"
+#include "recon/structures/spatial_order.h"
 
 #include <benchmark/benchmark.h>
 
@@ -421,10 +421,7 @@ BENCHMARK(leaf_sweep_ours)
     ->ArgsProduct({{4, 6, 8, 10, 12, 16, 24, 32}, {0}})
     ->ArgNames({"leaf", "morton"})
     ->Apply(common);
-BENCHMARK(leaf_sweep_nanoflann)
-    ->ArgsProduct({{4, 8, 10, 16, 32}, {1}})
-    ->ArgNames({"leaf", "morton"})
-    ->Apply(common);
+BENCHMARK(leaf_sweep_nanoflann)->ArgsProduct({{4, 8, 10, 16, 32}, {1}})->ArgNames({"leaf", "morton"})->Apply(common);
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);

@@ -17,16 +17,16 @@
 
 #include "recon/alternatives/boruvka.h"
 #include "recon/alternatives/counting_queue.h"
-#include "recon/structures/fibonacci_heap.h"
 #include "recon/alternatives/kruskal.h"
-#include "recon/structures/list_heap.h"
-#include "recon/phase2_orientation/minimum_spanning_tree.h"
-#include "recon/structures/pairing_heap.h"
-#include "recon/phase2_orientation/riemannian_graph.h"
 #include "recon/core/shapes.h"
-#include "recon/structures/spatial_order.h"
-#include "recon/phase1_planes/tangent_planes.h"
 #include "recon/core/timer.h"
+#include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/minimum_spanning_tree.h"
+#include "recon/phase2_orientation/riemannian_graph.h"
+#include "recon/structures/fibonacci_heap.h"
+#include "recon/structures/list_heap.h"
+#include "recon/structures/pairing_heap.h"
+#include "recon/structures/spatial_order.h"
 
 #include <algorithm>
 #include <cmath>
@@ -45,7 +45,7 @@ recon::Graph workload(std::size_t n) {
       recon::permuted<recon::Vec3>(cloud.positions, recon::spatial_order(cloud.positions));
   const auto planes = recon::estimate_tangent_planes<3>(points);
   return recon::with_orientation_costs<3>(recon::build_riemannian_graph<3>(planes).graph,
-                                         std::span<const recon::Vec3>(planes.normals));
+                                          std::span<const recon::Vec3>(planes.normals));
 }
 
 struct Contender {
@@ -71,7 +71,8 @@ Contender contender(std::string name, std::function<double(const recon::Graph&)>
 template <template <class> class Heap>
 Contender prim(std::string name, bool quadratic = false) {
   return contender(
-      std::move(name), [](const recon::Graph& g) { return recon::prim_minimum_spanning_forest<Heap<double>>(g).total_weight; },
+      std::move(name),
+      [](const recon::Graph& g) { return recon::prim_minimum_spanning_forest<Heap<double>>(g).total_weight; },
       [](const recon::Graph& g) { return recon::prim_minimum_spanning_forest<recon::CountingQueue<Heap>>(g).counts; },
       quadratic);
 }
@@ -103,8 +104,12 @@ std::vector<Contender> contenders() {
   // nearly free and what remains is the union-find.
   all.push_back(contender(
       "kruskal/presorted",
-      [](const recon::Graph& g) { return recon::kruskal_minimum_spanning_forest(g.vertex_count(), sorted_edges(g)).total_weight; },
-      [](const recon::Graph& g) { return recon::kruskal_minimum_spanning_forest(g.vertex_count(), sorted_edges(g)).counts; }));
+      [](const recon::Graph& g) {
+        return recon::kruskal_minimum_spanning_forest(g.vertex_count(), sorted_edges(g)).total_weight;
+      },
+      [](const recon::Graph& g) {
+        return recon::kruskal_minimum_spanning_forest(g.vertex_count(), sorted_edges(g)).counts;
+      }));
   all.push_back(contender(
       "boruvka", [](const recon::Graph& g) { return recon::boruvka_minimum_spanning_forest(g).total_weight; },
       [](const recon::Graph& g) { return recon::boruvka_minimum_spanning_forest(g).counts; }));
@@ -139,7 +144,8 @@ void bench(std::size_t n, int reps, std::size_t max_list_heap) {
     }
   }
   for (const Contender& c : all) print_row(n, c, all.front().best);
-  if (n > max_list_heap) std::printf("| %zu | prim/list-heap | skipped: beyond --max-list-heap %zu | | | | | | | | |\n", n, max_list_heap);
+  if (n > max_list_heap)
+    std::printf("| %zu | prim/list-heap | skipped: beyond --max-list-heap %zu | | | | | | | | |\n", n, max_list_heap);
 }
 
 }  // namespace
@@ -151,16 +157,22 @@ int main(int argc, char** argv) {
   for (int a = 1; a + 1 < argc; a += 2) {
     const std::string option = argv[a];
     const std::size_t value = std::strtoull(argv[a + 1], nullptr, 10);
-    if (option == "--points") sizes.push_back(value);
-    else if (option == "--reps") reps = std::max(1, static_cast<int>(value));
-    else if (option == "--max-list-heap") max_list_heap = value;
+    if (option == "--points")
+      sizes.push_back(value);
+    else if (option == "--reps")
+      reps = std::max(1, static_cast<int>(value));
+    else if (option == "--max-list-heap")
+      max_list_heap = value;
     else {
       std::fprintf(stderr, "usage: recon_mst_bench [--points N ...] [--reps R] [--max-list-heap N]\n");
       return 2;
     }
   }
   if (sizes.empty()) sizes = {100'000, 1'000'000};
-  std::printf("| points | algorithm | ms (best of %d) | × binary heap | pushes | pops | decrease-keys | comparisons | finds | unions | rounds |\n", reps);
+  std::printf(
+      "| points | algorithm | ms (best of %d) | × binary heap | pushes | pops | decrease-keys | comparisons | finds | "
+      "unions | rounds |\n",
+      reps);
   std::printf("|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const std::size_t n : sizes) bench(n, reps, max_list_heap);
   return 0;

@@ -27,13 +27,13 @@
 // rho/4): contouring should cost about 4x per halving (the surface), not 8x
 // (the volume).
 
-#include "recon/structures/kdtree.h"
-#include "recon/structures/mesh.h"
 #include "recon/core/parallel.h"
-#include "recon/reconstruct.h"
 #include "recon/core/resource_usage.h"
 #include "recon/core/shapes.h"
 #include "recon/core/timer.h"
+#include "recon/reconstruct.h"
+#include "recon/structures/kdtree.h"
+#include "recon/structures/mesh.h"
 
 #include <Eigen/Geometry>  // cross products
 
@@ -135,7 +135,8 @@ Run run(const recon::PointCloud& cloud, int threads, std::optional<double> cell 
 void print_header() {
   std::printf(
       "| points | threads | wall s | s per 1M points | I: tree / knn+pca / spacing | II: emst / graph / "
-      "prim+vote | III: f after II (+ beside II's Prim) | IV: walk | peak MiB I / II / III / IV | mesh V / F | closed, chi, components "
+      "prim+vote | III: f after II (+ beside II's Prim) | IV: walk | peak MiB I / II / III / IV | mesh V / F | closed, "
+      "chi, components "
       "| "
       "normals right | mesh->true / true->mesh / Chamfer, %% of diagonal |\n");
   std::printf("|---:|---:|---:|---:|---|---|---:|---:|---|---|---|---:|---|\n");
@@ -163,8 +164,8 @@ void print_run(const recon::Shape& shape, const recon::PointCloud& cloud, const 
       fixed(p.seconds_knn_pca, 3).c_str(), fixed(p.seconds_spacing, 3).c_str(), fixed(g.seconds_emst, 3).c_str(),
       fixed(g.seconds_graph, 3).c_str(), fixed(r.oriented->seconds_mst, 3).c_str(),
       fixed(r.seconds_distance_setup + c.seconds_field, 3).c_str(), fixed(r.seconds_distance_beside, 3).c_str(),
-      fixed(c.seconds - c.seconds_field, 3).c_str(), peak("tangent planes").c_str(), peak("orientation").c_str(), peak("signed distance").c_str(),
-      peak("contouring").c_str(), c.mesh.vertices.size(), c.mesh.triangles.size(),
+      fixed(c.seconds - c.seconds_field, 3).c_str(), peak("tangent planes").c_str(), peak("orientation").c_str(),
+      peak("signed distance").c_str(), peak("contouring").c_str(), c.mesh.vertices.size(), c.mesh.triangles.size(),
       t.boundary_edges == 0 && t.watertight() ? "closed" : "open", t.euler_characteristic, t.components,
       fixed(fraction_right(r, cloud.normals), 6).c_str(), fixed(100.0 * a.mesh_to_true / diagonal, 4).c_str(),
       fixed(100.0 * a.true_to_mesh / diagonal, 4).c_str(), fixed(100.0 * a.chamfer() / diagonal, 4).c_str());
@@ -240,9 +241,10 @@ int main(int argc, char** argv) {
       const Run base = run(cloud, 0);
       const recon::Reconstruction& r = *base.r;
       const recon::SignedDistance<3> f = recon::make_signed_distance<3>(r.planes, r.normals(), r.origin_tree);
-      std::printf("\nLattice refinement, %zu points, all threads (phases III and IV as one walk, no overlap with "
-                  "phase II):\n\n",
-                  n);
+      std::printf(
+          "\nLattice refinement, %zu points, all threads (phases III and IV as one walk, no overlap with "
+          "phase II):\n\n",
+          n);
       std::printf(
           "| cell | visited cubes | corners | III: f s | IV: walk s | III+IV s | ratio to previous | mesh F |\n");
       std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");

@@ -18,17 +18,17 @@
 // meshoptimizer runs three ways: plain; meshopt_SimplifyLockBorder; and the
 // mesh split along its creases (25 degrees: each side's vertices apart, so
 // the creases become borders) with LockBorder, welded back afterwards.
-#include "recon/io/mesh_io.h"
-#include "recon/structures/mesh.h"
 #include "recon/core/parallel.h"
-#include "recon/reconstruct.h"
 #include "recon/core/shapes.h"
-#include "recon/phase6_simplify/simplification.h"
 #include "recon/core/timer.h"
+#include "recon/io/mesh_io.h"
+#include "recon/phase6_simplify/simplification.h"
+#include "recon/reconstruct.h"
+#include "recon/structures/mesh.h"
 #include "recon/structures/union_find.h"
 
-#include <Eigen/Geometry>
 #include <meshoptimizer.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -137,9 +137,11 @@ void split_along_creases(const Mesh& in, std::vector<float>& xyz, std::vector<un
   const auto faces = edge_faces(in);
   UnionFind corners(in.triangles.size() * 3);
   for (const auto& [key, list] : faces) {
-    if (list.size() != 2 || normal_of(in, list[0]).dot(normal_of(in, list[1])) < std::cos(25.0 * std::numbers::pi / 180))
+    if (list.size() != 2 ||
+        normal_of(in, list[0]).dot(normal_of(in, list[1])) < std::cos(25.0 * std::numbers::pi / 180))
       continue;
-    for (const std::uint32_t v : {static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key & 0xffffffffu)}) {
+    for (const std::uint32_t v :
+         {static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key & 0xffffffffu)}) {
       std::array<std::size_t, 2> c{};
       for (std::size_t s = 0; s < 2; ++s)
         for (std::size_t k = 0; k < 3; ++k)
@@ -175,10 +177,10 @@ Mesh meshopt(const Mesh& in, int way, double& seconds) {
   }
   std::vector<unsigned> out(indices.size());
   Timer timer;
-  const std::size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), xyz.data(), xyz.size() / 3,
-                                         3 * sizeof(float),
-                                         3 * static_cast<std::size_t>(ratio * static_cast<double>(indices.size() / 3)), 1.0f,
-                                         way == 0 ? 0u : unsigned{meshopt_SimplifyLockBorder}, nullptr);
+  const std::size_t n =
+      meshopt_simplify(out.data(), indices.data(), indices.size(), xyz.data(), xyz.size() / 3, 3 * sizeof(float),
+                       3 * static_cast<std::size_t>(ratio * static_cast<double>(indices.size() / 3)), 1.0f,
+                       way == 0 ? 0u : unsigned{meshopt_SimplifyLockBorder}, nullptr);
   seconds = timer.elapsed();
   out.resize(n);
   return from_indices(in, out, original);
@@ -230,17 +232,22 @@ int main(int argc, char** argv) {
   std::size_t big = 1'000'000;
   std::string mesh_path;
   for (int i = 1; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--big") big = std::strtoull(argv[i + 1], nullptr, 10);
-    else if (std::string(argv[i]) == "--ratio") ratio = std::strtod(argv[i + 1], nullptr);
-    else if (std::string(argv[i]) == "--mesh") mesh_path = argv[i + 1];
-    else if (std::string(argv[i]) == "--threads") set_thread_count(std::atoi(argv[i + 1]));
+    if (std::string(argv[i]) == "--big")
+      big = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (std::string(argv[i]) == "--ratio")
+      ratio = std::strtod(argv[i + 1], nullptr);
+    else if (std::string(argv[i]) == "--mesh")
+      mesh_path = argv[i + 1];
+    else if (std::string(argv[i]) == "--threads")
+      set_thread_count(std::atoi(argv[i + 1]));
   if (!mesh_path.empty()) return time_mesh(mesh_path);
-  std::printf("| shape | method | before | after | corner (max) | crease mean | crease max | loops | boundary max | seconds |\n");
+  std::printf(
+      "| shape | method | before | after | corner (max) | crease mean | crease max | loops | boundary max | seconds "
+      "|\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
-  const std::vector<std::pair<std::string, PointCloud>> inputs = {
-      {"box", make_shape("box")->sample(50000, 1)},
-      {"part", make_shape("part")->sample(50000, 1)},
-      {"hemisphere", hemisphere(30000)}};
+  const std::vector<std::pair<std::string, PointCloud>> inputs = {{"box", make_shape("box")->sample(50000, 1)},
+                                                                  {"part", make_shape("part")->sample(50000, 1)},
+                                                                  {"hemisphere", hemisphere(30000)}};
   for (const auto& [name, cloud] : inputs) {
     const Mesh in = phase_5_mesh(cloud);
     const bool box = name == "box";
@@ -268,7 +275,8 @@ int main(int argc, char** argv) {
   const Simplification s = simplify(in, o);
   double meshopt_seconds = 0.0;
   const Mesh m = meshopt(in, 1, meshopt_seconds);
-  std::printf("\ntorus of %zu points: %zu triangles; recon simplify to %zu in %.3f s; meshopt (LockBorder) to %zu in %.3f s\n",
-              big, in.triangles.size(), s.mesh.triangles.size(), s.seconds, m.triangles.size(), meshopt_seconds);
+  std::printf(
+      "\ntorus of %zu points: %zu triangles; recon simplify to %zu in %.3f s; meshopt (LockBorder) to %zu in %.3f s\n",
+      big, in.triangles.size(), s.mesh.triangles.size(), s.seconds, m.triangles.size(), meshopt_seconds);
   return 0;
 }

@@ -12,8 +12,8 @@
 // count, index and coordinate). The readers read files, so the bytes go to
 // a file in a folder of this process's own.
 
-#include "tiles/binary_file.h"
 #include "recon/core/errors.h"
+#include "tiles/binary_file.h"
 #include "tiles/files.h"
 
 #include <unistd.h>
@@ -50,11 +50,13 @@ const Kind kinds[] = {
     {"plan.bin", tf::plan_magic, [](const fs::path&, const fs::path& f) { static_cast<void>(tf::read_plan_file(f)); }},
     {"tile-000000.points", tf::points_magic,
      [](const fs::path&, const fs::path& f) { static_cast<void>(tf::read_point_records(f)); }},
-    {"tile-000000.colors", tf::colors_magic, [](const fs::path&, const fs::path& f) { static_cast<void>(tf::read_colors(f)); }},
+    {"tile-000000.colors", tf::colors_magic,
+     [](const fs::path&, const fs::path& f) { static_cast<void>(tf::read_colors(f)); }},
     {"tile-000000.orient", tf::orient_magic,
      [](const fs::path&, const fs::path& f) { static_cast<void>(tf::read_orientation(f)); }},
     {"flips.bin", tf::flips_magic, [](const fs::path& d, const fs::path&) { static_cast<void>(tf::read_flips(d)); }},
-    {"tile-000000.mesh", tf::mesh_magic, [](const fs::path&, const fs::path& f) { static_cast<void>(tf::read_mesh(f)); }},
+    {"tile-000000.mesh", tf::mesh_magic,
+     [](const fs::path&, const fs::path& f) { static_cast<void>(tf::read_mesh(f)); }},
 };
 
 std::string sealed(const char* magic, std::string_view body) {

@@ -59,11 +59,16 @@ recon::PointCloud read_text_columns(std::string_view file, std::string_view cont
 Reader reader_named(std::string_view name) {
   using namespace recon::io::detail;
   static constexpr std::pair<std::string_view, Reader> readers[] = {
-      {"ply_points", run_whole<read_ply_points>}, {"ply_mesh", run<read_ply_mesh>},
-      {"xyz_points", run<read_text_columns>}, {"pts_points", run_with_notes<read_pts_points>},
-      {"obj_points", run<read_obj_points>}, {"obj_mesh", run<read_obj_mesh>},
-      {"off_points", run<read_off_points>}, {"off_mesh", run<read_off_mesh>},
-      {"pcd_points", run_with_notes<read_pcd_points>}, {"xy_points", run<read_xy_points>},
+      {"ply_points", run_whole<read_ply_points>},
+      {"ply_mesh", run<read_ply_mesh>},
+      {"xyz_points", run<read_text_columns>},
+      {"pts_points", run_with_notes<read_pts_points>},
+      {"obj_points", run<read_obj_points>},
+      {"obj_mesh", run<read_obj_mesh>},
+      {"off_points", run<read_off_points>},
+      {"off_mesh", run<read_off_mesh>},
+      {"pcd_points", run_with_notes<read_pcd_points>},
+      {"xy_points", run<read_xy_points>},
       {"las_points", run_with_notes<read_las_points>},
   };
   for (const auto& [known, reader] : readers) {

@@ -31,16 +31,16 @@
 #include "summary.h"
 
 #include "recon/core/errors.h"
-#include "recon/estimate_normals.h"
 #include "recon/core/interruption.h"
+#include "recon/core/parallel.h"
+#include "recon/core/timer.h"
+#include "recon/core/version.h"
+#include "recon/estimate_normals.h"
 #include "recon/io/atomic_file.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
-#include "recon/core/parallel.h"
 #include "recon/reconstruct.h"
 #include "recon/tiles/tiles.h"
-#include "recon/core/timer.h"
-#include "recon/core/version.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -139,8 +139,8 @@ std::size_t rows_of(const py::array& a, const char* name, std::optional<std::siz
     throw InvalidInputError(std::string(name) + " must be an n x 3 array; got shape " + shape_of(a));
   const auto n = static_cast<std::size_t>(a.shape(0));
   if (rows && n != *rows)
-    throw InvalidInputError(std::string(name) + " must have one row per point: " + std::to_string(*rows) +
-                            " points, " + std::to_string(n) + " rows");
+    throw InvalidInputError(std::string(name) + " must have one row per point: " + std::to_string(*rows) + " points, " +
+                            std::to_string(n) + " rows");
   return n;
 }
 
@@ -208,7 +208,8 @@ py::array vectors_view(const std::vector<Vec3>& values, py::handle owner) {
 }
 
 py::array colors_view(const std::vector<Color>& values, py::handle owner) {
-  return py::array_t<std::uint8_t>({static_cast<py::ssize_t>(values.size()), py::ssize_t{3}}, {py::ssize_t{3}, py::ssize_t{1}},
+  return py::array_t<std::uint8_t>({static_cast<py::ssize_t>(values.size()), py::ssize_t{3}},
+                                   {py::ssize_t{3}, py::ssize_t{1}},
                                    reinterpret_cast<const std::uint8_t*>(values.data()), owner);
 }
 
@@ -311,8 +312,8 @@ py::dict dict_of(const cli::Json& json) {
 void check_range(std::optional<double> value, const char* name, bool zero_allowed) {
   if (!value) return;
   if (zero_allowed ? !(*value >= 0.0) : !(*value > 0.0))
-    throw InvalidInputError(std::string(name) + " must be " + (zero_allowed ? "zero or more" : "positive") +
-                            ", got " + std::to_string(*value));
+    throw InvalidInputError(std::string(name) + " must be " + (zero_allowed ? "zero or more" : "positive") + ", got " +
+                            std::to_string(*value));
 }
 
 // The options `recon reconstruct` and `recon normals` share, checked as the
@@ -384,7 +385,8 @@ struct ReconstructParameters {
 // ratio (the program's --simplify also takes "10%").
 SimplifyStep simplify_step(const py::object& target, std::optional<double> max_error) {
   SimplifyStep step;
-  const std::string expected = "simplify: expected a triangle count (an int of 1 or more) or a ratio (a float between 0 and 1)";
+  const std::string expected =
+      "simplify: expected a triangle count (an int of 1 or more) or a ratio (a float between 0 and 1)";
   if (py::isinstance<py::bool_>(target)) throw InvalidInputError(expected + ", got a bool");
   if (py::isinstance<py::int_>(target)) {
     const auto n = target.cast<long long>();
@@ -399,7 +401,8 @@ SimplifyStep simplify_step(const py::object& target, std::optional<double> max_e
   }
   if (max_error) {
     if (!(*max_error > 0.0) || !std::isfinite(*max_error))
-      throw InvalidInputError("max_error: expected a finite multiple of rho greater than 0, got " + std::to_string(*max_error));
+      throw InvalidInputError("max_error: expected a finite multiple of rho greater than 0, got " +
+                              std::to_string(*max_error));
     step.max_error = *max_error;
   }
   return step;
@@ -576,17 +579,18 @@ void bind_point_cloud(py::module_& m) {
              return result;
            }),
            py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none())
-      .def_property_readonly("points", [](py::object self) {
-        return vectors_view(self.cast<PyPointCloud&>().cloud.positions, self);
-      })
-      .def_property_readonly("normals", [](py::object self) -> py::object {
-        const PointCloud& c = self.cast<PyPointCloud&>().cloud;
-        return c.has_normals() ? py::object(vectors_view(c.normals, self)) : py::none();
-      })
-      .def_property_readonly("colors", [](py::object self) -> py::object {
-        const PointCloud& c = self.cast<PyPointCloud&>().cloud;
-        return c.has_colors() ? py::object(colors_view(c.colors, self)) : py::none();
-      })
+      .def_property_readonly(
+          "points", [](py::object self) { return vectors_view(self.cast<PyPointCloud&>().cloud.positions, self); })
+      .def_property_readonly("normals",
+                             [](py::object self) -> py::object {
+                               const PointCloud& c = self.cast<PyPointCloud&>().cloud;
+                               return c.has_normals() ? py::object(vectors_view(c.normals, self)) : py::none();
+                             })
+      .def_property_readonly("colors",
+                             [](py::object self) -> py::object {
+                               const PointCloud& c = self.cast<PyPointCloud&>().cloud;
+                               return c.has_colors() ? py::object(colors_view(c.colors, self)) : py::none();
+                             })
       .def_readonly("notes", &PyPointCloud::notes)
       .def("__len__", [](const PyPointCloud& c) { return c.cloud.size(); });
 }
@@ -596,115 +600,120 @@ void bind_mesh(py::module_& m) {
       .def(py::init([](const py::object& vertices, const py::object& faces, const py::object& colors,
                        const py::object& normals) {
              auto result = std::make_unique<PyMesh>();
-             result->mesh = mesh_from_arrays(real_array(vertices, "vertices"), index_array(faces, "faces"),
-                                             byte_array_or_none(colors, "colors"), real_array_or_none(normals, "normals"));
+             result->mesh =
+                 mesh_from_arrays(real_array(vertices, "vertices"), index_array(faces, "faces"),
+                                  byte_array_or_none(colors, "colors"), real_array_or_none(normals, "normals"));
              return result;
            }),
            py::arg("vertices"), py::arg("faces"), py::arg("colors") = py::none(), py::arg("normals") = py::none())
-      .def_property_readonly("vertices", [](py::object self) {
-        return vectors_view(self.cast<PyMesh&>().mesh.vertices, self);
-      })
-      .def_property_readonly("faces", [](py::object self) {
-        return faces_view(self.cast<PyMesh&>().mesh.triangles, self);
-      })
-      .def_property_readonly("colors", [](py::object self) -> py::object {
-        const Mesh& mesh = self.cast<PyMesh&>().mesh;
-        return mesh.has_colors() ? py::object(colors_view(mesh.colors, self)) : py::none();
-      })
-      .def_property_readonly("normals", [](py::object self) -> py::object {
-        const Mesh& mesh = self.cast<PyMesh&>().mesh;
-        return mesh.has_normals() ? py::object(vectors_view(mesh.normals, self)) : py::none();
-      })
+      .def_property_readonly("vertices",
+                             [](py::object self) { return vectors_view(self.cast<PyMesh&>().mesh.vertices, self); })
+      .def_property_readonly("faces",
+                             [](py::object self) { return faces_view(self.cast<PyMesh&>().mesh.triangles, self); })
+      .def_property_readonly("colors",
+                             [](py::object self) -> py::object {
+                               const Mesh& mesh = self.cast<PyMesh&>().mesh;
+                               return mesh.has_colors() ? py::object(colors_view(mesh.colors, self)) : py::none();
+                             })
+      .def_property_readonly("normals",
+                             [](py::object self) -> py::object {
+                               const Mesh& mesh = self.cast<PyMesh&>().mesh;
+                               return mesh.has_normals() ? py::object(vectors_view(mesh.normals, self)) : py::none();
+                             })
       .def_readonly("stats", &PyMesh::stats)
-      .def("save", [](const PyMesh& self, const std::filesystem::path& path, bool ascii) {
-             io::WriteMeshOptions options;
-             options.format = io::mesh_format_from_path(path);
-             options.ascii = ascii;
-             py::gil_scoped_release no_gil;
-             io::write_mesh(path, self.mesh, options);
-           },
-           py::arg("path"), py::arg("ascii") = false);
+      .def(
+          "save",
+          [](const PyMesh& self, const std::filesystem::path& path, bool ascii) {
+            io::WriteMeshOptions options;
+            options.format = io::mesh_format_from_path(path);
+            options.ascii = ascii;
+            py::gil_scoped_release no_gil;
+            io::write_mesh(path, self.mesh, options);
+          },
+          py::arg("path"), py::arg("ascii") = false);
 }
 
 void bind_files(py::module_& m) {
-  m.def("read_points",
-        [](const std::filesystem::path& path, const std::optional<std::string>& format,
-           const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
-          const io::ReadPointsOptions options = read_options(format, columns, skip_invalid);
-          auto result = std::make_unique<PyPointCloud>();
-          io::ReadNotes notes;
-          {
-            py::gil_scoped_release no_gil;
-            result->cloud = io::read_points(path, options, &notes);
-          }
-          result->notes = std::move(notes.lines);
-          return result;
-        },
-        py::arg("path"), py::arg("format") = py::none(), py::arg("columns") = py::none(),
-        py::arg("skip_invalid") = false);
-
-  m.def("write_points",
-        [](const std::filesystem::path& path, const py::object& points, const py::object& normals,
-           const py::object& colors, bool ascii) {
-          const CloudArrays in(points, normals, colors);
-          const PointCloud cloud = copy_of(in.view);  // the writers take a PointCloud: one copy, for the file
-          io::WritePointsOptions options;
-          options.ascii = ascii;
+  m.def(
+      "read_points",
+      [](const std::filesystem::path& path, const std::optional<std::string>& format,
+         const std::optional<std::vector<std::string>>& columns, bool skip_invalid) {
+        const io::ReadPointsOptions options = read_options(format, columns, skip_invalid);
+        auto result = std::make_unique<PyPointCloud>();
+        io::ReadNotes notes;
+        {
           py::gil_scoped_release no_gil;
-          io::write_points(path, cloud, options);
-        },
-        py::arg("path"), py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none(),
-        py::arg("ascii") = false);
+          result->cloud = io::read_points(path, options, &notes);
+        }
+        result->notes = std::move(notes.lines);
+        return result;
+      },
+      py::arg("path"), py::arg("format") = py::none(), py::arg("columns") = py::none(),
+      py::arg("skip_invalid") = false);
+
+  m.def(
+      "write_points",
+      [](const std::filesystem::path& path, const py::object& points, const py::object& normals,
+         const py::object& colors, bool ascii) {
+        const CloudArrays in(points, normals, colors);
+        const PointCloud cloud = copy_of(in.view);  // the writers take a PointCloud: one copy, for the file
+        io::WritePointsOptions options;
+        options.ascii = ascii;
+        py::gil_scoped_release no_gil;
+        io::write_points(path, cloud, options);
+      },
+      py::arg("path"), py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none(),
+      py::arg("ascii") = false);
 
   // `text` into the file `path` the way the program writes every output
   // (io::AtomicFile): whole or not at all, never half a file. For
   // recon.distributed's --stats. Throws OSError when it cannot.
-  m.def("_write_text",
-        [](const std::filesystem::path& path, const std::string& text) {
-          py::gil_scoped_release no_gil;
-          io::AtomicFile file(path);
-          file.stream() << text;
-          file.commit();
-        },
-        py::arg("path"), py::arg("text"));
+  m.def(
+      "_write_text",
+      [](const std::filesystem::path& path, const std::string& text) {
+        py::gil_scoped_release no_gil;
+        io::AtomicFile file(path);
+        file.stream() << text;
+        file.commit();
+      },
+      py::arg("path"), py::arg("text"));
 }
 
 void bind_runs(py::module_& m) {
-  m.def("estimate_normals",
-        [](const py::object& points, std::optional<std::int64_t> k, std::optional<double> rho,
-           std::optional<int> threads,
-           const py::object& max_memory, const py::object& progress) {
-          const CloudArrays in(points, py::none(), py::none());
-          PhaseParameters p{k, rho, memory_limit(max_memory)};
-          return run_estimate_normals(in, p, threads, progress);
-        },
-        py::arg("points"), py::arg("k") = py::none(), py::arg("rho") = py::none(), py::arg("threads") = py::none(),
-        py::arg("max_memory") = py::none(), py::arg("progress") = py::none());
+  m.def(
+      "estimate_normals",
+      [](const py::object& points, std::optional<std::int64_t> k, std::optional<double> rho, std::optional<int> threads,
+         const py::object& max_memory, const py::object& progress) {
+        const CloudArrays in(points, py::none(), py::none());
+        PhaseParameters p{k, rho, memory_limit(max_memory)};
+        return run_estimate_normals(in, p, threads, progress);
+      },
+      py::arg("points"), py::arg("k") = py::none(), py::arg("rho") = py::none(), py::arg("threads") = py::none(),
+      py::arg("max_memory") = py::none(), py::arg("progress") = py::none());
 
-  m.def("reconstruct",
-        [](const py::object& points, const py::object& normals, const py::object& colors,
-           std::optional<std::int64_t> k,
-           std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
-           std::optional<std::int64_t> resolution, const std::string& method, bool keep_fragments,
-           const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
-           const py::object& progress, bool vertex_normals,
-           const py::object& simplify, std::optional<double> max_error) {
-          const CloudArrays in(points, normals, colors);
-          ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
-          p.simplify = simplify_step(simplify, max_error);
-          p.keep_fragments = keep_fragments;
-          p.vertex_normals = vertex_normals;
-          p.threads = threads;
-          p.report = std::move(report);
-          p.progress = progress;
-          return run_reconstruct(in, p);
-        },
-        py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none(), py::arg("k") = py::none(),
-        py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
-        py::arg("resolution") = py::none(), py::arg("method") = "refined", py::arg("keep_fragments") = false,
-        py::arg("max_memory") = py::none(), py::arg("threads") = py::none(), py::arg("report") = py::none(),
-        py::arg("progress") = py::none(), py::arg("vertex_normals") = false,
-        py::arg("simplify") = py::none(), py::arg("max_error") = py::none());
+  m.def(
+      "reconstruct",
+      [](const py::object& points, const py::object& normals, const py::object& colors, std::optional<std::int64_t> k,
+         std::optional<double> rho, std::optional<double> delta, std::optional<double> cell,
+         std::optional<std::int64_t> resolution, const std::string& method, bool keep_fragments,
+         const py::object& max_memory, std::optional<int> threads, std::optional<std::filesystem::path> report,
+         const py::object& progress, bool vertex_normals, const py::object& simplify, std::optional<double> max_error) {
+        const CloudArrays in(points, normals, colors);
+        ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
+        p.simplify = simplify_step(simplify, max_error);
+        p.keep_fragments = keep_fragments;
+        p.vertex_normals = vertex_normals;
+        p.threads = threads;
+        p.report = std::move(report);
+        p.progress = progress;
+        return run_reconstruct(in, p);
+      },
+      py::arg("points"), py::arg("normals") = py::none(), py::arg("colors") = py::none(), py::arg("k") = py::none(),
+      py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
+      py::arg("resolution") = py::none(), py::arg("method") = "refined", py::arg("keep_fragments") = false,
+      py::arg("max_memory") = py::none(), py::arg("threads") = py::none(), py::arg("report") = py::none(),
+      py::arg("progress") = py::none(), py::arg("vertex_normals") = false, py::arg("simplify") = py::none(),
+      py::arg("max_error") = py::none());
 
   // For the tests: the address of the data the library would read for
   // `points` (equal to the array's own when no copy was made).
@@ -735,49 +744,65 @@ void bind_tile_workspace(py::module_& m) {
                                return p.workspace->path();
                              })
       .def("close", [](PythonWorkspace& p) { p.workspace.reset(); })
-      .def("__enter__", [](PythonWorkspace& p) -> PythonWorkspace& { return p; }, py::return_value_policy::reference)
+      .def(
+          "__enter__", [](PythonWorkspace& p) -> PythonWorkspace& { return p; }, py::return_value_policy::reference)
       .def("__exit__", [](PythonWorkspace& p, const py::args&) { p.workspace.reset(); });
   m.def("_tiles_remove_stale_workspaces", &remove_stale_tile_workspaces, py::arg("parent"));
 }
 
 void bind_tiles(py::module_& m) {
-  m.def("_tiles_plan",
-        [](const std::filesystem::path& input, const std::filesystem::path& work_dir, const std::string& method,
-           std::optional<std::int64_t> k, std::optional<double> rho, std::optional<double> delta,
-           std::optional<double> cell, std::optional<std::int64_t> resolution, double tile_size,
-           const py::object& max_memory,
-           std::size_t statistics_points, const std::optional<std::string>& format,
-           const std::optional<std::vector<std::string>>& columns, bool skip_invalid, bool vertex_normals) {
-          ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
-          p.vertex_normals = vertex_normals;
-          check_range(tile_size, "tile_size", true);
-          TilingOptions options;
-          options.reconstruction = p.options(false);
-          options.tile_size = tile_size;
-          options.statistics_points = statistics_points;
-          const PointPass pass = pass_over_file(input, read_options(format, columns, skip_invalid));
-          return plan_summary(run_tile_step(std::nullopt, [&] { return plan_tiles(pass, options, work_dir); }));
-        },
-        py::arg("input"), py::arg("work_dir"), py::arg("method") = "refined", py::arg("k") = py::none(),
-        py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
-        py::arg("resolution") = py::none(), py::arg("tile_size") = 0.0, py::arg("max_memory") = py::none(),
-        py::arg("statistics_points") = 0, py::arg("format") = py::none(), py::arg("columns") = py::none(),
-        py::arg("skip_invalid") = false, py::arg("vertex_normals") = false);
-  m.def("_tiles_count", [](const std::filesystem::path& work_dir) {
-    return run_tile_step(std::nullopt, [&] { return read_tile_plan(work_dir).tiles.size(); });
-  }, py::arg("work_dir"));
-  m.def("_tiles_orient", [](const std::filesystem::path& work_dir, std::size_t tile, std::optional<int> threads) {
-    return orientation_summary(run_tile_step(threads, [&] { return orient_tile(work_dir, tile); }));
-  }, py::arg("work_dir"), py::arg("tile"), py::arg("threads") = py::none());
-  m.def("_tiles_reconcile", [](const std::filesystem::path& work_dir) {
-    return reconciliation_summary(run_tile_step(std::nullopt, [&] { return reconcile_tiles(work_dir); }));
-  }, py::arg("work_dir"));
-  m.def("_tiles_contour", [](const std::filesystem::path& work_dir, std::size_t tile, std::optional<int> threads) {
-    return contour_summary(run_tile_step(threads, [&] { return contour_tile(work_dir, tile); }));
-  }, py::arg("work_dir"), py::arg("tile"), py::arg("threads") = py::none());
-  m.def("_tiles_stitch", [](const std::filesystem::path& work_dir, const std::filesystem::path& output) {
-    return mesh_summary(run_tile_step(std::nullopt, [&] { return stitch_tiles(work_dir, output); }));
-  }, py::arg("work_dir"), py::arg("output"));
+  m.def(
+      "_tiles_plan",
+      [](const std::filesystem::path& input, const std::filesystem::path& work_dir, const std::string& method,
+         std::optional<std::int64_t> k, std::optional<double> rho, std::optional<double> delta,
+         std::optional<double> cell, std::optional<std::int64_t> resolution, double tile_size,
+         const py::object& max_memory, std::size_t statistics_points, const std::optional<std::string>& format,
+         const std::optional<std::vector<std::string>>& columns, bool skip_invalid, bool vertex_normals) {
+        ReconstructParameters p = reconstruct_parameters(k, rho, delta, cell, resolution, method, max_memory);
+        p.vertex_normals = vertex_normals;
+        check_range(tile_size, "tile_size", true);
+        TilingOptions options;
+        options.reconstruction = p.options(false);
+        options.tile_size = tile_size;
+        options.statistics_points = statistics_points;
+        const PointPass pass = pass_over_file(input, read_options(format, columns, skip_invalid));
+        return plan_summary(run_tile_step(std::nullopt, [&] { return plan_tiles(pass, options, work_dir); }));
+      },
+      py::arg("input"), py::arg("work_dir"), py::arg("method") = "refined", py::arg("k") = py::none(),
+      py::arg("rho") = py::none(), py::arg("delta") = py::none(), py::arg("cell") = py::none(),
+      py::arg("resolution") = py::none(), py::arg("tile_size") = 0.0, py::arg("max_memory") = py::none(),
+      py::arg("statistics_points") = 0, py::arg("format") = py::none(), py::arg("columns") = py::none(),
+      py::arg("skip_invalid") = false, py::arg("vertex_normals") = false);
+  m.def(
+      "_tiles_count",
+      [](const std::filesystem::path& work_dir) {
+        return run_tile_step(std::nullopt, [&] { return read_tile_plan(work_dir).tiles.size(); });
+      },
+      py::arg("work_dir"));
+  m.def(
+      "_tiles_orient",
+      [](const std::filesystem::path& work_dir, std::size_t tile, std::optional<int> threads) {
+        return orientation_summary(run_tile_step(threads, [&] { return orient_tile(work_dir, tile); }));
+      },
+      py::arg("work_dir"), py::arg("tile"), py::arg("threads") = py::none());
+  m.def(
+      "_tiles_reconcile",
+      [](const std::filesystem::path& work_dir) {
+        return reconciliation_summary(run_tile_step(std::nullopt, [&] { return reconcile_tiles(work_dir); }));
+      },
+      py::arg("work_dir"));
+  m.def(
+      "_tiles_contour",
+      [](const std::filesystem::path& work_dir, std::size_t tile, std::optional<int> threads) {
+        return contour_summary(run_tile_step(threads, [&] { return contour_tile(work_dir, tile); }));
+      },
+      py::arg("work_dir"), py::arg("tile"), py::arg("threads") = py::none());
+  m.def(
+      "_tiles_stitch",
+      [](const std::filesystem::path& work_dir, const std::filesystem::path& output) {
+        return mesh_summary(run_tile_step(std::nullopt, [&] { return stitch_tiles(work_dir, output); }));
+      },
+      py::arg("work_dir"), py::arg("output"));
   bind_tile_workspace(m);
 }
 

@@ -72,8 +72,8 @@ void prepare_and_drain(Reconstruction& r, double cell, const SignedDistanceOptio
 }  // namespace
 
 void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, double cell,
-                            const OrientationOptions& options, const SignedDistanceOptions& distance,
-                            FirstWave& wave, double& seconds_after) {
+                            const OrientationOptions& options, const SignedDistanceOptions& distance, FirstWave& wave,
+                            double& seconds_after) {
   const int threads = thread_count();
   if (threads <= 1) {  // the textbook order
     r.oriented = orient_normals<3>(r.planes, std::move(graph), options);

@@ -55,7 +55,7 @@ class FirstWave {
 /// `seconds_after` receives the time spent on the wave after phase II ended;
 /// r.seconds_distance_beside the time beside it. Rethrows what either threw.
 void orient_with_first_wave(Reconstruction& r, RiemannianGraph<3>&& graph, double cell,
-                            const OrientationOptions& options, const SignedDistanceOptions& distance,
-                            FirstWave& wave, double& seconds_after);
+                            const OrientationOptions& options, const SignedDistanceOptions& distance, FirstWave& wave,
+                            double& seconds_after);
 
 }  // namespace recon::detail

@@ -2,13 +2,13 @@
 
 #include "first_wave.h"
 #include "recon/core/errors.h"
-#include "recon/structures/lattice.h"
-#include "recon/core/point_cloud.h"  // max_coordinate
 #include "recon/core/memory_budget.h"
 #include "recon/core/parallel.h"
+#include "recon/core/point_cloud.h"  // max_coordinate
 #include "recon/core/resource_usage.h"
-#include "recon/structures/spatial_order.h"  // permuted
 #include "recon/core/timer.h"
+#include "recon/structures/lattice.h"
+#include "recon/structures/spatial_order.h"  // permuted
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +17,6 @@
 #include <span>
 #include <sstream>
 #include <string>
-
 
 namespace recon {
 
@@ -117,7 +116,8 @@ void check_simplify_step(const SimplifyStep& step) {
   // isfinite first: an ordered comparison with a NaN raises the invalid
   // exception (trapped in the sanitizer build).
   if (step.ratio != 0.0 && (!std::isfinite(step.ratio) || step.ratio <= 0.0 || step.ratio >= 1.0))
-    throw InvalidInputError("simplify: a ratio must lie between 0 and 1 (exclusive), not " + std::to_string(step.ratio));
+    throw InvalidInputError("simplify: a ratio must lie between 0 and 1 (exclusive), not " +
+                            std::to_string(step.ratio));
   if (!std::isfinite(step.max_error) || step.max_error < 0.0)
     throw InvalidInputError("simplify: the error bound must be a finite multiple of rho >= 0, not " +
                             std::to_string(step.max_error));
@@ -247,8 +247,8 @@ MarchingCubesOptions start_contouring(const Reconstruction& r, const Run& run, d
 // Phase IV, from the first wave when phase II computed one.
 void phase_4(Reconstruction& r, const Run& run, const SignedDistance<3>& f, double cell, detail::FirstWave& wave) {
   const MarchingCubesOptions mc = start_contouring(r, run, cell);
-  r.contour = wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc)
-                           : marching_cubes(std::cref(f), r.points(), mc);
+  r.contour =
+      wave.ready() ? marching_cubes(std::cref(f), wave.take_wave(), mc) : marching_cubes(std::cref(f), r.points(), mc);
 }
 
 // Where the contour is empty: what the lattice saw, and what to change.
@@ -548,8 +548,7 @@ void reconstruct_phases_3_on(Reconstruction& r, const ReconstructionOptions& opt
   const double cell = lattice_cell(r.points(), r.planes, options);
   check_memory_after_phase_1(r, run, cell);
   detail::FirstWave none;
-  later_phases(r, run, cell, signed_distance_options(options.method, options.distance, r.quadrics), none,
-               seconds_tree);
+  later_phases(r, run, cell, signed_distance_options(options.method, options.distance, r.quadrics), none, seconds_tree);
 }
 
 }  // namespace recon

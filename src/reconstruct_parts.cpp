@@ -13,8 +13,8 @@
 
 namespace recon {
 
-double chosen_cell(std::optional<double> cell, std::optional<int> resolution, const std::function<double()>& longest_side,
-                   double fallback) {
+double chosen_cell(std::optional<double> cell, std::optional<int> resolution,
+                   const std::function<double()>& longest_side, double fallback) {
   if (cell && resolution) throw InvalidInputError("give either a cell size or a resolution, not both");
   if (cell) {
     if (!std::isfinite(*cell) || !(*cell > 0.0)) throw InvalidInputError("the cell size must be a positive length");
@@ -27,7 +27,8 @@ double chosen_cell(std::optional<double> cell, std::optional<int> resolution, co
   return fallback;
 }
 
-double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes, const ReconstructionOptions& options) {
+double lattice_cell(std::span<const Vec3> points, const TangentPlanes<3>& planes,
+                    const ReconstructionOptions& options) {
   return lattice_cell([&] { return bounding_box<3>(points).extent().maxCoeff(); }, planes.rho, options);
 }
 
@@ -79,9 +80,11 @@ RefinementInput refinement_input(const TangentPlanes<3>& planes, std::span<const
 }
 
 RefinementInput refinement_input_of(const Reconstruction& r, const SignedDistance<3>& f) {
-  if (!r.quadrics) throw InvalidInputError("refinement_input_of: the reconstruction has no second-order fits (hoppe92)");
-  const std::span<const std::uint32_t> piece =
-      r.oriented ? std::span<const std::uint32_t>(r.oriented->graph.components.label) : std::span<const std::uint32_t>();
+  if (!r.quadrics)
+    throw InvalidInputError("refinement_input_of: the reconstruction has no second-order fits (hoppe92)");
+  const std::span<const std::uint32_t> piece = r.oriented
+                                                   ? std::span<const std::uint32_t>(r.oriented->graph.components.label)
+                                                   : std::span<const std::uint32_t>();
   return refinement_input(r.planes, r.normals(), r.quadrics->curvature, piece, f, r.origin_tree);
 }
 
@@ -94,7 +97,8 @@ RefinementOptions refinement_options(const RefinementOptions& given, double cell
 SignedDistance<3> signed_distance_of(const Reconstruction& r) {
   SignedDistanceOptions given;
   given.delta = r.delta;
-  return make_signed_distance<3>(r.planes, r.normals(), r.origin_tree, signed_distance_options(r.method, given, r.quadrics));
+  return make_signed_distance<3>(r.planes, r.normals(), r.origin_tree,
+                                 signed_distance_options(r.method, given, r.quadrics));
 }
 
 Vec3 working_offset(std::span<const Vec3> points) { return working_offset(bounding_box<3>(points)); }
@@ -106,7 +110,6 @@ Vec3 working_offset(const Box<3>& box) {
   if (centre.cwiseAbs().maxCoeff() <= box.diagonal()) return Vec3::Zero();
   return centre;
 }
-
 
 namespace {
 WorkingTree checked_working_tree(std::span<const Vec3> points, const KdTreeOptions& options, const Vec3& offset) {

@@ -3,15 +3,15 @@
 
 #include "io/io_test_helpers.h"
 #include "recon/core/errors.h"
-#include "recon/structures/mesh.h"
-#include "recon/reconstruct.h"
 #include "recon/core/shapes.h"
+#include "recon/reconstruct.h"
+#include "recon/structures/mesh.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <random>
 #include <string>
@@ -102,8 +102,8 @@ TEST(DegenerateClouds, MassOfIdenticalPointsDrawsNothingAndStaysFast) {
   };
   Reconstruction few, many;
   const double seconds_few = run(10000, few), seconds_many = run(100000, many);
-  EXPECT_LT(seconds_many, 20.0 * seconds_few) << seconds_few << " s with 10,000 copies, " << seconds_many
-                                               << " s with 100,000";
+  EXPECT_LT(seconds_many, 20.0 * seconds_few)
+      << seconds_few << " s with 10,000 copies, " << seconds_many << " s with 100,000";
   EXPECT_EQ(many.planes.distinct_points, 5001u);
   expect_closed_spheres(many, *sphere, 1, 0.01);
 }
@@ -123,7 +123,8 @@ TEST(DegenerateClouds, GeoReferencedCoordinatesKeepTheirPrecision) {
   ASSERT_EQ(a.vertices.size(), b.vertices.size());
   ASSERT_EQ(a.triangles, b.triangles);
   double worst = 0.0;
-  for (std::size_t i = 0; i < a.vertices.size(); ++i) worst = std::max(worst, (b.vertices[i] - far - a.vertices[i]).norm());
+  for (std::size_t i = 0; i < a.vertices.size(); ++i)
+    worst = std::max(worst, (b.vertices[i] - far - a.vertices[i]).norm());
   // The input itself is rounded to 2e-9 at 1e7; the mesh differs by at most
   // a thousandth of a millimetre (single precision anywhere would cost a metre).
   EXPECT_LT(worst, 1e-5);

@@ -5,14 +5,14 @@
 #include "io/io_test_helpers.h"
 #include "mesh_compare.h"
 #include "recon/core/errors.h"
+#include "recon/core/shapes.h"
+#include "recon/reconstruct.h"
 #include "recon/structures/lattice.h"
 #include "recon/structures/mesh.h"
-#include "recon/reconstruct.h"
-#include "recon/core/shapes.h"
 #include "recon/tiles/tiles.h"
 
-#include <Eigen/Geometry>  // cross
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>  // cross
 
 #include <algorithm>
 #include <cmath>
@@ -181,8 +181,7 @@ TEST(FarClusters, AClusterTooWideForOneLatticeIsRefusedSayingSo) {
   PointCloud cloud = spheres({Vec3::Zero()}, 3000);
   const PointCloud wide = make_sphere(2e5, Vec3(1e9, 0.0, 0.0))->sample(1000, 7);
   cloud.positions.insert(cloud.positions.end(), wide.positions.begin(), wide.positions.end());
-  const std::string message =
-      io::testing::message_of<ResourceLimitError>([&] { (void)reconstruct(cloud); });
+  const std::string message = io::testing::message_of<ResourceLimitError>([&] { (void)reconstruct(cloud); });
   EXPECT_CONTAINS(message, "a cluster of 1000 points (of 2 separated by empty gaps wider than");
   EXPECT_CONTAINS(message, "is too wide for one lattice: the lattice would need");
   EXPECT_CONTAINS(message, "use a larger --cell");

@@ -3,8 +3,8 @@
 // kd-tree), each reproducible from its seed, and a table comparison that
 // names the first entry that differs.
 
-#include "recon/structures/kdtree.h"
 #include "recon/core/shapes.h"
+#include "recon/structures/kdtree.h"
 
 #include <gtest/gtest.h>
 

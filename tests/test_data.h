@@ -16,9 +16,9 @@ inline std::filesystem::path shared_data(const std::string& relative) {
 }  // namespace recon::testing
 
 /// Skips the current test with a clear message when a shared data file is missing.
-#define RECON_REQUIRE_DATA(path)                                                                        \
-  do {                                                                                                  \
-    if (!std::filesystem::exists(path))                                                                 \
-      GTEST_SKIP() << "real data not available: " << (path).string()                                   \
-                   << " (the ../shared/data folder of the recon workplace; skipped elsewhere)";        \
+#define RECON_REQUIRE_DATA(path)                                                                \
+  do {                                                                                          \
+    if (!std::filesystem::exists(path))                                                         \
+      GTEST_SKIP() << "real data not available: " << (path).string()                            \
+                   << " (the ../shared/data folder of the recon workplace; skipped elsewhere)"; \
   } while (0)

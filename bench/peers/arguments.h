@@ -25,11 +25,16 @@ inline Arguments parse_arguments(int argc, char** argv, unsigned default_k, unsi
       if (i + 1 >= argc) throw std::runtime_error(arg + " needs a value");
       return argv[++i];
     };
-    if (arg == "-o" || arg == "--output") a.output = value();
-    else if (arg == "--k") a.k = static_cast<unsigned>(std::stoul(value()));
-    else if (arg == "--threads") a.threads = static_cast<unsigned>(std::stoul(value()));
-    else if (!arg.empty() && arg[0] != '-' && a.input.empty()) a.input = arg;
-    else throw std::runtime_error("unknown argument '" + arg + "'");
+    if (arg == "-o" || arg == "--output")
+      a.output = value();
+    else if (arg == "--k")
+      a.k = static_cast<unsigned>(std::stoul(value()));
+    else if (arg == "--threads")
+      a.threads = static_cast<unsigned>(std::stoul(value()));
+    else if (!arg.empty() && arg[0] != '-' && a.input.empty())
+      a.input = arg;
+    else
+      throw std::runtime_error("unknown argument '" + arg + "'");
   }
   if (a.input.empty() || a.output.empty()) throw std::runtime_error("usage: " + usage);
   if (a.k < min_k) throw std::runtime_error("--k must be at least " + std::to_string(min_k));

@@ -102,11 +102,11 @@ int main(int argc, char** argv) try {
   points.erase(first_unoriented, points.end());
   steps.done("mst_orient");
 
-  const double spacing =
-      CGAL::compute_average_spacing<CGAL::Parallel_if_available_tag>(points, 6, CGAL::parameters::point_map(PointMap()));
+  const double spacing = CGAL::compute_average_spacing<CGAL::Parallel_if_available_tag>(
+      points, 6, CGAL::parameters::point_map(PointMap()));
   Polyhedron mesh;
   if (!CGAL::poisson_surface_reconstruction_delaunay(points.begin(), points.end(), PointMap(), NormalMap(), mesh,
-                                                      spacing))
+                                                     spacing))
     throw std::runtime_error("poisson_surface_reconstruction_delaunay failed");
   steps.done("poisson");
   write_mesh(o.output, mesh);

@@ -67,22 +67,32 @@ Options parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::runtime_error(arg + " needs a value");
       return argv[++i];
     };
-    if (arg == "-o" || arg == "--output") o.output = value();
-    else if (arg == "--normals-out") o.normals_output = value();
-    else if (arg == "--k") o.k = std::stoi(value());
-    else if (arg == "--resolution") o.resolution = std::stoi(value());
-    else if (arg == "--extend") o.extend = std::stof(value());
-    else if (arg == "--threads") o.threads = static_cast<unsigned>(std::stoul(value()));
-    else if (arg == "--dist-ignore") o.dist_ignore = std::stof(value());
+    if (arg == "-o" || arg == "--output")
+      o.output = value();
+    else if (arg == "--normals-out")
+      o.normals_output = value();
+    else if (arg == "--k")
+      o.k = std::stoi(value());
+    else if (arg == "--resolution")
+      o.resolution = std::stoi(value());
+    else if (arg == "--extend")
+      o.extend = std::stof(value());
+    else if (arg == "--threads")
+      o.threads = static_cast<unsigned>(std::stoul(value()));
+    else if (arg == "--dist-ignore")
+      o.dist_ignore = std::stof(value());
     else if (arg == "--viewpoint")
       for (auto& c : o.viewpoint) c = std::stof(value());
-    else if (!arg.empty() && arg[0] != '-' && o.input.empty()) o.input = arg;
-    else throw std::runtime_error("unknown argument '" + arg + "'");
+    else if (!arg.empty() && arg[0] != '-' && o.input.empty())
+      o.input = arg;
+    else
+      throw std::runtime_error("unknown argument '" + arg + "'");
   }
   if (o.input.empty() || o.output.empty())
-    throw std::runtime_error("usage: pcl_hoppe IN.ply -o MESH.ply [--normals-out N.ply] [--k K] "
-                             "[--resolution R] [--extend F] [--threads T] [--viewpoint X Y Z] "
-                             "[--dist-ignore L]");
+    throw std::runtime_error(
+        "usage: pcl_hoppe IN.ply -o MESH.ply [--normals-out N.ply] [--k K] "
+        "[--resolution R] [--extend F] [--threads T] [--viewpoint X Y Z] "
+        "[--dist-ignore L]");
   if (o.k < 3) throw std::runtime_error("--k must be at least 3");
   if (o.resolution < 3) throw std::runtime_error("--resolution must be at least 3");
   return o;
@@ -126,8 +136,8 @@ int main(int argc, char** argv) try {
   }
   steps.done("normals");
 
-  const auto undefined_normals = static_cast<std::size_t>(std::count_if(
-      normals.begin(), normals.end(), [](const pcl::Normal& n) { return !std::isfinite(n.normal_x); }));
+  const auto undefined_normals = static_cast<std::size_t>(
+      std::count_if(normals.begin(), normals.end(), [](const pcl::Normal& n) { return !std::isfinite(n.normal_x); }));
   if (!o.normals_output.empty()) {
     peers::PlyPoints written;
     written.positions = input.positions;

@@ -3,6 +3,7 @@
 // sources were arranged by phase. Define RECON_ALLOW_OLD_HEADERS to include
 // it here without the warning.
 #ifndef RECON_ALLOW_OLD_HEADERS
-#pragma GCC warning "<recon/marching_cubes_table.h> is deprecated: include <recon/phase4_contour/marching_cubes_table.h>"
+#pragma GCC warning \
+    "<recon/marching_cubes_table.h> is deprecated: include <recon/phase4_contour/marching_cubes_table.h>"
 #endif
 #include "recon/phase4_contour/marching_cubes_table.h"

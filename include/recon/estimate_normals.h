@@ -12,10 +12,10 @@
 // Cost: O(n k log n) for n points at k: phase I's neighbour searches and fits, phase II's graph and its
 // spanning tree (Prim, O(E log n) for its E ~ n k edges).
 
-#include "recon/phase2_orientation/orientation.h"
 #include "recon/core/point_cloud.h"
 #include "recon/core/progress.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/orientation.h"
 
 #include <cstdint>
 #include <functional>
@@ -38,10 +38,10 @@ struct NormalEstimationOptions {
 };
 
 struct NormalEstimation {
-  Vec3 offset = Vec3::Zero();           ///< subtracted from the input before phase I
-  std::vector<std::uint32_t> order;     ///< input index of each point, in spatial order
-  TangentPlanes<3> planes;              ///< phase I, in spatial order (relative to offset)
-  OrientedNormals<3> oriented;          ///< phase II, in spatial order
+  Vec3 offset = Vec3::Zero();        ///< subtracted from the input before phase I
+  std::vector<std::uint32_t> order;  ///< input index of each point, in spatial order
+  TangentPlanes<3> planes;           ///< phase I, in spatial order (relative to offset)
+  OrientedNormals<3> oriented;       ///< phase II, in spatial order
 
   /// The input positions in spatial order, minus offset.
   [[nodiscard]] std::span<const Vec3> points() const { return planes.point_tree.points(); }

@@ -15,18 +15,18 @@
 // their own (the tiles, the 2D curves, estimate_normals()), are in
 // reconstruct_parts.h.
 
-#include "recon/phase1_planes/local_quadrics.h"
-#include "recon/phase4_contour/marching_cubes.h"
 #include "recon/core/memory_budget.h"  // what reconstruct() refuses with ResourceLimitError
-#include "recon/phase2_orientation/orientation.h"
 #include "recon/core/progress.h"
-#include "recon/phase5_refine/refinement.h"
 #include "recon/core/resource_usage.h"  // default_memory_limit
-#include "recon/phase3_distance/signed_distance.h"
-#include "recon/phase6_simplify/simplification.h"
+#include "recon/phase1_planes/local_quadrics.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/orientation.h"
+#include "recon/phase3_distance/signed_distance.h"
+#include "recon/phase4_contour/marching_cubes.h"
+#include "recon/phase5_refine/refinement.h"
 #include "recon/phase5_refine/vertex_colors.h"
 #include "recon/phase5_refine/vertex_normals.h"
+#include "recon/phase6_simplify/simplification.h"
 
 #include <array>
 #include <cstdint>
@@ -43,7 +43,7 @@ namespace recon {
 struct SimplifyStep {
   std::size_t triangles = 0;  ///< stop at this many triangles (0: none)
   double ratio = 0.0;         ///< or at this fraction of them (0 < ratio < 1; 0: none)
-  double max_error = 0.0;     ///< a bound on the distance of the unsimplified mesh's vertices, a multiple of rho (0: none)
+  double max_error = 0.0;  ///< a bound on the distance of the unsimplified mesh's vertices, a multiple of rho (0: none)
   [[nodiscard]] bool requested() const { return triangles > 0 || ratio != 0.0 || max_error != 0.0; }
 };
 
@@ -58,19 +58,19 @@ enum class Method { refined, hoppe92 };
 
 struct ReconstructionOptions {
   Method method = Method::refined;
-  TangentPlaneOptions planes{};            ///< phase I: k, rho
-  OrientationOptions orientation{};        ///< phase II (its k is the k phase I used)
-  SignedDistanceOptions distance{};        ///< phase III: delta
-  LocalQuadricOptions quadrics{};          ///< phase I's second-order fits (refined only)
-  RefinementOptions refinement{};          ///< phase V (refined only)
-  SimplifyStep simplify{};                 ///< phase VI, optional (off by default)
-  std::optional<double> cell;              ///< phase IV cube side; default rho (hoppe92, as in the paper), rho / sqrt 2 (refined)
-  std::optional<int> resolution;           ///< or: cubes along the longest side of the bounding box
-  bool use_input_normals = false;          ///< orient with the cloud's own normals, skipping phase II
+  TangentPlaneOptions planes{};      ///< phase I: k, rho
+  OrientationOptions orientation{};  ///< phase II (its k is the k phase I used)
+  SignedDistanceOptions distance{};  ///< phase III: delta
+  LocalQuadricOptions quadrics{};    ///< phase I's second-order fits (refined only)
+  RefinementOptions refinement{};    ///< phase V (refined only)
+  SimplifyStep simplify{};           ///< phase VI, optional (off by default)
+  std::optional<double> cell;  ///< phase IV cube side; default rho (hoppe92, as in the paper), rho / sqrt 2 (refined)
+  std::optional<int> resolution;   ///< or: cubes along the longest side of the bounding box
+  bool use_input_normals = false;  ///< orient with the cloud's own normals, skipping phase II
   /// Refuse, before allocating, work estimated to need more memory (bytes);
   /// 0: default_memory_limit(). The estimates are memory_budget.h's.
   std::size_t max_memory = 0;
-  bool keep_corners = false;               ///< keep the evaluated lattice corners in the result
+  bool keep_corners = false;  ///< keep the evaluated lattice corners in the result
   /// Move the cloud by this instead of working_offset (see Reconstruction):
   /// a tile of a larger cloud takes the whole cloud's (tiles.h).
   std::optional<Vec3> offset;
@@ -82,7 +82,7 @@ struct ReconstructionOptions {
   /// Give the final mesh the cloud's colours, when it has them (see above);
   /// false: the mesh has none (the colours are still kept in the result).
   bool mesh_colors = true;
-  VertexColorOptions colors{};             ///< how the mesh's colours are blended
+  VertexColorOptions colors{};  ///< how the mesh's colours are blended
   /// Give the final mesh a unit normal per vertex (Mesh::normals): phase
   /// V's fitted normal where it has one, the area-weighted mean of the
   /// triangles' elsewhere (vertex_normals.h). False: none (the default, so
@@ -138,15 +138,15 @@ struct ClusterLattice {
 /// relative to `offset`, and only the mesh is moved back to the input's
 /// coordinates.
 struct Reconstruction {
-  Vec3 offset = Vec3::Zero();                  ///< subtracted from the input before phase I (see above)
-  std::vector<std::uint32_t> order;            ///< input index of each point, in spatial order
+  Vec3 offset = Vec3::Zero();        ///< subtracted from the input before phase I (see above)
+  std::vector<std::uint32_t> order;  ///< input index of each point, in spatial order
   TangentPlanes<3> planes;
   std::optional<OrientedNormals<3>> oriented;  ///< absent when the input normals were used
   std::vector<Vec3> input_normals;             ///< the input's own normals (unit, spatial order), when used
   /// The input's colours in spatial order (colors[j] is input point
   /// order[j]'s); empty when it had none. 3 bytes a point.
   std::vector<Color> colors;
-  KdTree<3> origin_tree;                       ///< over the plane origins: phase III's nearest-plane queries
+  KdTree<3> origin_tree;  ///< over the plane origins: phase III's nearest-plane queries
 
   /// The input positions in spatial order.
   [[nodiscard]] std::span<const Vec3> points() const { return planes.point_tree.points(); }  // minus offset
@@ -162,7 +162,7 @@ struct Reconstruction {
   /// were here while phase II used them (released after); the curvature,
   /// residuals and counts stay here.
   std::optional<LocalQuadrics> quadrics;
-  MarchingCubesResult contour;                 ///< phase IV's mesh (input coordinates) and the lattice statistics
+  MarchingCubesResult contour;  ///< phase IV's mesh (input coordinates) and the lattice statistics
   /// Empty when one lattice covers the cloud (the usual case). Otherwise
   /// the far-apart clusters that draw a surface, one lattice each, in the
   /// order their meshes follow one another in `contour`; `contour` then
@@ -170,7 +170,7 @@ struct Reconstruction {
   /// lattice has, are zero, and it keeps no corners (their indices are each
   /// lattice's own).
   std::vector<ClusterLattice> clusters;
-  std::optional<Refinement> refinement;        ///< phase V's mesh (input coordinates), refined only
+  std::optional<Refinement> refinement;  ///< phase V's mesh (input coordinates), refined only
   /// Phase VI's mesh (input coordinates), when options.simplify asked for
   /// it; its vertex_error is in input units (divide by planes.rho for the
   /// multiple of rho).
@@ -179,7 +179,9 @@ struct Reconstruction {
   [[nodiscard]] const Mesh& mesh() const {
     return simplification ? simplification->mesh : refinement ? refinement->mesh : contour.mesh;
   }
-  [[nodiscard]] Mesh& mesh() { return simplification ? simplification->mesh : refinement ? refinement->mesh : contour.mesh; }
+  [[nodiscard]] Mesh& mesh() {
+    return simplification ? simplification->mesh : refinement ? refinement->mesh : contour.mesh;
+  }
   /// Phase III's time outside phase II: f's set-up, and the first wave's
   /// corners still to evaluate once the orientation was done.
   double seconds_distance_setup = 0.0;
@@ -187,8 +189,8 @@ struct Reconstruction {
   /// tree over the origins, and f at the corners of the lattice cubes that
   /// hold a sample, from the unoriented planes (signs are fixed afterwards).
   double seconds_distance_beside = 0.0;
-  double seconds_colors = 0.0;                 ///< giving the mesh its colours (0 when it has none)
-  FaceNormalFill face_normals;                 ///< the normals filled from the faces (vertex_normals)
+  double seconds_colors = 0.0;  ///< giving the mesh its colours (0 when it has none)
+  FaceNormalFill face_normals;  ///< the normals filled from the faces (vertex_normals)
 };
 
 /// A triangle mesh from `cloud`, by the phases in order, keeping every

@@ -83,8 +83,7 @@ struct WorkingTree {
 [[nodiscard]] WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options);
 /// The same moved by a given offset (a tile of a larger cloud takes the
 /// whole cloud's, tiles.h). Cost, Throws: as above.
-[[nodiscard]] WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options,
-                                       const Vec3& offset);
+[[nodiscard]] WorkingTree working_tree(std::span<const Vec3> points, const KdTreeOptions& options, const Vec3& offset);
 
 /// Phase II's options in a run of `options` once phase I gave `r`: the
 /// refined method decides each component's side at its best extreme and

@@ -3,9 +3,9 @@
 #include "recon/alternatives/brute_force_search.h"
 #include "recon/alternatives/complete_graph_mst.h"
 #include "recon/core/errors.h"
-#include "recon/structures/lattice.h"
-#include "recon/phase4_contour/marching_cubes_table.h"
 #include "recon/phase1_planes/pca.h"
+#include "recon/phase4_contour/marching_cubes_table.h"
+#include "recon/structures/lattice.h"
 
 #include <algorithm>
 #include <array>
@@ -63,9 +63,11 @@ std::vector<Edge> riemannian_graph(const Planes& planes, std::span<const Edge> e
   for (const Edge& e : emst) join(e.u, e.v);
   for (std::size_t i = 0; i < planes.neighbours.size(); ++i)
     for (const Neighbor& nb : planes.neighbours.row(i)) join(static_cast<std::uint32_t>(i), nb.index);
-  std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); });
-  edges.erase(std::unique(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.u == b.u && a.v == b.v; }),
-              edges.end());
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); });
+  edges.erase(
+      std::unique(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.u == b.u && a.v == b.v; }),
+      edges.end());
   return edges;
 }
 
@@ -259,12 +261,12 @@ void check(std::span<const Vec3> points, const Options& options) {
 Result reconstruct(std::span<const Vec3> points, const Options& options) {
   check(points, options);
   Result result;
-  Planes planes = tangent_planes(points, options.k);                            // I
-  result.emst = complete_graph_minimum_spanning_tree<3>(points).edges;          // II
+  Planes planes = tangent_planes(points, options.k);                    // I
+  result.emst = complete_graph_minimum_spanning_tree<3>(points).edges;  // II
   result.graph = riemannian_graph(planes, result.emst);
   orient(planes, result.graph, result);
-  const SignedDistance f{points, planes, options.rho, options.delta};           // III
-  result.mesh = Walk(f, make_lattice<3>(points, options.cell)).run(points);        // IV
+  const SignedDistance f{points, planes, options.rho, options.delta};        // III
+  result.mesh = Walk(f, make_lattice<3>(points, options.cell)).run(points);  // IV
   result.origins = std::move(planes.origins);
   result.normals = std::move(planes.normals);
   return result;

@@ -141,16 +141,11 @@ std::from_chars_result portable_from_chars(const char* first, const char* last, 
   return {end, std::errc{}};
 }
 
-std::to_chars_result portable_to_chars(char* first, char* last, double value) {
-  return shortest(first, last, value);
-}
+std::to_chars_result portable_to_chars(char* first, char* last, double value) { return shortest(first, last, value); }
 
-std::to_chars_result portable_to_chars(char* first, char* last, float value) {
-  return shortest(first, last, value);
-}
+std::to_chars_result portable_to_chars(char* first, char* last, float value) { return shortest(first, last, value); }
 
-std::to_chars_result portable_to_chars(char* first, char* last, double value, std::chars_format format,
-                                       int precision) {
+std::to_chars_result portable_to_chars(char* first, char* last, double value, std::chars_format format, int precision) {
   char text[400];
   const char* form = format == std::chars_format::fixed        ? "%.*f"
                      : format == std::chars_format::scientific ? "%.*e"

@@ -53,8 +53,8 @@ double estimated_bytes_reconstruction(std::size_t points, int k, bool second_ord
 }
 
 std::size_t max_cubes_within(std::size_t limit, std::size_t points) {
-  return static_cast<std::size_t>(
-      std::max(0.0, (static_cast<double>(limit) - static_cast<double>(points) * bytes_per_point_held) / bytes_per_cube));
+  return static_cast<std::size_t>(std::max(
+      0.0, (static_cast<double>(limit) - static_cast<double>(points) * bytes_per_point_held) / bytes_per_cube));
 }
 
 std::size_t max_squares_within(std::size_t limit) {
@@ -84,12 +84,12 @@ void check_statistics_sample(std::size_t drawn, std::size_t allowed, std::size_t
                              std::size_t limit) {
   const auto needed = static_cast<std::size_t>(std::max(k, 0)) + 1;
   if (drawn >= needed || drawn >= cloud_points) return;
-  throw ResourceLimitError("the memory limit is too small for the cloud-wide statistics of a tiled run: the " +
-                           megabytes_or_gigabytes(static_cast<double>(limit)) +
-                           " allowed (--max-memory) hold a sample of " + std::to_string(allowed) + " of the " +
-                           std::to_string(cloud_points) + " points, drawn as whole patches of the cloud: " +
-                           std::to_string(drawn) + " drawn, and phase I needs at least " + std::to_string(needed) +
-                           " (k + 1 with k = " + std::to_string(k) + "); raise --max-memory");
+  throw ResourceLimitError(
+      "the memory limit is too small for the cloud-wide statistics of a tiled run: the " +
+      megabytes_or_gigabytes(static_cast<double>(limit)) + " allowed (--max-memory) hold a sample of " +
+      std::to_string(allowed) + " of the " + std::to_string(cloud_points) +
+      " points, drawn as whole patches of the cloud: " + std::to_string(drawn) + " drawn, and phase I needs at least " +
+      std::to_string(needed) + " (k + 1 with k = " + std::to_string(k) + "); raise --max-memory");
 }
 
 }  // namespace recon

@@ -501,9 +501,15 @@ class Terrain final : public Shape {
   int euler_characteristic() const override { return 1; }  // a disc
 
  private:
-  static double height(double x, double y) { return 0.15 * std::sin(2.0 * x) * std::cos(3.0 * y) + 0.05 * std::sin(5.0 * x + 4.0 * y); }
-  static double dx(double x, double y) { return 0.3 * std::cos(2.0 * x) * std::cos(3.0 * y) + 0.25 * std::cos(5.0 * x + 4.0 * y); }
-  static double dy(double x, double y) { return -0.45 * std::sin(2.0 * x) * std::sin(3.0 * y) + 0.2 * std::cos(5.0 * x + 4.0 * y); }
+  static double height(double x, double y) {
+    return 0.15 * std::sin(2.0 * x) * std::cos(3.0 * y) + 0.05 * std::sin(5.0 * x + 4.0 * y);
+  }
+  static double dx(double x, double y) {
+    return 0.3 * std::cos(2.0 * x) * std::cos(3.0 * y) + 0.25 * std::cos(5.0 * x + 4.0 * y);
+  }
+  static double dy(double x, double y) {
+    return -0.45 * std::sin(2.0 * x) * std::sin(3.0 * y) + 0.2 * std::cos(5.0 * x + 4.0 * y);
+  }
   static Vec3 normal(double x, double y) { return Vec3(-dx(x, y), -dy(x, y), 1.0).normalized(); }
 };
 

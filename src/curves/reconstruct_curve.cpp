@@ -1,7 +1,7 @@
 #include "recon/curves/reconstruct_curve.h"
 
-#include "recon/reconstruct_parts.h"  // chosen_cell
 #include "recon/core/timer.h"
+#include "recon/reconstruct_parts.h"  // chosen_cell
 
 #include <functional>
 #include <vector>
@@ -17,8 +17,8 @@ CurveReconstruction reconstruct_curve(std::span<const Vec2> points, const CurveR
   CurveReconstruction r;
   r.planes = estimate_tangent_planes<2>(points, options.planes);
   const double cell = curve_lattice_cell(points, r.planes.rho, options);
-  r.oriented = orient_normals<2>(r.planes, build_orientation_graph<2>(r.planes, options.graph, options.orientation.graph),
-                                 options.orientation);
+  r.oriented = orient_normals<2>(
+      r.planes, build_orientation_graph<2>(r.planes, options.graph, options.orientation.graph), options.orientation);
 
   Timer timer;
   r.origin_tree = r.planes.point_tree.refit(r.planes.origins);

@@ -81,8 +81,8 @@ void append_color_unit(std::string& out, const Color& color) {
   for (std::size_t k = 0; k < 3; ++k) {
     if (k > 0) out += ' ';
     char text[16];
-    const auto [end, ec] =
-        recon::detail::float_to_chars(text, text + sizeof text, static_cast<double>(color[k]) / 255.0, std::chars_format::fixed, 4);
+    const auto [end, ec] = recon::detail::float_to_chars(
+        text, text + sizeof text, static_cast<double>(color[k]) / 255.0, std::chars_format::fixed, 4);
     std::string_view digits(text, ec == std::errc{} ? static_cast<std::size_t>(end - text) : 0);
     while (digits.size() > 1 && digits.back() == '0') digits.remove_suffix(1);  // "0.5000" -> "0.5", "1.0000" -> "1."
     if (!digits.empty() && digits.back() == '.') digits.remove_suffix(1);

@@ -96,8 +96,9 @@ void write_curves(const std::filesystem::path& path, const PolylineSet& curves, 
                               : std::isfinite(values[i].x()) && std::isfinite(values[i].y());
       if (!ok)
         throw InvalidInputError(file + ": cannot write: " + what + " " + std::to_string(i) +
-                                (bounded ? " has a coordinate that is not finite or beyond " + detail::coordinate_bound()
-                                         : std::string(" is not finite")));
+                                (bounded
+                                     ? " has a coordinate that is not finite or beyond " + detail::coordinate_bound()
+                                     : std::string(" is not finite")));
     }
   };
   check(curves.vertices, "vertex", true);
@@ -116,9 +117,14 @@ void write_curves(const std::filesystem::path& path, const PolylineSet& curves, 
     case CurveFormat::svg:
       detail::write_svg_curves(output.stream(), curves, options.points, options.normals, options.normal_length);
       break;
-    case CurveFormat::obj: detail::write_obj_curves(output.stream(), curves); break;
-    case CurveFormat::txt: detail::write_text_curves(output.stream(), curves); break;
-    case CurveFormat::automatic: throw InvalidInputError(file + ": no curve format chosen");
+    case CurveFormat::obj:
+      detail::write_obj_curves(output.stream(), curves);
+      break;
+    case CurveFormat::txt:
+      detail::write_text_curves(output.stream(), curves);
+      break;
+    case CurveFormat::automatic:
+      throw InvalidInputError(file + ": no curve format chosen");
   }
   output.commit();
 }

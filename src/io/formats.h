@@ -10,9 +10,9 @@
 
 #include "point_parts.h"
 
+#include "recon/core/point_cloud.h"
 #include "recon/io/point_io.h"
 #include "recon/structures/mesh.h"
-#include "recon/core/point_cloud.h"
 #include "recon/structures/polyline.h"
 
 #include <array>

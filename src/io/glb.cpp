@@ -46,8 +46,7 @@
 namespace recon::io::detail {
 namespace {
 
-
-constexpr std::uint32_t glb_magic = 0x46546C67;  // "glTF"
+constexpr std::uint32_t glb_magic = 0x46546C67;   // "glTF"
 constexpr std::uint32_t json_chunk = 0x4E4F534A;  // "JSON"
 constexpr std::uint32_t bin_chunk = 0x004E4942;   // "BIN\0"
 constexpr int array_buffer = 34962, element_array_buffer = 34963;
@@ -145,7 +144,8 @@ std::string asset() {
 std::string describe(const Mesh& mesh, const Buffer& b) {
   const std::size_t n = mesh.vertices.size();
   const bool colors = mesh.has_colors();
-  std::string json = "{" + asset() + ",\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0,\"translation\":[";
+  std::string json =
+      "{" + asset() + ",\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0,\"translation\":[";
   for (int k = 0; k < 3; ++k) {
     if (k > 0) json += ',';
     append_double_exactly(json, b.centre[k]);

@@ -3,8 +3,8 @@
 #include "recon/core/detail/float_chars.h"
 
 #include "recon/core/errors.h"
-#include "recon/io/point_io.h"  // file_being_read
 #include "recon/core/resource_usage.h"  // default_memory_limit
+#include "recon/io/point_io.h"          // file_being_read
 
 #include <algorithm>
 #include <atomic>
@@ -171,7 +171,6 @@ FileContent read_file(const std::filesystem::path& path, std::size_t stream_limi
   return FileContent(map, size);  // the mapping outlives the descriptor
 }
 
-
 namespace {
 // "FILE" + separator + location + ": " + what, thrown as a ParseError.
 [[noreturn]] void throw_parse_error(std::string_view file, std::string_view location, std::string_view what,
@@ -302,34 +301,53 @@ double parse_coordinate(std::string_view file, std::size_t line, std::string_vie
 bool fits_type(double value, ScalarType type) {
   if (std::isnan(value)) return !is_integer_type(type);
   switch (type) {
-    case ScalarType::int8: return value >= -128.0 && value <= 127.0;
-    case ScalarType::uint8: return value >= 0.0 && value <= 255.0;
-    case ScalarType::int16: return value >= -32768.0 && value <= 32767.0;
-    case ScalarType::uint16: return value >= 0.0 && value <= 65535.0;
-    case ScalarType::int32: return value >= -2147483648.0 && value <= 2147483647.0;
-    case ScalarType::uint32: return value >= 0.0 && value <= 4294967295.0;
+    case ScalarType::int8:
+      return value >= -128.0 && value <= 127.0;
+    case ScalarType::uint8:
+      return value >= 0.0 && value <= 255.0;
+    case ScalarType::int16:
+      return value >= -32768.0 && value <= 32767.0;
+    case ScalarType::uint16:
+      return value >= 0.0 && value <= 65535.0;
+    case ScalarType::int32:
+      return value >= -2147483648.0 && value <= 2147483647.0;
+    case ScalarType::uint32:
+      return value >= 0.0 && value <= 4294967295.0;
     // 2^63 and 2^64 are exactly representable; the largest 64-bit integers are not.
-    case ScalarType::int64: return value >= -0x1p63 && value < 0x1p63;
-    case ScalarType::uint64: return value >= 0.0 && value < 0x1p64;
+    case ScalarType::int64:
+      return value >= -0x1p63 && value < 0x1p63;
+    case ScalarType::uint64:
+      return value >= 0.0 && value < 0x1p64;
     case ScalarType::float32:
       return std::isinf(value) || std::abs(value) <= static_cast<double>(std::numeric_limits<float>::max());
-    case ScalarType::float64: return true;
+    case ScalarType::float64:
+      return true;
   }
   return false;
 }
 
 std::string describe_range(ScalarType type) {
   switch (type) {
-    case ScalarType::int8: return "its type int8 (-128 to 127)";
-    case ScalarType::uint8: return "its type uint8 (0 to 255)";
-    case ScalarType::int16: return "its type int16 (-32768 to 32767)";
-    case ScalarType::uint16: return "its type uint16 (0 to 65535)";
-    case ScalarType::int32: return "its type int32 (-2^31 to 2^31 - 1)";
-    case ScalarType::uint32: return "its type uint32 (0 to 2^32 - 1)";
-    case ScalarType::int64: return "its type int64 (-2^63 to 2^63 - 1)";
-    case ScalarType::uint64: return "its type uint64 (0 to 2^64 - 1)";
-    case ScalarType::float32: return "its type float32 (magnitude at most 3.4028235e+38)";
-    case ScalarType::float64: return "its type float64";
+    case ScalarType::int8:
+      return "its type int8 (-128 to 127)";
+    case ScalarType::uint8:
+      return "its type uint8 (0 to 255)";
+    case ScalarType::int16:
+      return "its type int16 (-32768 to 32767)";
+    case ScalarType::uint16:
+      return "its type uint16 (0 to 65535)";
+    case ScalarType::int32:
+      return "its type int32 (-2^31 to 2^31 - 1)";
+    case ScalarType::uint32:
+      return "its type uint32 (0 to 2^32 - 1)";
+    case ScalarType::int64:
+      return "its type int64 (-2^63 to 2^63 - 1)";
+    case ScalarType::uint64:
+      return "its type uint64 (0 to 2^64 - 1)";
+    case ScalarType::float32:
+      return "its type float32 (magnitude at most 3.4028235e+38)";
+    case ScalarType::float64:
+      return "its type float64";
   }
   return "its type";
 }

@@ -4,9 +4,9 @@
 // messages, parsing and printing numbers, and binary scalars in either byte
 // order.
 
+#include "recon/core/point_cloud.h"
 #include "recon/io/point_io.h"
 #include "recon/structures/mesh.h"
-#include "recon/core/point_cloud.h"
 
 #include <array>
 #include <bit>
@@ -189,15 +189,19 @@ enum class ScalarType : std::uint8_t { int8, uint8, int16, uint16, int32, uint32
 [[nodiscard]] constexpr std::size_t scalar_size(ScalarType type) {
   switch (type) {
     case ScalarType::int8:
-    case ScalarType::uint8: return 1;
+    case ScalarType::uint8:
+      return 1;
     case ScalarType::int16:
-    case ScalarType::uint16: return 2;
+    case ScalarType::uint16:
+      return 2;
     case ScalarType::int32:
     case ScalarType::uint32:
-    case ScalarType::float32: return 4;
+    case ScalarType::float32:
+      return 4;
     case ScalarType::int64:
     case ScalarType::uint64:
-    case ScalarType::float64: return 8;
+    case ScalarType::float64:
+      return 8;
   }
   return 0;
 }
@@ -277,8 +281,7 @@ inline Decoded decode_scalar(const char* bytes, ScalarType type, bool swap, doub
       return Decoded::finite;
     case ScalarType::float32: {
       const auto bits = load_bits<std::uint32_t>(bytes, swap);
-      if ((bits & 0x7f800000U) == 0x7f800000U)
-        return non_finite((bits & 0x007fffffU) != 0, (bits >> 31) != 0, value);
+      if ((bits & 0x7f800000U) == 0x7f800000U) return non_finite((bits & 0x007fffffU) != 0, (bits >> 31) != 0, value);
       float f = 0.0F;
       std::memcpy(&f, &bits, 4);
       value = static_cast<double>(f);

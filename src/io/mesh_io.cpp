@@ -53,12 +53,23 @@ void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const Write
   if (format == MeshFormat::glb) detail::check_mesh_for_glb(file, mesh);
   AtomicFile output(path);
   switch (format) {
-    case MeshFormat::ply: detail::write_ply_mesh(output.stream(), mesh, options.ascii); break;
-    case MeshFormat::obj: detail::write_obj_mesh(output.stream(), mesh); break;
-    case MeshFormat::off: detail::write_off_mesh(output.stream(), mesh); break;
-    case MeshFormat::stl: detail::write_stl_mesh(output.stream(), mesh); break;
-    case MeshFormat::glb: detail::write_glb_mesh(output.stream(), mesh); break;
-    case MeshFormat::automatic: throw InvalidInputError(file + ": no mesh format chosen");
+    case MeshFormat::ply:
+      detail::write_ply_mesh(output.stream(), mesh, options.ascii);
+      break;
+    case MeshFormat::obj:
+      detail::write_obj_mesh(output.stream(), mesh);
+      break;
+    case MeshFormat::off:
+      detail::write_off_mesh(output.stream(), mesh);
+      break;
+    case MeshFormat::stl:
+      detail::write_stl_mesh(output.stream(), mesh);
+      break;
+    case MeshFormat::glb:
+      detail::write_glb_mesh(output.stream(), mesh);
+      break;
+    case MeshFormat::automatic:
+      throw InvalidInputError(file + ": no mesh format chosen");
   }
   output.commit();
 }
@@ -73,12 +84,16 @@ Mesh read_mesh(const std::filesystem::path& path) {
   const std::string_view content = file_content.view();
   if (content.empty()) detail::fail_in_file(file, "the file is empty");
   switch (format) {
-    case MeshFormat::ply: return detail::read_ply_mesh(file, content);
-    case MeshFormat::obj: return detail::read_obj_mesh(file, content);
-    case MeshFormat::off: return detail::read_off_mesh(file, content);
+    case MeshFormat::ply:
+      return detail::read_ply_mesh(file, content);
+    case MeshFormat::obj:
+      return detail::read_obj_mesh(file, content);
+    case MeshFormat::off:
+      return detail::read_off_mesh(file, content);
     case MeshFormat::stl:
     case MeshFormat::glb:
-    case MeshFormat::automatic: break;
+    case MeshFormat::automatic:
+      break;
   }
   throw InvalidInputError(file + ": no mesh format chosen");
 }

@@ -39,8 +39,8 @@
 #include <array>
 #include <bit>
 #include <cmath>
-#include <cstring>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <unordered_map>
@@ -454,8 +454,9 @@ void read_ascii_data(std::string_view file, std::string_view content, const PcdH
       const NumberStatus status = parse_double(token, value);
       if (status != NumberStatus::ok) fail_at_line(file, n, describe_bad_number(status, token, "a PCD value"));
       if (!fits_type(value, type_of_column[column]))
-        fail_at_line(file, n, excerpt(token) + " in column " + std::to_string(column + 1) + " does not fit " +
-                                  describe_range(type_of_column[column]));
+        fail_at_line(file, n,
+                     excerpt(token) + " in column " + std::to_string(column + 1) + " does not fit " +
+                         describe_range(type_of_column[column]));
       const int s = slot_of_column[column];
       if (s == static_cast<int>(color)) {
         point.color_missing = !packed_color_from_text(token, value, type_of_column[column], point.color);

@@ -211,7 +211,7 @@ PlyHeader parse_header(std::string_view file, std::string_view content) {
 
 // The vertex properties the reader keeps: a slot each.
 constexpr std::size_t slot_count = 9;
-constexpr std::array<std::string_view, slot_count> slot_names = {"x",  "y",  "z",   "nx",   "ny",
+constexpr std::array<std::string_view, slot_count> slot_names = {"x",  "y",   "z",     "nx",  "ny",
                                                                  "nz", "red", "green", "blue"};
 constexpr std::size_t first_normal_slot = 3, first_color_slot = 6;
 /// The colours' older names (MeshLab's), used when red, green, blue are not all there.
@@ -379,8 +379,7 @@ double parse_value(std::string_view file, std::size_t line, std::string_view tok
                    ScalarType type) {
   double value = 0.0;
   const NumberStatus status = parse_double(token, value);
-  if (status == NumberStatus::not_a_number)
-    fail_at_line(file, line, describe_bad_number(status, token, property.name));
+  if (status == NumberStatus::not_a_number) fail_at_line(file, line, describe_bad_number(status, token, property.name));
   if (status == NumberStatus::overflow || !fits_type(value, type))
     fail_at_line(file, line, excerpt(token) + " for " + property.name + " does not fit " + describe_range(type));
   return value;

@@ -80,16 +80,23 @@ namespace {
 PointCloud read_as(PointFormat format, const std::string& file, std::string_view content,
                    const ReadPointsOptions& options, ReadNotes& said) {
   switch (format) {
-    case PointFormat::ply: return detail::read_ply_points(file, content);
-    case PointFormat::xyz: return detail::read_xyz_points(file, content, options, said);
+    case PointFormat::ply:
+      return detail::read_ply_points(file, content);
+    case PointFormat::xyz:
+      return detail::read_xyz_points(file, content, options, said);
     case PointFormat::pts:
       return detail::read_pts_points(file, content, options, said);
-    case PointFormat::obj: return detail::read_obj_points(file, content);
-    case PointFormat::off: return detail::read_off_points(file, content);
-    case PointFormat::pcd: return detail::read_pcd_points(file, content, options, said);
-    case PointFormat::las: return detail::read_las_points(file, content, options, said);
+    case PointFormat::obj:
+      return detail::read_obj_points(file, content);
+    case PointFormat::off:
+      return detail::read_off_points(file, content);
+    case PointFormat::pcd:
+      return detail::read_pcd_points(file, content, options, said);
+    case PointFormat::las:
+      return detail::read_las_points(file, content, options, said);
     case PointFormat::laz:
-    case PointFormat::automatic: break;
+    case PointFormat::automatic:
+      break;
   }
   throw InvalidInputError(file + ": no point format chosen");
 }

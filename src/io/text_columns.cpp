@@ -47,9 +47,12 @@ Separator separator_of(std::string_view data) {
 
 std::string_view plural_name(Separator separator) {
   switch (separator) {
-    case Separator::blanks: return "blanks";
-    case Separator::comma: return "commas";
-    case Separator::semicolon: return "semicolons";
+    case Separator::blanks:
+      return "blanks";
+    case Separator::comma:
+      return "commas";
+    case Separator::semicolon:
+      return "semicolons";
   }
   return "";
 }
@@ -60,7 +63,7 @@ std::string_view plural_name(Separator separator) {
 /// comma is a decimal mark).
 char foreign_separator(std::string_view field, Separator separator) {
   for (const char c : field) {
-    const bool foreign = separator == Separator::blanks ? c == ',' || c == ';'
+    const bool foreign = separator == Separator::blanks  ? c == ',' || c == ';'
                          : separator == Separator::comma ? c == ';' || is_blank(c)
                                                          : is_blank(c);
     if (foreign) return c;
@@ -160,12 +163,10 @@ struct KnownName {
   ColumnRole role;
 };
 constexpr KnownName known_names[] = {
-    {"x", ColumnRole::x},         {"y", ColumnRole::y},         {"z", ColumnRole::z},
-    {"nx", ColumnRole::nx},       {"ny", ColumnRole::ny},       {"nz", ColumnRole::nz},
-    {"normal_x", ColumnRole::nx}, {"normal_y", ColumnRole::ny}, {"normal_z", ColumnRole::nz},
-    {"r", ColumnRole::r},         {"g", ColumnRole::g},         {"b", ColumnRole::b},
-    {"red", ColumnRole::r},       {"green", ColumnRole::g},     {"blue", ColumnRole::b},
-    {"_", ColumnRole::ignored},
+    {"x", ColumnRole::x},         {"y", ColumnRole::y},     {"z", ColumnRole::z},         {"nx", ColumnRole::nx},
+    {"ny", ColumnRole::ny},       {"nz", ColumnRole::nz},   {"normal_x", ColumnRole::nx}, {"normal_y", ColumnRole::ny},
+    {"normal_z", ColumnRole::nz}, {"r", ColumnRole::r},     {"g", ColumnRole::g},         {"b", ColumnRole::b},
+    {"red", ColumnRole::r},       {"green", ColumnRole::g}, {"blue", ColumnRole::b},      {"_", ColumnRole::ignored},
 };
 
 /// The role `name` stands for; false when recon does not know the name.
@@ -316,7 +317,7 @@ ColumnPlan guessed_plan(std::string_view file, const TextLayout& layout) {
                  "expected 3 numbers (x y z), 4 (and a value recon ignores), 6 (and normals or colours), 7 (a "
                  "value and normals or colours) or 9 (normals and colours) on a line, found " +
                      std::to_string(n) +
-                     (n == 2 ? " (two columns are 2D points: recon reconstruct makes curves of them)"
+                     (n == 2  ? " (two columns are 2D points: recon reconstruct makes curves of them)"
                       : n < 3 ? ""
                               : "; name the columns in a header line or with --columns, e.g. --columns " + example));
   }

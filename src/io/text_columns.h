@@ -91,9 +91,8 @@ struct TextLayout {
 /// Parses a field of delimited text as a number `what` ("x", "red", ...),
 /// accepting a decimal comma in a file separated by semicolons, or throws
 /// (fail_text_field). NaN and infinity are returned as they are.
-[[nodiscard]] double parse_number_with_decimal_comma(std::string_view file, std::size_t line,
-                                                     std::string_view field, std::string_view what,
-                                                     const TextLayout& layout);
+[[nodiscard]] double parse_number_with_decimal_comma(std::string_view file, std::size_t line, std::string_view field,
+                                                     std::string_view what, const TextLayout& layout);
 [[nodiscard]] inline double parse_text_field(std::string_view file, std::size_t line, std::string_view field,
                                              std::string_view what, const TextLayout& layout) {
   double value = 0.0;
@@ -117,9 +116,9 @@ struct FieldTarget {
 
 /// How the columns of a file are read.
 struct ColumnPlan {
-  std::vector<ColumnRole> roles;    ///< one per column; in a guessed plan decided at the end
-  std::vector<FieldTarget> fields;  ///< one per column
-  std::vector<std::string> names;   ///< one per column, for messages ("x", "red", "column 5")
+  std::vector<ColumnRole> roles;          ///< one per column; in a guessed plan decided at the end
+  std::vector<FieldTarget> fields;        ///< one per column
+  std::vector<std::string> names;         ///< one per column, for messages ("x", "red", "column 5")
   std::vector<std::size_t> held_columns;  ///< the column of each held slot
   /// Where the roles come from: --columns, the header line, or (no names)
   /// the count and the values, the held values being columns 4 and on.
@@ -199,8 +198,8 @@ struct TripleEvidence {
 
 /// What the held values become.
 struct HeldUse {
-  int normals = -1;  ///< the slot of nx (ny, nz follow), or -1
-  int colours = -1;  ///< the slot of red (green, blue follow), or -1
+  int normals = -1;           ///< the slot of nx (ny, nz follow), or -1
+  int colours = -1;           ///< the slot of red (green, blue follow), or -1
   double colour_scale = 1.0;  ///< a colour byte is value * colour_scale (1: 0-255 integers, 255: fractions)
 };
 
@@ -212,7 +211,7 @@ struct HeldUse {
 /// plan's values leave doubt, and "FILE:LINE: ..." for named colours out
 /// of range.
 [[nodiscard]] HeldUse decide_columns(std::string_view file, ColumnPlan& plan,
-                                          const std::vector<ColumnEvidence>& columns,
-                                          const std::vector<TripleEvidence>& triples, ReadNotes& notes);
+                                     const std::vector<ColumnEvidence>& columns,
+                                     const std::vector<TripleEvidence>& triples, ReadNotes& notes);
 
 }  // namespace recon::io::detail

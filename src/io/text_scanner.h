@@ -98,8 +98,8 @@ class LineScanner {
  public:
   /// Starts at byte `start`, which is the beginning of line `first_line`;
   /// `file` names the file in error messages.
-  explicit LineScanner(std::string_view file, std::string_view text, std::size_t start = 0,
-                       std::size_t first_line = 1, LineEnds ends = LineEnds::newline)
+  explicit LineScanner(std::string_view file, std::string_view text, std::size_t start = 0, std::size_t first_line = 1,
+                       LineEnds ends = LineEnds::newline)
       : file_(file), text_(text), position_(start), line_number_(first_line - 1), ends_(ends) {}
 
   /// The next line without its line end; false at the end of the text.
@@ -156,7 +156,10 @@ enum class Separator : std::uint8_t { blanks, comma, semicolon };
 class Fields {
  public:
   explicit Fields(std::string_view line, Separator separator = Separator::blanks)
-      : line_(line), mark_(separator == Separator::comma ? ',' : separator == Separator::semicolon ? ';' : '\0') {}
+      : line_(line),
+        mark_(separator == Separator::comma       ? ','
+              : separator == Separator::semicolon ? ';'
+                                                  : '\0') {}
 
   /// The next field; false when none is left.
   bool next(std::string_view& field) {

@@ -193,8 +193,8 @@ class ColumnReader {
   std::size_t end_ = 0;  ///< the end of the text, once read
   PointChecker checker_{false};
   std::vector<Vec3> held_;
-  std::vector<ColumnEvidence> columns_;   ///< per held slot
-  std::vector<TripleEvidence> triples_;   ///< per held slot where a triple starts (guessed plans)
+  std::vector<ColumnEvidence> columns_;      ///< per held slot
+  std::vector<TripleEvidence> triples_;      ///< per held slot where a triple starts (guessed plans)
   std::vector<PointChecker> triple_checks_;  ///< those triples as normals (guessed plans)
 };
 

@@ -1,9 +1,9 @@
 #include "recon/phase1_planes/local_quadrics.h"
 
 #include "recon/core/errors.h"
-#include "recon/phase1_planes/pca.h"
 #include "recon/core/progress.h"
 #include "recon/core/timer.h"
+#include "recon/phase1_planes/pca.h"
 
 #include <algorithm>
 #include <array>
@@ -20,8 +20,7 @@ std::array<Vec3, 2> tangent_basis(const Vec3& n) {
   const double sign = n.z() >= 0.0 ? 1.0 : -1.0;
   const double a = -1.0 / (sign + n.z());
   const double b = n.x() * n.y() * a;
-  return {Vec3(1.0 + sign * n.x() * n.x() * a, sign * b, -sign * n.x()),
-          Vec3(b, sign + n.y() * n.y() * a, -n.y())};
+  return {Vec3(1.0 + sign * n.x() * n.x() * a, sign * b, -sign * n.x()), Vec3(b, sign + n.y() * n.y() * a, -n.y())};
 }
 
 namespace {
@@ -328,7 +327,8 @@ SheetFit fit_own_sheet(const TangentPlanes<3>& planes, std::size_t i, const Quad
   std::sort(kept.begin(), kept.end(), [&x](std::uint32_t a, std::uint32_t b) {
     return std::lexicographical_compare(x[a].data(), x[a].data() + 3, x[b].data(), x[b].data() + 3);
   });
-  const auto distinct = std::unique(kept.begin(), kept.end(), [&x](std::uint32_t a, std::uint32_t b) { return x[a] == x[b]; });
+  const auto distinct =
+      std::unique(kept.begin(), kept.end(), [&x](std::uint32_t a, std::uint32_t b) { return x[a] == x[b]; });
   kept.erase(distinct, kept.end());
   if (kept.size() < 6) return fit;
   PlaneFit<3> sheet = fit_plane<3>(x, kept);
@@ -398,7 +398,12 @@ SurfacePoint project_onto_quadric(const Vec3& origin, const Vec3& normal, const 
   Quadric q;
   q.origin = origin;
   q.normal = normal;
-  q.c = {static_cast<double>(curvature.p), static_cast<double>(curvature.q), static_cast<double>(curvature.r), 0.0, 0.0, 0.0};
+  q.c = {static_cast<double>(curvature.p),
+         static_cast<double>(curvature.q),
+         static_cast<double>(curvature.r),
+         0.0,
+         0.0,
+         0.0};
   const auto t = tangent_basis(normal);
   const auto [u, v] = drop(q, local(q, t, p));
   const auto g = q.slope(u, v);
@@ -548,7 +553,8 @@ double median_taken_residual(const std::vector<float>& residual) {
 
 LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuadricOptions& options) {
   if (!planes.point_tree.numbered_by_leaf_order() || planes.neighbors.size() != planes.origins.size())
-    throw InvalidInputError("fit_local_quadrics: the planes need their neighbour lists and a tree numbered by leaf order");
+    throw InvalidInputError(
+        "fit_local_quadrics: the planes need their neighbour lists and a tree numbered by leaf order");
   Timer timer;
   const std::size_t n = planes.origins.size();
   LocalQuadrics result;

@@ -4,9 +4,9 @@
 #include "recon/core/detail/parallel_for.h"
 #include "recon/core/errors.h"
 #include "recon/core/interruption.h"
-#include "recon/phase1_planes/pca.h"
 #include "recon/core/progress.h"
 #include "recon/core/timer.h"
+#include "recon/phase1_planes/pca.h"
 
 #include <algorithm>
 #include <array>
@@ -49,8 +49,8 @@ void check_request(std::size_t n, const TangentPlaneOptions& options) {
   if (options.rho && !(*options.rho > 0.0 && std::isfinite(*options.rho)))
     throw InvalidInputError("rho must be a positive length");
   if (n < static_cast<std::size_t>(k) + 1)
-    throw InvalidInputError("only " + std::to_string(n) + " point" + (n == 1 ? "" : "s") + "; k = " +
-                            std::to_string(k) + " needs at least " + std::to_string(k + 1) +
+    throw InvalidInputError("only " + std::to_string(n) + " point" + (n == 1 ? "" : "s") +
+                            "; k = " + std::to_string(k) + " needs at least " + std::to_string(k + 1) +
                             (n > static_cast<std::size_t>(D) + 1 ? " (lower --k)" : ": too few to fit a surface"));
 }
 
@@ -200,7 +200,8 @@ double local_gaps_and_irregularity(TangentPlanes<D>& result, const std::vector<f
       sum += static_cast<double>(nn_distance[j]);
     }
     result.local_gap[i] = widest;
-    if (sum > 0.0) relative[i] = static_cast<float>(static_cast<double>(nn_distance[i]) * static_cast<double>(kk) / sum);
+    if (sum > 0.0)
+      relative[i] = static_cast<float>(static_cast<double>(nn_distance[i]) * static_cast<double>(kk) / sum);
   });
   SpacingSums sums;
   for (const float r : relative) sums.add(r);
@@ -356,7 +357,7 @@ TangentPlanes<D> planes_over(KdTree<D> tree, std::span<const Vec<D>> given, cons
 }  // namespace
 
 void SpacingSums::add(float relative) {
-  constexpr double scale = 1099511627776.0;  // 2^40
+  constexpr double scale = 1099511627776.0;      // 2^40
   const auto r = static_cast<double>(relative);  // (at most k: a neighbourhood's mean includes x_i's own)
   sum += static_cast<Wide>(std::llround(r * scale));
   sum2 += static_cast<Wide>(std::llround(r * r * scale));

@@ -311,11 +311,11 @@ std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::sp
   ProgressCounter* const progress = progress_counter();  // counts the merges
   while (boruvka.component_count() > 1) {
     const std::size_t before = boruvka.component_count();
-    boruvka.scan_lists();        // each point's nearest outside point, where its list knows it
-    boruvka.query_tree();        // ... and where it does not
-    boruvka.hook_components();   // each component takes its shortest outside edge
+    boruvka.scan_lists();       // each point's nearest outside point, where its list knows it
+    boruvka.query_tree();       // ... and where it does not
+    boruvka.hook_components();  // each component takes its shortest outside edge
     boruvka.add_round_edges();
-    boruvka.jump_to_roots();     // the components those edges join
+    boruvka.jump_to_roots();  // the components those edges join
     boruvka.merge_components();
     if (progress != nullptr) progress->advance(before - boruvka.component_count());
   }

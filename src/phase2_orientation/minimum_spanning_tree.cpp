@@ -18,12 +18,9 @@ std::vector<Edge> spanning_forest_candidates(std::size_t vertex_count, std::vect
     if (e.u >= vertex_count || e.v >= vertex_count)
       throw InvalidInputError(std::string(algorithm) + ": " + name(e) + " names a vertex out of range (there are " +
                               std::to_string(vertex_count) + " vertices)");
-    if (std::isnan(e.weight))
-      throw InvalidInputError(std::string(algorithm) + ": " + name(e) + " has a NaN weight");
+    if (std::isnan(e.weight)) throw InvalidInputError(std::string(algorithm) + ": " + name(e) + " has a NaN weight");
   }
-  std::erase_if(edges, [](const Edge& e) {
-    return e.u == e.v || e.weight == std::numeric_limits<double>::infinity();
-  });
+  std::erase_if(edges, [](const Edge& e) { return e.u == e.v || e.weight == std::numeric_limits<double>::infinity(); });
   for (Edge& e : edges)
     if (e.v < e.u) std::swap(e.u, e.v);
   return edges;

@@ -6,19 +6,19 @@
 
 #include <algorithm>
 #include <array>
-#include <span>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <span>
 #include <utility>
 
 namespace recon {
 namespace {
 
-constexpr double cos_25_degrees = 0.9063077870366499;  // "nearly parallel" planes
-constexpr double cos_45_degrees = 0.7071067811865476;  // planes across a crease
-constexpr double sin_30_degrees = 0.5;                 // a steep edge (facing sheets)
-constexpr double sin_10_degrees = 0.17364817766693033; // a steep edge across a wedge
+constexpr double cos_25_degrees = 0.9063077870366499;   // "nearly parallel" planes
+constexpr double cos_45_degrees = 0.7071067811865476;   // planes across a crease
+constexpr double sin_30_degrees = 0.5;                  // a steep edge (facing sheets)
+constexpr double sin_10_degrees = 0.17364817766693033;  // a steep edge across a wedge
 
 // sign_by_extremes (see the header). The offer of one direction, per
 // component: the sample within two neighbourhood radii of the extreme whose
@@ -56,11 +56,12 @@ Vec<D> signed_normal(const Normals& guide, const std::vector<std::uint8_t>& flip
 }
 
 template <int D>
-std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const Guide<D>& guide,
-                                const OrientedNormals<D>& result, int axis, double sign) {
+std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const Guide<D>& guide, const OrientedNormals<D>& result,
+                                int axis, double sign) {
   const std::vector<std::uint32_t>& label = result.graph.components.label;
   std::vector<double> top(result.graph.components.sizes.size(), -std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < label.size(); ++i) top[label[i]] = std::max(top[label[i]], sign * planes.origins[i][axis]);
+  for (std::size_t i = 0; i < label.size(); ++i)
+    top[label[i]] = std::max(top[label[i]], sign * planes.origins[i][axis]);
   std::vector<Offer> offer(top.size());
   for (std::size_t i = 0; i < label.size(); ++i) {
     if (sign * planes.origins[i][axis] < top[label[i]] - 2.0 * static_cast<double>(planes.radius[i])) continue;
@@ -237,8 +238,7 @@ std::size_t turn_crease_patches(const TangentPlanes<D>& planes, const Graph& g, 
 }
 
 template <int D>
-std::size_t turn_components_outward(const TangentPlanes<D>& planes, const Guide<D>& guide,
-                                    OrientedNormals<D>& result) {
+std::size_t turn_components_outward(const TangentPlanes<D>& planes, const Guide<D>& guide, OrientedNormals<D>& result) {
   constexpr double well_aligned = cos_25_degrees;
   std::vector<Offer> best = offers_along<D>(planes, guide, result, D - 1, 1.0);  // up: Hoppe's direction
   std::vector<bool> decided(best.size());

@@ -1,12 +1,12 @@
 #include "recon/phase2_orientation/riemannian_graph.h"
 
 #include "recon/core/detail/parallel_for.h"
-#include "recon/phase2_orientation/emst.h"
 #include "recon/core/errors.h"
 #include "recon/core/interruption.h"
 #include "recon/core/parallel.h"  // AtomicRef
 #include "recon/core/progress.h"
 #include "recon/core/timer.h"
+#include "recon/phase2_orientation/emst.h"
 
 #include <algorithm>
 #include <atomic>
@@ -123,10 +123,10 @@ struct Neighbourhoods {
 // other row; the rows are then filled in parallel, and the closure part of
 // each sorted, so the graph does not depend on the thread count.
 struct RowPlan {
-  std::size_t words;                   // per list: 2 bits per entry (kept, reverse)
+  std::size_t words;  // per list: 2 bits per entry (kept, reverse)
   std::vector<std::uint64_t> marks;
-  std::vector<std::uint16_t> own;      // kept entries of row i (at most k <= 256)
-  std::vector<std::uint32_t> degree;   // the other entries of row i
+  std::vector<std::uint16_t> own;     // kept entries of row i (at most k <= 256)
+  std::vector<std::uint32_t> degree;  // the other entries of row i
 
   [[nodiscard]] std::uint64_t bits(std::size_t i, std::size_t e) const {
     return marks[i * words + e / 32] >> (2 * (e % 32));
@@ -177,9 +177,9 @@ EmstEdgeKinds sort_emst_edges(const Neighbourhoods<D>& lists, const std::vector<
   std::vector<std::uint8_t> kind(emst.size());
   parallel_for(emst.size(), [&](std::size_t s) {
     const Edge& e = emst[s];
-    kind[s] = lists.is_gap(e.u, e.v)                                 ? gap_edge
+    kind[s] = lists.is_gap(e.u, e.v)                               ? gap_edge
               : !lists.listed(e.u, e.v) && !lists.listed(e.v, e.u) ? extra_edge
-                                                                     : in_lists;
+                                                                   : in_lists;
   });
   EmstEdgeKinds kinds;
   for (std::size_t s = 0; s < kind.size(); ++s) {

@@ -24,7 +24,8 @@ typename SignedDistance<D>::Choice SignedDistance<D>::choose(const Vec<D>& p, st
     origin_tree_->knn(p, std::span<Neighbor>(&nearest, 1));
   if (candidates_ == 1 || (!near_crease_.empty() && !near_crease_[nearest.index])) return {nearest.index, false};
   std::array<Neighbor, max_candidates> found;
-  const std::size_t count = origin_tree_->knn(p, std::span<Neighbor>(found.data(), static_cast<std::size_t>(candidates_)));
+  const std::size_t count =
+      origin_tree_->knn(p, std::span<Neighbor>(found.data(), static_cast<std::size_t>(candidates_)));
   auto value = [&](std::uint32_t i) { return (p - planes_->origins[i]).dot(normals_[i]); };
   // The plane p projects onto nearest its origin: the least d^2 + f^2 / 4,
   // where d^2 = |p - o|^2 - f^2.
@@ -123,9 +124,9 @@ SignedDistance<D> make_signed_distance(const TangentPlanes<D>& planes, std::span
 
 template class SignedDistance<2>;
 template class SignedDistance<3>;
-template SignedDistance<2> make_signed_distance<2>(const TangentPlanes<2>&, std::span<const Vec<2>>,
-                                                   const KdTree<2>&, const SignedDistanceOptions&);
-template SignedDistance<3> make_signed_distance<3>(const TangentPlanes<3>&, std::span<const Vec<3>>,
-                                                   const KdTree<3>&, const SignedDistanceOptions&);
+template SignedDistance<2> make_signed_distance<2>(const TangentPlanes<2>&, std::span<const Vec<2>>, const KdTree<2>&,
+                                                   const SignedDistanceOptions&);
+template SignedDistance<3> make_signed_distance<3>(const TangentPlanes<3>&, std::span<const Vec<3>>, const KdTree<3>&,
+                                                   const SignedDistanceOptions&);
 
 }  // namespace recon

@@ -1,14 +1,14 @@
 #include "recon/phase4_contour/marching_cubes.h"
 
-#include "recon/structures/detail/block_array.h"
 #include "recon/core/detail/parallel_for.h"
-#include "recon/phase4_contour/detail/seed_wave.h"
 #include "recon/core/errors.h"
 #include "recon/core/interruption.h"
-#include "recon/structures/lattice_table.h"
-#include "recon/phase4_contour/marching_cubes_table.h"
 #include "recon/core/progress.h"
 #include "recon/core/timer.h"
+#include "recon/phase4_contour/detail/seed_wave.h"
+#include "recon/phase4_contour/marching_cubes_table.h"
+#include "recon/structures/detail/block_array.h"
+#include "recon/structures/lattice_table.h"
 
 #include <algorithm>
 #include <array>

@@ -1,8 +1,8 @@
 #include "recon/phase4_contour/marching_squares.h"
 
 #include "recon/core/errors.h"
-#include "recon/structures/lattice.h"
 #include "recon/core/timer.h"
+#include "recon/structures/lattice.h"
 
 #include <algorithm>
 #include <chrono>

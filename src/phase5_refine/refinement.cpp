@@ -17,10 +17,10 @@ namespace refinement_steps {
 
 void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle) {
   compact_mesh(b.mesh, b.source, keep_triangle, [&b](std::uint32_t to, std::uint32_t from) {
-        b.displacement[to] = b.displacement[from];
-        b.planes[to] = b.planes[from];
-        b.stem[to] = b.stem[from];
-      });
+    b.displacement[to] = b.displacement[from];
+    b.planes[to] = b.planes[from];
+    b.stem[to] = b.stem[from];
+  });
   b.displacement.resize(b.mesh.vertices.size());
   b.planes.resize(b.mesh.vertices.size());
   b.stem.resize(b.mesh.vertices.size());
@@ -45,8 +45,9 @@ void check_input(const RefinementInput& in) {
   const std::size_t n = in.origins.size();
   if (in.normals.size() != n || in.curvature.size() != n || (!in.piece.empty() && in.piece.size() != n) ||
       in.oriented.size() != n || in.distance == nullptr)
-    throw InvalidInputError("refine_mesh: the origins, normals (both), curvatures and pieces must all describe the same " +
-                            std::to_string(n) + " planes, and f is needed");
+    throw InvalidInputError(
+        "refine_mesh: the origins, normals (both), curvatures and pieces must all describe the same " +
+        std::to_string(n) + " planes, and f is needed");
   if (n == 0) throw InvalidInputError("refine_mesh: no planes to refine against");
   if (in.blend > 1 && (in.origin_tree == nullptr || in.origin_tree->size() != n))
     throw InvalidInputError("refine_mesh: blending needs the tree over the origins");

@@ -20,9 +20,9 @@ constexpr std::uint32_t none = UINT32_MAX;
 // A contoured vertex after step 1: where it went, the surface's normal
 // there (unoriented), and the plane whose quadric it went onto.
 struct Projected {
-  std::vector<std::uint8_t> covered;   // a sample lies within the local spacing (not past an open boundary)
+  std::vector<std::uint8_t> covered;  // a sample lies within the local spacing (not past an open boundary)
   std::vector<Vec3> point;
-  std::vector<Vec3> normal;           // oriented
+  std::vector<Vec3> normal;  // oriented
   std::vector<std::uint32_t> plane;
   std::vector<std::uint32_t> partner;  // the vertex across the crease it was brought back to, or none
   std::vector<std::uint8_t> trusted;   // moved onto its quadric (not left where it was: max_move)
@@ -37,8 +37,8 @@ struct Builder {
   /// The tangent planes each vertex lies on, by the projected vertex they
   /// belong to: its own for a projected vertex, both ends' for a crease vertex.
   std::vector<std::array<std::uint32_t, 2>> planes;
-  std::vector<std::array<std::uint32_t, 2>> stem;  // per vertex (RefinedPatch::stem)
-  std::vector<std::uint32_t> source;               // per triangle (RefinedPatch::source)
+  std::vector<std::array<std::uint32_t, 2>> stem;                   // per vertex (RefinedPatch::stem)
+  std::vector<std::uint32_t> source;                                // per triangle (RefinedPatch::source)
   std::unordered_map<std::uint64_t, std::uint32_t> crease_of_edge;  // none: tested, no crease
   std::size_t creases = 0, corners = 0;
 

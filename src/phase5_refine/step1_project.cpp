@@ -17,8 +17,8 @@ namespace recon::refinement_steps {
 SurfacePoint blended_projection(const RefinementInput& in, std::uint32_t i, const Vec3& p) {
   constexpr std::size_t most = 32;
   std::array<Neighbor, most> found;
-  const std::size_t count =
-      in.origin_tree->knn(p, std::span<Neighbor>(found.data(), std::min<std::size_t>(most, static_cast<std::size_t>(in.blend))));
+  const std::size_t count = in.origin_tree->knn(
+      p, std::span<Neighbor>(found.data(), std::min<std::size_t>(most, static_cast<std::size_t>(in.blend))));
   const double h2 = std::max(found[count - 1].distance2, 1e-300);
   Vec3 point = Vec3::Zero(), normal = Vec3::Zero();
   double total = 0.0;

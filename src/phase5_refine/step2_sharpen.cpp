@@ -20,8 +20,8 @@ bool is_crease(const Projected& pr, const RefinementInput& in, std::uint32_t a, 
   const double cosine = std::abs(pr.normal[a].dot(pr.normal[b]));
   if (cosine >= cos_crease) return false;
   const Vec3 e = pr.point[b] - pr.point[a];
-  const double turn = e.norm() * std::max(std::abs(curvature_along(in, pr.plane[a], e)),
-                                          std::abs(curvature_along(in, pr.plane[b], e)));
+  const double turn =
+      e.norm() * std::max(std::abs(curvature_along(in, pr.plane[a], e)), std::abs(curvature_along(in, pr.plane[b], e)));
   return std::acos(std::min(1.0, cosine)) > 2.0 * turn;
 }
 
@@ -228,7 +228,7 @@ std::vector<std::vector<std::uint32_t>> cluster_corners(const std::vector<Corner
     return coordinate(p.x(), dx) | coordinate(p.y(), dy) << 21 | coordinate(p.z(), dz) << 42;
   };
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;  // cell -> clusters started there
-  std::vector<std::vector<std::uint32_t>> clusters;                   // candidates; the first stands for all
+  std::vector<std::vector<std::uint32_t>> clusters;                    // candidates; the first stands for all
   for (std::uint32_t c = 0; c < found.size(); ++c) {
     std::uint32_t joined = none;
     for (int dx = -1; dx <= 1 && joined == none; ++dx)
@@ -275,7 +275,8 @@ bool can_move(const Builder& b, const std::vector<std::uint32_t>& around, std::u
 void snap_corners(Builder& b, const Projected& pr, double cos_crease) {
   std::vector<CornerCandidate> found;
   for (const auto& t : b.mesh.triangles)
-    if (const auto x = triangle_corner(b, pr, t, cos_crease)) found.push_back({*x, longest_edge(b.mesh.vertices, t), t});
+    if (const auto x = triangle_corner(b, pr, t, cos_crease))
+      found.push_back({*x, longest_edge(b.mesh.vertices, t), t});
   if (found.empty()) return;
   const auto clusters = cluster_corners(found);
   // The triangles around each vertex that might move.

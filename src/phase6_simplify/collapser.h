@@ -8,9 +8,9 @@
 // moves and their costs, the queue) and collapser_collapse.h (the
 // validity of a move, the collapse, the loops). Private to phase6_simplify/.
 
-#include "recon/phase6_simplify/simplification.h"
 #include "recon/core/detail/parallel_for.h"
 #include "recon/core/parallel.h"
+#include "recon/phase6_simplify/simplification.h"
 #include "recon/structures/union_find.h"
 
 #include <Eigen/Eigenvalues>
@@ -60,8 +60,8 @@ struct Quadric {
   // The sum of the weighted squared distances from p to the planes.
   [[nodiscard]] double at(const Vec3& p) const {
     const double px = p.x(), py = p.y(), pz = p.z();
-    const double quadratic = xx * px * px + yy * py * py + zz * pz * pz +
-                             2.0 * (xy * px * py + xz * px * pz + yz * py * pz);
+    const double quadratic =
+        xx * px * px + yy * py * py + zz * pz * pz + 2.0 * (xy * px * py + xz * px * pz + yz * py * pz);
     return std::max(0.0, quadratic + 2.0 * (x * px + y * py + z * pz) + c);
   }
 };
@@ -150,12 +150,12 @@ struct MeshState {
   std::vector<RingMemo> rings;                          // fast loop only: a cache, not state
   bool on_all_threads = false;                          // rings read-only while true
   std::vector<std::vector<std::uint32_t>> kept;
-  std::vector<std::uint8_t> inner;       // per vertex: a round's lane may queue it (mark_inner)
+  std::vector<std::uint8_t> inner;      // per vertex: a round's lane may queue it (mark_inner)
   std::vector<std::uint32_t> block_of;  // per vertex: its block in this round
   std::vector<std::uint32_t> local;     // per vertex: its place in its block's list
   std::vector<std::uint32_t> living;    // the vertices with triangles, in increasing order (the rounds')
   std::vector<double> cost;             // per vertex: its cheapest move's cost at the round's start
-  std::vector<double> living_costs;      // scratch of round_limit: the living's costs (kept: no new pages a round)
+  std::vector<double> living_costs;     // scratch of round_limit: the living's costs (kept: no new pages a round)
 };
 
 template <class Queue, Loop loop = Loop::fast>
@@ -280,8 +280,7 @@ class Collapser {
   // Per cluster, the candidate nearest where its planes meet stays a
   // corner; the others become creases pointing at it.
   void keep_one_per_cluster(const std::vector<std::uint32_t>& candidates, const std::vector<std::uint8_t>& confirmed,
-                            UnionFind& clusters, const std::vector<Quadric>& wide,
-                            const std::vector<double>& strength);
+                            UnionFind& clusters, const std::vector<Quadric>& wide, const std::vector<double>& strength);
 
   // The mean length of the edges around v.
   [[nodiscard]] double mean_edge(std::uint32_t v);
@@ -331,7 +330,9 @@ class Collapser {
     const auto& t = tris_[f];
     return (t[0] == a && t[1] == b) || (t[1] == a && t[2] == b) || (t[2] == a && t[0] == b);
   }
-  [[nodiscard]] Vec3 normal(std::uint32_t f) const { return cross_of(p_[tris_[f][0]], p_[tris_[f][1]], p_[tris_[f][2]]); }
+  [[nodiscard]] Vec3 normal(std::uint32_t f) const {
+    return cross_of(p_[tris_[f][0]], p_[tris_[f][1]], p_[tris_[f][2]]);
+  }
   [[nodiscard]] std::uint32_t third(std::uint32_t f, std::uint32_t a, std::uint32_t b) const;
   // The first triangle on edge ab and how many there are.
   [[nodiscard]] std::pair<std::uint32_t, std::size_t> faces_on(std::uint32_t a, std::uint32_t b) const;
@@ -436,9 +437,7 @@ class Collapser {
 
  private:
   // Whether this lane queues v: every vertex, or its block's inner ones.
-  [[nodiscard]] bool mine(std::uint32_t v) const {
-    return block_ == none || (s_.block_of[v] == block_ && s_.inner[v]);
-  }
+  [[nodiscard]] bool mine(std::uint32_t v) const { return block_ == none || (s_.block_of[v] == block_ && s_.inner[v]); }
   // v's name in the lane's queue, and back.
   [[nodiscard]] std::uint32_t id(std::uint32_t v) const { return block_ == none ? v : s_.local[v]; }
   [[nodiscard]] std::uint32_t vertex_at(std::uint32_t id) const { return block_ == none ? id : members_[id]; }
@@ -476,6 +475,6 @@ class Collapser {
 
 }  // namespace recon::simplification_steps
 
+#include "phase6_simplify/collapser_collapse.h"
 #include "phase6_simplify/collapser_features.h"
 #include "phase6_simplify/collapser_moves.h"
-#include "phase6_simplify/collapser_collapse.h"

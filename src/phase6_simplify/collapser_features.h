@@ -139,7 +139,8 @@ void Collapser<Queue, loop>::confirm_corners() {
 }
 
 template <class Queue, Loop loop>
-void Collapser<Queue, loop>::demote_by_wide_planes(std::uint32_t v, const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>& wide) {
+void Collapser<Queue, loop>::demote_by_wide_planes(std::uint32_t v,
+                                                   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>& wide) {
   if (wide.eigenvalues()[1] > second_direction) {
     plane_shape_[v] = crease;
     crease_direction_[v] = wide.eigenvectors().col(0);
@@ -149,7 +150,10 @@ void Collapser<Queue, loop>::demote_by_wide_planes(std::uint32_t v, const Eigen:
 }
 
 template <class Queue, Loop loop>
-void Collapser<Queue, loop>::keep_one_per_cluster(const std::vector<std::uint32_t>& candidates, const std::vector<std::uint8_t>& confirmed, UnionFind& clusters, const std::vector<Quadric>& wide, const std::vector<double>& strength) {
+void Collapser<Queue, loop>::keep_one_per_cluster(const std::vector<std::uint32_t>& candidates,
+                                                  const std::vector<std::uint8_t>& confirmed, UnionFind& clusters,
+                                                  const std::vector<Quadric>& wide,
+                                                  const std::vector<double>& strength) {
   const std::size_t n = candidates.size();
   std::vector<std::uint32_t> root(n, none);
   std::vector<Quadric> planes(n);  // per root: its cluster's planes
@@ -261,7 +265,8 @@ void Collapser<Queue, loop>::find_features() {
 }
 
 template <class Queue, Loop loop>
-std::uint8_t Collapser<Queue, loop>::kind_of(std::uint32_t a, std::vector<std::uint32_t>& ring, std::uint8_t& open) const {
+std::uint8_t Collapser<Queue, loop>::kind_of(std::uint32_t a, std::vector<std::uint32_t>& ring,
+                                             std::uint8_t& open) const {
   neighbours(a, ring);
   std::size_t boundary = 0;
   bool non_manifold = false;

@@ -71,13 +71,12 @@ void Collapser<Queue, loop>::moves(std::uint32_t u, std::vector<std::uint32_t>& 
   neighbours(u, out);
   if (kind_[u] == free_vertex) return;
   const bool on_boundary = plane_shape_[u] == flat;
-  std::erase_if(out, [&](std::uint32_t v) {
-    return on_boundary ? faces_on(u, v).second != 1 : !crease_edge(u, v);
-  });
+  std::erase_if(out, [&](std::uint32_t v) { return on_boundary ? faces_on(u, v).second != 1 : !crease_edge(u, v); });
 }
 
 template <class Queue, Loop loop>
-std::pair<std::uint32_t, double> Collapser<Queue, loop>::cheapest(std::uint32_t u, std::vector<std::uint32_t>& scratch) const {
+std::pair<std::uint32_t, double> Collapser<Queue, loop>::cheapest(std::uint32_t u,
+                                                                  std::vector<std::uint32_t>& scratch) const {
   moves(u, scratch);
   double best = std::numeric_limits<double>::infinity();
   std::uint32_t to = none;

@@ -2,14 +2,14 @@
 #include "phase6_simplify/collapser.h"
 #include "phase6_simplify/queues.h"
 
-#include "recon/structures/binary_heap.h"
 #include "recon/core/detail/parallel_for.h"
-#include "recon/phase6_simplify/detail/simplify_plain.h"
 #include "recon/core/errors.h"
-#include "recon/structures/pairing_heap.h"
 #include "recon/core/parallel.h"
-#include "recon/structures/spatial_order.h"
 #include "recon/core/timer.h"
+#include "recon/phase6_simplify/detail/simplify_plain.h"
+#include "recon/structures/binary_heap.h"
+#include "recon/structures/pairing_heap.h"
+#include "recon/structures/spatial_order.h"
 #include "recon/structures/union_find.h"
 
 #include <Eigen/Eigenvalues>
@@ -32,7 +32,6 @@
 #include <tuple>
 #include <unordered_map>
 #include <vector>
-
 
 namespace recon {
 namespace {
@@ -77,7 +76,6 @@ void check_indices(const Mesh& mesh) {
                                 " of " + std::to_string(n));
 }
 
-
 // ---------------------------------------------------------------------------
 // The collapses in rounds of blocks, then one queue. The queue's order is
 // the output, so one queue runs on one thread, and over a large mesh it
@@ -114,7 +112,7 @@ void check_indices(const Mesh& mesh) {
 // the Hausdorff-95 stays within 1.5% of one queue's), then a quarter.
 constexpr double round_fraction(std::size_t round) { return round < 2 ? 0.5 : 0.25; }
 constexpr std::array<double, 4> round_shifts{0.0, 0.5, 0.25, 0.75};  // of a cell, on each axis
-constexpr double finish_share = 0.02;  // of the collapses asked for: the last queue's
+constexpr double finish_share = 0.02;                                // of the collapses asked for: the last queue's
 constexpr std::size_t most_rounds = 24;
 
 // The blocks of one round: the cells of a grid over the bounding box (an
@@ -329,7 +327,7 @@ Simplification simplify_on(const Mesh& mesh, const SimplifyOptions& options, std
 // orientation kept), in lexicographic order: bucketed by their first
 // index (a counting sort, O(F + V)), then each short bucket sorted.
 std::vector<std::array<std::uint32_t, 3>> triangles_in_order(const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                                              const std::vector<std::uint32_t>& renumber) {
+                                                             const std::vector<std::uint32_t>& renumber) {
   std::vector<std::uint32_t> start(renumber.size() + 1, 0);
   std::vector<std::array<std::uint32_t, 3>> rotated(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {
@@ -379,8 +377,10 @@ Mesh in_canonical_order(const Mesh& mesh) {
   };
   const auto middle = keyed.begin() + static_cast<std::ptrdiff_t>(n / 2);
   detail::parallel_for(2, [&](std::size_t half) {
-    if (half == 0) std::sort(keyed.begin(), middle, before);
-    else std::sort(middle, keyed.end(), before);
+    if (half == 0)
+      std::sort(keyed.begin(), middle, before);
+    else
+      std::sort(middle, keyed.end(), before);
   });
   std::inplace_merge(keyed.begin(), middle, keyed.end(), before);
   Mesh out;
@@ -408,9 +408,15 @@ Simplification simplify(const Mesh& mesh, const SimplifyOptions& options) {
 
   Simplification out;
   switch (options.queue) {
-    case SimplifyQueue::pairing_heap: out = simplify_on<PairingQueue>(canonical, options, target); break;
-    case SimplifyQueue::lazy: out = simplify_on<LazyQueue>(canonical, options, target); break;
-    case SimplifyQueue::binary_heap: out = simplify_on<HeapQueue>(canonical, options, target); break;
+    case SimplifyQueue::pairing_heap:
+      out = simplify_on<PairingQueue>(canonical, options, target);
+      break;
+    case SimplifyQueue::lazy:
+      out = simplify_on<LazyQueue>(canonical, options, target);
+      break;
+    case SimplifyQueue::binary_heap:
+      out = simplify_on<HeapQueue>(canonical, options, target);
+      break;
   }
   out.seconds += seconds_order;
   return out;
@@ -426,4 +432,3 @@ Simplification simplify_plain(const Mesh& mesh, const SimplifyOptions& options) 
 
 }  // namespace detail
 }  // namespace recon
-

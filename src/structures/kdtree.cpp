@@ -128,9 +128,8 @@ struct Builder {
     // Copies of one point, in index order (any order is a valid tree, as
     // they coincide): a search then finds the smallest indices among them
     // at the front (see descend).
-    if (node.identical &&
-        !std::is_sorted(items.begin() + begin, items.begin() + end,
-                        [](const auto& a, const auto& b) { return a.second < b.second; }))
+    if (node.identical && !std::is_sorted(items.begin() + begin, items.begin() + end,
+                                          [](const auto& a, const auto& b) { return a.second < b.second; }))
       std::sort(items.begin() + begin, items.begin() + end,
                 [](const auto& a, const auto& b) { return a.second < b.second; });
     if (end - begin > shape.leaf) {
@@ -204,7 +203,8 @@ template <int D>
 KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options, const Point& shift) : options_(options) {
   if (options.leaf_size < 1) throw InvalidInputError("kd-tree leaf size must be at least 1");
   if (points.size() >= no_child)
-    throw InvalidInputError("kd-tree: " + std::to_string(points.size()) + " points is more than the 2^32 - 1 supported");
+    throw InvalidInputError("kd-tree: " + std::to_string(points.size()) +
+                            " points is more than the 2^32 - 1 supported");
   check_coordinates<D>(points);
   if (points.empty()) return;
 
@@ -238,7 +238,8 @@ KdTree<D>::KdTree(std::span<const Point> points, KdTreeOptions options, const Po
 // happens to place it at 16 bytes past one; docs/benchmarks.md.)
 template <int D>
 template <class Visitor>
-[[gnu::aligned(64)]] void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offsets, Visitor& visitor) const {
+[[gnu::aligned(64)]] void KdTree<D>::descend(std::uint32_t id, const Point& q, double rd, Point& offsets,
+                                             Visitor& visitor) const {
   if (visitor.skip(id)) return;
   const Node& node = nodes_[id];
   // Copies of one point: one distance for all, and a visitor that knows
@@ -288,8 +289,7 @@ template <class Visitor>
     // logarithmic time, not by visiting every copy.
     // (A bound of 0 admits only rd_far == 0, tested first: it is cheap and
     // almost never true.)
-    if (rd_far == 0.0 && visitor.bound() == 0.0 && nodes_[far_child].min_index > visitor.tie_index())
-      visit_far = false;
+    if (rd_far == 0.0 && visitor.bound() == 0.0 && nodes_[far_child].min_index > visitor.tie_index()) visit_far = false;
   }
   if (visit_far) {
     offsets[a] = cut;
@@ -370,8 +370,7 @@ std::vector<Neighbor> KdTree<D>::radius(const Point& q, double radius2) const {
 template <int D>
 Neighbor KdTree<D>::nearest_with_other_label(const Point& q, std::int32_t own_label,
                                              std::span<const std::int32_t> point_labels,
-                                             std::span<const std::int32_t> node_labels,
-                                             double max_distance2) const {
+                                             std::span<const std::int32_t> node_labels, double max_distance2) const {
   struct Visitor {
     std::int32_t own;
     const std::int32_t* point_labels;

@@ -12,7 +12,8 @@ std::size_t PolylineSet::closed_count() const {
 double length(const PolylineSet& set, const Polyline& line) {
   const std::size_t n = line.vertices.size();
   double total = 0.0;
-  for (std::size_t i = 0; i + 1 < n; ++i) total += (set.vertices[line.vertices[i + 1]] - set.vertices[line.vertices[i]]).norm();
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    total += (set.vertices[line.vertices[i + 1]] - set.vertices[line.vertices[i]]).norm();
   if (line.closed && n > 1) total += (set.vertices[line.vertices[0]] - set.vertices[line.vertices[n - 1]]).norm();
   return total;
 }

@@ -119,8 +119,8 @@ void BinaryReader::finish() const {
 
 void BinaryReader::read(void* data, std::size_t bytes) {
   if (bytes > size_ - at_)
-    throw ParseError(path_.string() + ": truncated at byte " + std::to_string(size_) + " (" +
-                     std::to_string(bytes) + " bytes wanted at byte " + std::to_string(at_) + ")");
+    throw ParseError(path_.string() + ": truncated at byte " + std::to_string(size_) + " (" + std::to_string(bytes) +
+                     " bytes wanted at byte " + std::to_string(at_) + ")");
   in_.read(static_cast<char*>(data), static_cast<std::streamsize>(bytes));
   if (!in_) throw IoError(path_.string() + ": read failed at byte " + std::to_string(at_));
   at_ += bytes;

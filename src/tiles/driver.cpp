@@ -82,13 +82,13 @@ TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, 
     return [&, step] { report(step, ++finished, tiles); };
   };
   run.orientations.resize(tiles);
-  for_each_tile(tiles, lanes, [&](std::size_t t) { run.orientations[t] = orient_tile(work_dir, t); },
-                counted("orienting"));
+  for_each_tile(
+      tiles, lanes, [&](std::size_t t) { run.orientations[t] = orient_tile(work_dir, t); }, counted("orienting"));
   report("reconciling", 0, 1);
   run.reconciliation = reconcile_tiles(work_dir);
   run.contours.resize(tiles);
-  for_each_tile(tiles, lanes, [&](std::size_t t) { run.contours[t] = contour_tile(work_dir, t); },
-                counted("contouring"));
+  for_each_tile(
+      tiles, lanes, [&](std::size_t t) { run.contours[t] = contour_tile(work_dir, t); }, counted("contouring"));
   report("stitching", 0, 1);
   run.mesh = stitch_tiles(work_dir, output);
   run.seconds = timer.elapsed();

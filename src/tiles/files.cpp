@@ -157,8 +157,8 @@ TileMesh read_mesh(const std::filesystem::path& path) {
         (t.peel != none && t.peel >= m.peel_open.size()))
       throw bad(in, at_record("triangle", i) + "names a vertex or a component it does not have");
     const bool peelable = t.peel != none && !t.stray;  // (the stitch joins its vertices' atoms, tiles/step5_stitch.cpp)
-    if (peelable && (m.vertices[t.v[0]].atom == none || m.vertices[t.v[1]].atom == none ||
-                     m.vertices[t.v[2]].atom == none))
+    if (peelable &&
+        (m.vertices[t.v[0]].atom == none || m.vertices[t.v[1]].atom == none || m.vertices[t.v[2]].atom == none))
       throw bad(in, at_record("triangle", i) + "a vertex of this peelable triangle has no atom");
   }
   for (std::size_t i = 0; i < m.votes.size(); ++i)
@@ -200,7 +200,8 @@ void check_plan(const detail::BinaryReader& in, const TilePlan& plan) {
       !plan.lattice.origin.allFinite() || !std::isfinite(plan.halo) || !std::isfinite(plan.exact_margin))
     throw bad(in, "its lattice or its halo is not finite");
   for (const std::int32_t n : plan.lattice.size)
-    if (n < 1 || n > Lattice<3>::max_cells_per_axis) throw bad(in, "its lattice has an axis of " + std::to_string(n) + " cubes");
+    if (n < 1 || n > Lattice<3>::max_cells_per_axis)
+      throw bad(in, "its lattice has an axis of " + std::to_string(n) + " cubes");
   if (plan.tile_cubes < 1 || plan.ring < 0 || plan.walk_margin < plan.ring || plan.walk_margin > 1000)
     throw bad(in, "its tiles' size, ring or margin is out of range");
   std::set<std::uint32_t> ids;
@@ -332,6 +333,8 @@ TilePoints read_points(const std::filesystem::path& dir, const TilePlan& plan, c
 
 namespace recon {
 
-TilePlan read_tile_plan(const std::filesystem::path& work_dir) { return tile_files::read_plan_file(tile_files::plan(work_dir)); }
+TilePlan read_tile_plan(const std::filesystem::path& work_dir) {
+  return tile_files::read_plan_file(tile_files::plan(work_dir));
+}
 
 }  // namespace recon

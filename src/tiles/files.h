@@ -1,8 +1,8 @@
 #pragma once
 // The files of a tiled run (tiles.h) and their records; private to src/.
 
-#include "tiles/binary_file.h"
 #include "recon/tiles/tiles.h"
+#include "tiles/binary_file.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -32,8 +32,8 @@ struct PointRecord {
 
 /// An oriented sample near a tile's border, for the reconciliation.
 struct BorderRecord {
-  std::uint64_t index = 0;   ///< in the input
-  std::uint32_t node = 0;    ///< the tile's piece (made global by the reconciliation)
+  std::uint64_t index = 0;  ///< in the input
+  std::uint32_t node = 0;   ///< the tile's piece (made global by the reconciliation)
   float normal[3] = {0.0f, 0.0f, 0.0f};
 };
 

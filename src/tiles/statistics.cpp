@@ -1,9 +1,9 @@
 // Step 1's cloud-wide measures over the tiles (tiles/statistics.h).
 #include "tiles/statistics.h"
 
-#include "tiles/binary_file.h"
 #include "recon/core/errors.h"
 #include "recon/reconstruct_parts.h"
+#include "tiles/binary_file.h"
 #include "tiles/files.h"
 
 #include <algorithm>
@@ -217,7 +217,8 @@ Spacing measure_spacing(const TilePlan& plan, const std::filesystem::path& dir, 
   s.spacing.irregularity = sums.irregularity();
   const double irregularity = s.spacing.irregularity;
   const auto rho_i = [irregularity](const Values& v) { return local_rho_of(v.b, v.a, irregularity); };
-  s.spacing.rho = static_cast<double>(select.median([&](const Values& v) { return positive(rho_i(v)); }).value_or(0.0f));
+  s.spacing.rho =
+      static_cast<double>(select.median([&](const Values& v) { return positive(rho_i(v)); }).value_or(0.0f));
   s.spacing.gap = static_cast<double>(select.median([&](const Values& v) { return positive(v.b); }).value_or(0.0f));
   s.rho_q = static_cast<double>(select.quantile(rho_i, 0.999).value_or(0.0f));
   return s;
@@ -271,13 +272,14 @@ double taken_fits(const TilePlan& plan, const std::filesystem::path& dir, const 
 
 }  // namespace
 
-Measures measure_over_tiles(const TilePlan& plan, const std::filesystem::path& dir, const ReconstructionOptions& asked) {
+Measures measure_over_tiles(const TilePlan& plan, const std::filesystem::path& dir,
+                            const ReconstructionOptions& asked) {
   const std::uint64_t n = plan.input_points;
   // A, and A again when the noise raises k.
   int k = asked.planes.k;
   Spacing a = measure_spacing(plan, dir, asked, k, n);
-  const int raised = raised_k(asked.planes, a.spacing.noise, a.spacing.rho, a.distinct, n,
-                              [&] { return probes_median(a.probes); });
+  const int raised =
+      raised_k(asked.planes, a.spacing.noise, a.spacing.rho, a.distinct, n, [&] { return probes_median(a.probes); });
   if (raised > 0) a = measure_spacing(plan, dir, asked, k = raised, n);
 
   Measures m;

@@ -4,17 +4,17 @@
 
 #include "recon/core/detail/mix64.h"
 #include "recon/core/errors.h"
-#include "recon/reconstruct_parts.h"
-#include "recon/io/point_stream.h"
 #include "recon/core/memory_budget.h"
 #include "recon/core/timer.h"
+#include "recon/io/point_stream.h"
+#include "recon/reconstruct_parts.h"
 #include "tiles/files.h"
 #include "tiles/statistics.h"
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <unordered_map>
 
@@ -51,7 +51,8 @@ Index3 tile_at(const TilePlan& plan, const Vec3& w) {
     const auto size = plan.lattice.size[static_cast<std::size_t>(a)];
     const double last = std::floor((size - 1) / static_cast<double>(plan.tile_cubes));
     const double cube = std::floor((w[a] - plan.lattice.origin[a]) / plan.lattice.cell);
-    t[static_cast<std::size_t>(a)] = static_cast<std::int32_t>(std::clamp(std::floor(cube / plan.tile_cubes), 0.0, last));
+    t[static_cast<std::size_t>(a)] =
+        static_cast<std::int32_t>(std::clamp(std::floor(cube / plan.tile_cubes), 0.0, last));
   }
   return t;
 }
@@ -194,7 +195,8 @@ Sample sample_pass(const PointPass& pass, ProgressCounter* counter, const TilePl
 
 // The samples whose neighbourhoods the patches did not cut: farther than
 // `margin` from their patch's sides (all of them for the whole cloud).
-std::vector<std::uint8_t> inside_patches(const Sample& s, const Reconstruction& r, const TilePlan& plan, double margin) {
+std::vector<std::uint8_t> inside_patches(const Sample& s, const Reconstruction& r, const TilePlan& plan,
+                                         double margin) {
   std::vector<std::uint8_t> inside(r.order.size(), 1);
   if (s.patch == 0.0) return inside;
   for (std::size_t j = 0; j < inside.size(); ++j)
@@ -300,15 +302,16 @@ std::size_t densest_tile(const Sample& s, const TilePlan& plan, std::int32_t cub
 // A core narrower than twice the halo would hold more halo than core: four
 // times the points it owns, or more.
 std::int32_t choose_tile_cubes(const Sample& s, const TilingOptions& options, const TilePlan& plan) {
-  const auto least = std::max(2 * plan.walk_margin + 2,
-                              static_cast<std::int32_t>(std::ceil(2.0 * plan.halo / plan.lattice.cell)));
+  const auto least =
+      std::max(2 * plan.walk_margin + 2, static_cast<std::int32_t>(std::ceil(2.0 * plan.halo / plan.lattice.cell)));
   if (options.tile_size != 0.0) {
     if (!std::isfinite(options.tile_size) || !(options.tile_size > 0.0))
       throw InvalidInputError("the tile size must be a finite positive length");
     // (A core wider than the lattice is one tile: compared as a double, the
     // count of cubes cannot overflow the int.)
     const double whole = *std::max_element(plan.lattice.size.begin(), plan.lattice.size.end());
-    return std::max(least, static_cast<std::int32_t>(std::min(std::ceil(options.tile_size / plan.lattice.cell), whole)));
+    return std::max(least,
+                    static_cast<std::int32_t>(std::min(std::ceil(options.tile_size / plan.lattice.cell), whole)));
   }
   const std::size_t limit = memory_limit_or_default(options.reconstruction.max_memory);
   const double fits = 0.5 * static_cast<double>(limit) / bytes_per_point(plan.k, plan.method == Method::refined);
@@ -463,7 +466,8 @@ void bin_points(const PointPass& pass, const TilingOptions& options, TilePlan& p
 // The files of a plan's tiles, for binning again under another plan.
 void remove_tiles(TilePlan& plan, const std::filesystem::path& work_dir) {
   for (const TileInfo& info : plan.tiles)
-    for (const char* kind : {"points", "colors", "stats"}) std::filesystem::remove(tile_files::of_tile(work_dir, info.id, kind));
+    for (const char* kind : {"points", "colors", "stats"})
+      std::filesystem::remove(tile_files::of_tile(work_dir, info.id, kind));
   plan.tiles.clear();
 }
 

@@ -2,18 +2,18 @@
 // border, the planes written for step 4 and the border samples' signs for
 // step 3.
 #include "recon/core/timer.h"
+#include "recon/reconstruct_parts.h"
 #include "recon/tiles/tiles.h"
 #include "tiles/files.h"
 #include "tiles/tile_input.h"
-#include "recon/reconstruct_parts.h"
 
 namespace recon {
 
 using tile_files::BorderRecord;
-using tile_files::outside_core;
 using tile_files::CoreBox;
 using tile_files::MeshVertex;
 using tile_files::Orientation;
+using tile_files::outside_core;
 using tile_files::PieceTop;
 using tile_files::PointRecord;
 using tile_files::TilePoints;
@@ -36,8 +36,8 @@ void note_sample(const TilePlan& plan, const CoreBox& core, const Reconstruction
   if (r.planes.local_rho[j] > 0.0f && out + 2.0 * static_cast<double>(r.planes.radius[j]) > plan.halo) ++o.inexact;
   if (out < -plan.exact_margin) return;
   const Vec3 n = r.oriented->normals[j];
-  o.border.push_back({points.index[t], piece, {static_cast<float>(n.x()), static_cast<float>(n.y()),
-                                               static_cast<float>(n.z())}});
+  o.border.push_back(
+      {points.index[t], piece, {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())}});
 }
 
 Orientation orient_points(const TilePlan& plan, const CoreBox& core, Reconstruction& r, const TilePoints& points) {

@@ -3,10 +3,10 @@
 // pieces (union-find), one sign a piece.
 #include "recon/core/errors.h"
 #include "recon/core/timer.h"
+#include "recon/structures/union_find.h"
 #include "recon/tiles/tiles.h"
 #include "tiles/files.h"
 #include "tiles/tile_input.h"
-#include "recon/structures/union_find.h"
 
 #include <algorithm>
 #include <map>
@@ -15,10 +15,10 @@
 namespace recon {
 
 using tile_files::BorderRecord;
-using tile_files::outside_core;
 using tile_files::CoreBox;
 using tile_files::MeshVertex;
 using tile_files::Orientation;
+using tile_files::outside_core;
 using tile_files::PieceTop;
 using tile_files::PointRecord;
 using tile_files::TilePoints;
@@ -81,7 +81,9 @@ struct Signs {
 Signs reconcile(const SignGraph& g, TileReconciliation& result) {
   const std::size_t n = g.tops.size();
   std::vector<std::pair<NodePair, Agreement>> edges(g.edges.begin(), g.edges.end());
-  const auto margin = [](const Agreement& a) { return a.agree > a.disagree ? a.agree - a.disagree : a.disagree - a.agree; };
+  const auto margin = [](const Agreement& a) {
+    return a.agree > a.disagree ? a.agree - a.disagree : a.disagree - a.agree;
+  };
   std::stable_sort(edges.begin(), edges.end(),
                    [&](const auto& a, const auto& b) { return margin(a.second) > margin(b.second); });
   UnionFind sets(n);

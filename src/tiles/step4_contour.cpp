@@ -3,10 +3,10 @@
 // for the stitch.
 #include "recon/core/errors.h"
 #include "recon/core/timer.h"
+#include "recon/reconstruct_parts.h"
 #include "recon/tiles/tiles.h"
 #include "tiles/files.h"
 #include "tiles/tile_input.h"
-#include "recon/reconstruct_parts.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,10 +16,10 @@
 namespace recon {
 
 using tile_files::BorderRecord;
-using tile_files::outside_core;
 using tile_files::CoreBox;
 using tile_files::MeshVertex;
 using tile_files::Orientation;
+using tile_files::outside_core;
 using tile_files::PieceTop;
 using tile_files::PointRecord;
 using tile_files::TilePoints;
@@ -61,7 +61,8 @@ TileSurface read_surface(const std::filesystem::path& path, const TilePlan& plan
     const std::size_t m = 3 * (n + j);
     s.planes.normals.emplace_back(coordinates[m], coordinates[m + 1], coordinates[m + 2]);
   }
-  for (std::size_t c = 0; c < curvature.size(); c += 3) s.curvature.push_back({curvature[c], curvature[c + 1], curvature[c + 2]});
+  for (std::size_t c = 0; c < curvature.size(); c += 3)
+    s.curvature.push_back({curvature[c], curvature[c + 1], curvature[c + 2]});
   return s;
 }
 
@@ -85,7 +86,7 @@ Reconciled reconciled_planes(const std::filesystem::path& dir, const Orientation
   r.normals.resize(s.order.size());
   r.object.resize(s.order.size());
   for (std::size_t j = 0; j < s.order.size(); ++j) {
-    const std::uint32_t t = s.order[j];  // (< o.piece.size(): read_surface checked the order)
+    const std::uint32_t t = s.order[j];             // (< o.piece.size(): read_surface checked the order)
     const std::uint64_t node = first + o.piece[t];  // (o.piece[t] < o.tops.size(): read_orientation checked)
     r.normals[j] = s.planes.normals[j] * static_cast<double>(o.sign[t] * flips.flip[node]);
     r.object[j] = flips.object[node];
@@ -153,13 +154,12 @@ TilePatch tile_patch(const TilePlan& plan, std::size_t tile, const TileSurface& 
   TilePatch patch;
   patch.contour = marching_cubes(std::cref(f), surface.planes.point_tree.points(), mc);
   sort_by_cube(patch.contour);
-  patch.refined =
-      plan.method == Method::refined
-          ? refine_patch(patch.contour.mesh,
-                         refinement_input(surface.planes, reconciled.normals, surface.curvature, reconciled.object, f,
-                                          origin_tree),
-                         tile_refinement_options(plan))
-          : unrefined(patch.contour.mesh);
+  patch.refined = plan.method == Method::refined
+                      ? refine_patch(patch.contour.mesh,
+                                     refinement_input(surface.planes, reconciled.normals, surface.curvature,
+                                                      reconciled.object, f, origin_tree),
+                                     tile_refinement_options(plan))
+                      : unrefined(patch.contour.mesh);
   return patch;
 }
 
@@ -195,9 +195,11 @@ void mark_peelable(const RefinedPatch& p, const std::vector<std::uint32_t>& own,
     if (!p.covered[t[0]] && !p.covered[t[1]] && !p.covered[t[2]]) peelable.push_back(o);
   }
   if (peelable.empty()) return;
-  std::unordered_map<std::uint64_t, std::uint32_t> sides;  // edge of a peelable triangle -> triangles of the patch on it
+  std::unordered_map<std::uint64_t, std::uint32_t>
+      sides;  // edge of a peelable triangle -> triangles of the patch on it
   for (const std::uint32_t o : peelable)
-    for (std::size_t e = 0; e < 3; ++e) sides.emplace(edge_key(p.mesh.triangles[own[o]][e], p.mesh.triangles[own[o]][(e + 1) % 3]), 0);
+    for (std::size_t e = 0; e < 3; ++e)
+      sides.emplace(edge_key(p.mesh.triangles[own[o]][e], p.mesh.triangles[own[o]][(e + 1) % 3]), 0);
   for (const auto& t : p.mesh.triangles)
     for (std::size_t e = 0; e < 3; ++e)
       if (const auto it = sides.find(edge_key(t[e], t[(e + 1) % 3])); it != sides.end()) ++it->second;
@@ -268,8 +270,8 @@ void blend_colors(const TilePlan& plan, const TileSurface& surface, const TilePo
   for (std::size_t j = 0; j < colors.size(); ++j) colors[j] = points.colors[surface.order[j]];
   const std::vector<Color> blended = vertex_colors(at, surface.planes.point_tree, colors, plan.color_blend);
   for (std::size_t v = 0; v < at.size(); ++v)
-    out.vertices[v].color = std::uint32_t{blended[v][0]} | std::uint32_t{blended[v][1]} << 8 |
-                            std::uint32_t{blended[v][2]} << 16;
+    out.vertices[v].color =
+        std::uint32_t{blended[v][0]} | std::uint32_t{blended[v][1]} << 8 | std::uint32_t{blended[v][2]} << 16;
 }
 
 // The tile's own triangles (those cut from its core's cubes) and the
@@ -301,7 +303,8 @@ tile_files::TileMesh own_mesh(const TilePlan& plan, std::size_t tile, const Tile
     m.shared = used_other[v];
     m.object = p.piece[v];
     if (p.mesh.has_normals())
-      for (std::size_t k = 0; k < 3; ++k) m.normal[k] = static_cast<float>(p.mesh.normals[v][static_cast<Eigen::Index>(k)]);
+      for (std::size_t k = 0; k < 3; ++k)
+        m.normal[k] = static_cast<float>(p.mesh.normals[v][static_cast<Eigen::Index>(k)]);
     out.vertices.push_back(m);
   }
   for (const std::uint32_t t : own) {
@@ -326,8 +329,8 @@ TileContour contour_one_tile(const std::filesystem::path& work_dir, std::size_t 
   TileContour result;
   if (!orientation.sign.empty()) {  // (none when the tile makes no plane: then no planes file either)
     const TileSurface surface = read_surface(tile_files::of_tile(work_dir, info.id, "planes"), plan, points);
-    const TilePatch patch =
-        tile_patch(plan, tile, surface, reconciled_planes(work_dir, orientation, tile, surface), points.positions.size());
+    const TilePatch patch = tile_patch(plan, tile, surface, reconciled_planes(work_dir, orientation, tile, surface),
+                                       points.positions.size());
     std::vector<Vec3> at;
     mesh = own_mesh(plan, tile, patch, at);
     if (plan.colors) blend_colors(plan, surface, points, at, mesh);

@@ -22,9 +22,9 @@
 #include "recon/tiles/tiles.h"
 
 #include "recon/core/errors.h"
+#include "recon/core/timer.h"
 #include "recon/io/mesh_stream.h"
 #include "recon/reconstruct_parts.h"  // refuse_no_surface
-#include "recon/core/timer.h"
 #include "recon/structures/union_find.h"
 #include "tiles/files.h"
 
@@ -63,10 +63,10 @@ WeldKey key_of(const MeshVertex& v) { return {{v.corner[0], v.corner[1]}, {v.axi
 
 // A vertex more than one tile uses.
 struct Welded {
-  std::uint32_t id = 0;      // among the welded (names the edges between them)
-  std::uint32_t atom = none; // (global) of the first tile where it had one: it voted there
-  std::uint32_t out = none;  // in the output, once written
-  Vec3 faces = Vec3::Zero(); // with normals: the cross products of the kept triangles around it
+  std::uint32_t id = 0;       // among the welded (names the edges between them)
+  std::uint32_t atom = none;  // (global) of the first tile where it had one: it voted there
+  std::uint32_t out = none;   // in the output, once written
+  Vec3 faces = Vec3::Zero();  // with normals: the cross products of the kept triangles around it
 };
 
 Vec3 position_of(const MeshVertex& v) { return {v.x, v.y, v.z}; }
@@ -134,8 +134,10 @@ class Stitch {
         const auto [at, added] = peel_edges_.try_emplace(edge_key(a, b), node);
         if (!added) peels_.unite(at->second, node);
       }
-      if (!t.stray) peelable_.push_back({node, {atom_base + m.vertices[t.v[0]].atom, atom_base + m.vertices[t.v[1]].atom,
-                                               atom_base + m.vertices[t.v[2]].atom}});
+      if (!t.stray)
+        peelable_.push_back({node,
+                             {atom_base + m.vertices[t.v[0]].atom, atom_base + m.vertices[t.v[1]].atom,
+                              atom_base + m.vertices[t.v[2]].atom}});
     }
   }
 
@@ -189,10 +191,17 @@ class Stitch {
     };
     for (const MeshTriangle& t : m.triangles) {
       switch (fate(m, tile, t)) {
-        case Fate::trimmed: ++result.trimmed; break;
-        case Fate::stray: ++result.stray_triangles; break;
-        case Fate::fragment: break;
-        case Fate::kept: out.add_triangle({vertex(t.v[0]), vertex(t.v[1]), vertex(t.v[2])}); break;
+        case Fate::trimmed:
+          ++result.trimmed;
+          break;
+        case Fate::stray:
+          ++result.stray_triangles;
+          break;
+        case Fate::fragment:
+          break;
+        case Fate::kept:
+          out.add_triangle({vertex(t.v[0]), vertex(t.v[1]), vertex(t.v[2])});
+          break;
       }
     }
   }
@@ -238,7 +247,7 @@ class Stitch {
     if (triangles.size() < 2) return;
     std::map<std::uint32_t, std::map<std::uint32_t, std::uint64_t>> votes;  // per component, per object
     for (const auto& [key, count] : votes_) votes[atoms_.find(key.first)][key.second] += count;
-    std::map<std::uint32_t, std::uint32_t> object;  // per component
+    std::map<std::uint32_t, std::uint32_t> object;   // per component
     std::map<std::uint32_t, std::uint64_t> largest;  // per object
     for (const auto& [root, count] : triangles) {
       std::uint32_t best = 0;
@@ -266,8 +275,9 @@ class Stitch {
   std::vector<std::uint64_t> atom_triangles_;
   UnionFind peels_{0};
   std::vector<std::uint8_t> peel_open_, peeled_, kept_;
-  std::unordered_map<std::uint64_t, std::uint32_t> peel_edges_;  // edge between welded vertices -> a peelable component on it
-  std::vector<Pending> peelable_;                                // peelable triangles, strays aside
+  std::unordered_map<std::uint64_t, std::uint32_t>
+      peel_edges_;                 // edge between welded vertices -> a peelable component on it
+  std::vector<Pending> peelable_;  // peelable triangles, strays aside
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint64_t> votes_;  // (atom, object) -> vertices
   std::vector<std::uint32_t> atom_base_, peel_base_;                        // per tile
 };

@@ -141,9 +141,10 @@ void remove_tile_workspaces() noexcept {
 TileWorkspace::TileWorkspace(const std::filesystem::path& parent) {
   std::string pattern = (parent / (std::string(workspace_prefix) + "XXXXXX")).string();
   if (pattern.size() > max_workspace_path)
-    throw InvalidInputError(parent.string().substr(0, 60) + "...: the folder for a tiled run's files must have a path of at most " +
-                            std::to_string(max_workspace_path - workspace_prefix.size() - 7) + " characters (this one has " +
-                            std::to_string(parent.string().size()) + ")");
+    throw InvalidInputError(parent.string().substr(0, 60) +
+                            "...: the folder for a tiled run's files must have a path of at most " +
+                            std::to_string(max_workspace_path - workspace_prefix.size() - 7) +
+                            " characters (this one has " + std::to_string(parent.string().size()) + ")");
   remove_stale_tile_workspaces(parent);
   if (::mkdtemp(pattern.data()) == nullptr)
     throw IoError(parent.string() + ": cannot create a folder for the tiles there: " + std::strerror(errno), errno);

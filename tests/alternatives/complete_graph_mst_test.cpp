@@ -1,8 +1,8 @@
 #include "recon/alternatives/complete_graph_mst.h"
 
-#include "recon/phase2_orientation/emst.h"
-#include "recon/core/errors.h"
 #include "recon/alternatives/kruskal.h"
+#include "recon/core/errors.h"
+#include "recon/phase2_orientation/emst.h"
 
 #include <gtest/gtest.h>
 
@@ -30,7 +30,8 @@ std::vector<Vec<D>> random_points(std::size_t n, std::uint32_t seed, bool cluste
 }
 
 std::vector<Edge> sorted_by_ends(std::vector<Edge> edges) {
-  std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); });
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge& a, const Edge& b) { return std::tie(a.u, a.v) < std::tie(b.u, b.v); });
   return edges;
 }
 
@@ -41,7 +42,8 @@ void expect_equals_emst(const std::vector<Vec<D>>& pts) {
   const std::size_t n = pts.size();
   const MinimumSpanningEdges prim = complete_graph_minimum_spanning_tree<D>(pts);
   const KdTree<D> tree(pts, {4});
-  const std::vector<Edge> emst = euclidean_minimum_spanning_tree<D>(tree, pts, tree.all_knn(static_cast<int>(std::min<std::size_t>(6, n))));
+  const std::vector<Edge> emst =
+      euclidean_minimum_spanning_tree<D>(tree, pts, tree.all_knn(static_cast<int>(std::min<std::size_t>(6, n))));
   ASSERT_EQ(prim.edges.size(), n - 1);
   EXPECT_EQ(sorted_by_ends(prim.edges), sorted_by_ends(emst));
   double total = 0.0;

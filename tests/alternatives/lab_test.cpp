@@ -41,9 +41,10 @@ const LabResult& conics_lab() {
 
 TEST(Lab, RunsEveryAlternativeOnceWhenTheCloudIsSmall) {
   const LabResult& r = conics_lab();
-  for (const char* name : {"kd-tree", "grid", "brute-force", "prim/binary-heap", "prim/fibonacci-heap",
-                           "prim/pairing-heap", "prim/list-heap", "prim", "kruskal", "boruvka", "boruvka-kdtree",
-                           "prim-array", "complete", "emst", "knn", "mutual-knn", "riemannian", "riemannian/refined-walk"}) {
+  for (const char* name :
+       {"kd-tree", "grid", "brute-force", "prim/binary-heap", "prim/fibonacci-heap", "prim/pairing-heap",
+        "prim/list-heap", "prim", "kruskal", "boruvka", "boruvka-kdtree", "prim-array", "complete", "emst", "knn",
+        "mutual-knn", "riemannian", "riemannian/refined-walk"}) {
     const LabRun* run = find_run(r, name);
     ASSERT_NE(run, nullptr) << name;
     EXPECT_TRUE(run->skipped.empty()) << name << ": " << run->skipped;
@@ -74,8 +75,7 @@ TEST(Lab, CountsWhatEachAlternativeDid) {
     EXPECT_EQ(c.decrease_keys, find_run(r, "prim/binary-heap")->counts.decrease_keys) << q;
   }
   // The list heap scans its whole list per pop.
-  EXPECT_GT(find_run(r, "prim/list-heap")->counts.comparisons,
-            4 * find_run(r, "prim/binary-heap")->counts.comparisons);
+  EXPECT_GT(find_run(r, "prim/list-heap")->counts.comparisons, 4 * find_run(r, "prim/binary-heap")->counts.comparisons);
   // Kruskal unites n - (pieces) times; Borůvka needs at most log2(n) rounds.
   const std::uint64_t pieces = find_run(r, "riemannian")->components;
   EXPECT_EQ(find_run(r, "kruskal")->counts.unions, n - pieces);
@@ -88,8 +88,8 @@ TEST(Lab, CountsWhatEachAlternativeDid) {
 TEST(Lab, TreesOfOneGraphWeighTheSame) {
   const LabResult& r = conics_lab();
   const double w = *find_run(r, "prim")->tree_weight;
-  for (const char* name : {"prim/binary-heap", "prim/fibonacci-heap", "prim/pairing-heap", "prim/list-heap",
-                           "kruskal", "boruvka"})
+  for (const char* name :
+       {"prim/binary-heap", "prim/fibonacci-heap", "prim/pairing-heap", "prim/list-heap", "kruskal", "boruvka"})
     EXPECT_NEAR(*find_run(r, name)->tree_weight, w, 1e-9 * std::max(1.0, w)) << name;
   EXPECT_NEAR(*find_run(r, "prim-array")->tree_weight, *find_run(r, "boruvka-kdtree")->tree_weight, 1e-9);
 }
@@ -142,9 +142,9 @@ TEST(Lab, SkipsWhatWouldTakeTooLongAndSaysWhy) {
 // that a check covers is spoiled in turn through the test hook.
 TEST(Lab, AnAlternativeThatDisagreesStopsTheLab) {
   const PointCloud cloud = make_torus()->sample(800, 5);
-  for (const char* name : {"kd-tree", "grid", "brute-force", "prim/binary-heap", "prim/fibonacci-heap",
-                           "prim/pairing-heap", "prim/list-heap", "prim", "kruskal", "boruvka", "boruvka-kdtree",
-                           "prim-array"}) {
+  for (const char* name :
+       {"kd-tree", "grid", "brute-force", "prim/binary-heap", "prim/fibonacci-heap", "prim/pairing-heap",
+        "prim/list-heap", "prim", "kruskal", "boruvka", "boruvka-kdtree", "prim-array"}) {
     LabOptions options;
     options.spoil = name;
     try {

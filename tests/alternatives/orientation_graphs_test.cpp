@@ -1,9 +1,9 @@
 #include "recon/alternatives/orientation_graphs.h"
 
-#include "recon/phase2_orientation/emst.h"
 #include "recon/core/errors.h"
-#include "recon/phase2_orientation/orientation.h"
 #include "recon/core/shapes.h"
+#include "recon/phase2_orientation/emst.h"
+#include "recon/phase2_orientation/orientation.h"
 
 #include <gtest/gtest.h>
 

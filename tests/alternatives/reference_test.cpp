@@ -5,11 +5,11 @@
 
 #include "recon/alternatives/reference.h"
 
-#include "recon/core/errors.h"
-#include "recon/structures/kdtree.h"
-#include "recon/reconstruct.h"
-#include "recon/core/shapes.h"
 #include "mesh_compare.h"
+#include "recon/core/errors.h"
+#include "recon/core/shapes.h"
+#include "recon/reconstruct.h"
+#include "recon/structures/kdtree.h"
 
 #include <gtest/gtest.h>
 
@@ -115,7 +115,8 @@ TEST(ReferencePath, AnotherDeltaIsAnotherMesh) {
   const Computed& c = computed(Case{"terrain", 1500, 10});
   reference::Options wider = c.options;
   wider.delta = 0.6 * c.options.rho;
-  EXPECT_FALSE(same_mesh(c.optimised.mesh(), reference::reconstruct(c.cloud.positions, wider).mesh, 1e-9 * c.options.cell));
+  EXPECT_FALSE(
+      same_mesh(c.optimised.mesh(), reference::reconstruct(c.cloud.positions, wider).mesh, 1e-9 * c.options.cell));
 }
 
 TEST(ReferencePath, RefusesWhatItCannotDo) {

@@ -51,8 +51,26 @@ std::string portable(T v) {
 
 // Doubles of every magnitude and bit pattern, and the awkward ones.
 std::vector<double> doubles() {
-  std::vector<double> out = {0.0, -0.0, 1.0, -1.0, 0.1, 1e-5, 1e-4, 123456789.0, 9e6, 1e15, 1e16, 1e21, 1e22, 5e-324,
-                             2.2250738585072014e-308, 1.7976931348623157e308, 0.3, 2.0 / 3.0, 100.0, 1234.5};
+  std::vector<double> out = {0.0,
+                             -0.0,
+                             1.0,
+                             -1.0,
+                             0.1,
+                             1e-5,
+                             1e-4,
+                             123456789.0,
+                             9e6,
+                             1e15,
+                             1e16,
+                             1e21,
+                             1e22,
+                             5e-324,
+                             2.2250738585072014e-308,
+                             1.7976931348623157e308,
+                             0.3,
+                             2.0 / 3.0,
+                             100.0,
+                             1234.5};
   std::mt19937_64 random(29);
   for (int i = 0; i < 20000; ++i) {
     const std::uint64_t bits = random();
@@ -111,9 +129,20 @@ void expect_same_reading(const std::string& text) {
 
 TEST(FloatChars, ReadingIsCharconvs) {
   const NoFpTraps traps;
-  for (const char* text : {"0", "-0", "1.5", "-2.25e3", "1e400", "-1e400", "1e-400", "4.9e-324", "1e-310", ".5", "5.",
-                           "1e", "1e+", "1.5x", "+1", " 1", "", "-", ".", "inf", "-Infinity", "nan", "NaN(123)",
-                           "0x1p3", "12,5", "3.14159265358979323846264338327950288", "1E5", "123456789012345678901234"})
+  for (const char* text : {"0",         "-0",
+                           "1.5",       "-2.25e3",
+                           "1e400",     "-1e400",
+                           "1e-400",    "4.9e-324",
+                           "1e-310",    ".5",
+                           "5.",        "1e",
+                           "1e+",       "1.5x",
+                           "+1",        " 1",
+                           "",          "-",
+                           ".",         "inf",
+                           "-Infinity", "nan",
+                           "NaN(123)",  "0x1p3",
+                           "12,5",      "3.14159265358979323846264338327950288",
+                           "1E5",       "123456789012345678901234"})
     expect_same_reading(text);
   for (const double v : doubles()) expect_same_reading(standard(v));
 }

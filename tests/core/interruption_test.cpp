@@ -4,8 +4,8 @@
 
 #include "recon/core/interruption.h"
 
-#include "recon/reconstruct.h"
 #include "recon/core/shapes.h"
+#include "recon/reconstruct.h"
 
 #include <gtest/gtest.h>
 

@@ -59,7 +59,7 @@ TEST(MemoryBudget, NoLimitMeansTheDefault) {
 // figures (it said "only 0 points; k = 20 needs at least 21").
 TEST(MemoryBudget, StatisticsSampleTooSmallForPhaseOneBlamesTheLimit) {
   EXPECT_NO_THROW(check_statistics_sample(21, 265, 300'000, 20, 1'000'000));  // k + 1 drawn
-  EXPECT_NO_THROW(check_statistics_sample(10, 265, 10, 20, 1'000'000));  // the whole cloud: phase I says lower k
+  EXPECT_NO_THROW(check_statistics_sample(10, 265, 10, 20, 1'000'000));       // the whole cloud: phase I says lower k
   try {
     check_statistics_sample(0, 2127, 300'000, 20, 8'000'000);
     FAIL() << "not refused";

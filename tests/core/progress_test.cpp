@@ -4,9 +4,9 @@
 
 #include "recon/core/progress.h"
 
+#include "recon/core/shapes.h"
 #include "recon/estimate_normals.h"
 #include "recon/reconstruct.h"
-#include "recon/core/shapes.h"
 
 #include <gtest/gtest.h>
 

@@ -13,9 +13,9 @@
 // - distance(): a brute-force minimum over a million samples, which can
 //   only exceed the true distance, and by no more than the sample spacing.
 
-#include "recon/structures/mesh.h"
-#include "recon/reconstruct.h"
 #include "recon/core/shapes.h"
+#include "recon/reconstruct.h"
+#include "recon/structures/mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -289,13 +289,13 @@ TEST(ShapePart, NoSampleFallsInAHoleAndWallsFaceTheirAxis) {
 
 TEST(ShapePart, DistanceAtPointsWorkedOutByHand) {
   const auto part = make_machined_part();
-  EXPECT_NEAR(part->distance(Vec3(0.0, 0.0, 0.0)), 0.18, 1e-15);                   // on a hole's axis
-  EXPECT_NEAR(part->distance(Vec3(0.3, 0.0, 0.0)), 0.12, 1e-15);                   // between two holes
-  EXPECT_NEAR(part->distance(Vec3(0.6, 0.0, 0.5)), std::hypot(0.3, 0.18), 1e-15);  // above a hole: its rim
-  EXPECT_NEAR(part->distance(Vec3(0.6, 0.05, 0.1)), 0.13, 1e-15);                  // in a hole, off axis
-  EXPECT_NEAR(part->distance(Vec3(0.9, 0.4, 0.15)), 0.05, 1e-15);                  // inside, near a corner
+  EXPECT_NEAR(part->distance(Vec3(0.0, 0.0, 0.0)), 0.18, 1e-15);                           // on a hole's axis
+  EXPECT_NEAR(part->distance(Vec3(0.3, 0.0, 0.0)), 0.12, 1e-15);                           // between two holes
+  EXPECT_NEAR(part->distance(Vec3(0.6, 0.0, 0.5)), std::hypot(0.3, 0.18), 1e-15);          // above a hole: its rim
+  EXPECT_NEAR(part->distance(Vec3(0.6, 0.05, 0.1)), 0.13, 1e-15);                          // in a hole, off axis
+  EXPECT_NEAR(part->distance(Vec3(0.9, 0.4, 0.15)), 0.05, 1e-15);                          // inside, near a corner
   EXPECT_NEAR(part->distance(Vec3(1.3, 0.9, 0.6)), std::sqrt(0.09 + 0.16 + 0.16), 1e-15);  // off a corner
-  EXPECT_NEAR(part->distance(Vec3(-0.3, 0.2, 0.25)), 0.05, 1e-15);                 // above the top face
+  EXPECT_NEAR(part->distance(Vec3(-0.3, 0.2, 0.25)), 0.05, 1e-15);                         // above the top face
 }
 
 // ---------------------------------------------------------------- handle
@@ -433,8 +433,7 @@ TEST(ShapeReconstruct, ConicsPiecesAreFoundAndNoneIsInsideOut) {
     EXPECT_GT(run.agree[0] / run.total[0], 0.97) << seed << ": the tall cone";
     EXPECT_GT(run.agree[1] / run.total[1], 0.99) << seed << ": the wide cone";
     EXPECT_EQ(run.r.oriented->crease_patches_turned, 1u) << seed << ": the wide cone's base";
-    for (const std::size_t k : {2u, 3u, 4u})
-      EXPECT_GT(run.agree[k] / run.total[k], 0.999) << seed << ": piece " << k;
+    for (const std::size_t k : {2u, 3u, 4u}) EXPECT_GT(run.agree[k] / run.total[k], 0.999) << seed << ": piece " << k;
     // The mesh components of the cylinders and the sphere: closed, facing out.
     const MeshTopology t = analyze_topology(run.r.mesh());
     std::size_t closed_outward = 0;

@@ -80,7 +80,10 @@ double distance_to_ellipse(const Vec2& p, double a, double b) {
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
   for (int i = 0; i < 100; ++i) {
     const double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
-    if (d(m1) < d(m2)) hi = m2; else lo = m1;
+    if (d(m1) < d(m2))
+      hi = m2;
+    else
+      lo = m1;
   }
   return d(0.5 * (lo + hi));
 }
@@ -98,8 +101,8 @@ double distance_to_curves(const Vec2& p, const PolylineSet& curves) {
   for (const Polyline& line : curves.polylines) {
     const std::size_t n = line.vertices.size();
     for (std::size_t j = 0; j + (line.closed ? 0 : 1) < n; ++j)
-      best = std::min(best, distance_to_segment(p, curves.vertices[line.vertices[j]],
-                                                curves.vertices[line.vertices[(j + 1) % n]]));
+      best = std::min(
+          best, distance_to_segment(p, curves.vertices[line.vertices[j]], curves.vertices[line.vertices[(j + 1) % n]]));
   }
   return best;
 }
@@ -162,8 +165,7 @@ TEST(ReconstructCurve, FigureEightOfTwoLoopsGivesTwoClosedCurves) {
     EXPECT_NEAR(signed_area(curves, line), std::numbers::pi, 2.0 * std::numbers::pi * bound);
     // All of one loop's vertices are near one circle.
     const Vec2 centre = curves.vertices[line.vertices[0]].y() < 1.125 ? low : high;
-    for (const std::uint32_t v : line.vertices)
-      EXPECT_LE(std::abs((curves.vertices[v] - centre).norm() - 1.0), bound);
+    for (const std::uint32_t v : line.vertices) EXPECT_LE(std::abs((curves.vertices[v] - centre).norm() - 1.0), bound);
   }
 }
 
@@ -203,12 +205,13 @@ TEST(ReconstructCurve, TheGraphPhaseTwoWalksIsTheCallersChoice) {
     options.graph = graph;
     const CurveReconstruction r = reconstruct_curve(points, options);
     EXPECT_EQ(r.oriented.component_count(), graph == OrientationGraph::complete ? 1u : 2u) << name_of(graph);
-    EXPECT_EQ(r.oriented.graph.graph.edge_count(),
-              build_orientation_graph<2>(r.planes, graph).graph.edge_count()) << name_of(graph);
+    EXPECT_EQ(r.oriented.graph.graph.edge_count(), build_orientation_graph<2>(r.planes, graph).graph.edge_count())
+        << name_of(graph);
     EXPECT_EQ(r.contour.curves.polylines.size(), 2u) << name_of(graph);
   }
   // The default is the Riemannian graph, as before this choice existed.
-  EXPECT_EQ(reference.oriented.graph.graph.edge_count(), build_riemannian_graph<2>(reference.planes).graph.edge_count());
+  EXPECT_EQ(reference.oriented.graph.graph.edge_count(),
+            build_riemannian_graph<2>(reference.planes).graph.edge_count());
 }
 
 TEST(ReconstructCurve, OpenArcStaysOpen) {

@@ -125,7 +125,8 @@ Glb parse(const std::string& file) {
 std::vector<Color> some_colors(std::size_t n) {
   std::vector<Color> colors(n);
   for (std::size_t v = 0; v < n; ++v)
-    colors[v] = {static_cast<std::uint8_t>(v * 7), static_cast<std::uint8_t>(255 - v), static_cast<std::uint8_t>(v * v)};
+    colors[v] = {static_cast<std::uint8_t>(v * 7), static_cast<std::uint8_t>(255 - v),
+                 static_cast<std::uint8_t>(v * v)};
   return colors;
 }
 
@@ -185,9 +186,11 @@ void expect_glb_holds(const Glb& g, const Mesh& mesh, const std::vector<Vec3>& n
   for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(translation[k], centre[static_cast<Eigen::Index>(k)]);
   for (std::size_t v = 0; v < n; ++v)
     for (std::size_t k = 0; k < 3; ++k) {
-      const auto x = static_cast<float>(mesh.vertices[v][static_cast<Eigen::Index>(k)] - centre[static_cast<Eigen::Index>(k)]);
+      const auto x =
+          static_cast<float>(mesh.vertices[v][static_cast<Eigen::Index>(k)] - centre[static_cast<Eigen::Index>(k)]);
       EXPECT_EQ(float_at(g.bin, g.views[0].offset + 12 * v + 4 * k), x);
-      EXPECT_EQ(float_at(g.bin, g.views[1].offset + 12 * v + 4 * k), static_cast<float>(normals[v][static_cast<Eigen::Index>(k)]));
+      EXPECT_EQ(float_at(g.bin, g.views[1].offset + 12 * v + 4 * k),
+                static_cast<float>(normals[v][static_cast<Eigen::Index>(k)]));
       low[k] = std::min(low[k], x);
       high[k] = std::max(high[k], x);
     }
@@ -312,8 +315,9 @@ TEST(MeshNormals, PlyBinaryAndAsciiWriteFloatNormalsThatReadBack) {
     const auto path = folder / (ascii ? "a.ply" : "b.ply");
     write_mesh(path, mesh, {.ascii = ascii});
     const std::string bytes = read_bytes(path);
-    EXPECT_CONTAINS(bytes, "property double z\nproperty float nx\nproperty float ny\nproperty float nz\n"
-                           "property uchar red\n");
+    EXPECT_CONTAINS(bytes,
+                    "property double z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+                    "property uchar red\n");
     const Mesh back = read_mesh(path);
     ASSERT_EQ(back.normals.size(), mesh.normals.size());
     for (std::size_t v = 0; v < mesh.normals.size(); ++v)
@@ -325,7 +329,8 @@ TEST(MeshNormals, PlyBinaryAndAsciiWriteFloatNormalsThatReadBack) {
   plain.normals.clear();
   write_mesh(folder / "plain.ply", plain);
   EXPECT_EQ(read_bytes(folder / "plain.ply").find("nx"), std::string::npos);
-  EXPECT_EQ(read_bytes(folder / "b.ply").size(), read_bytes(folder / "plain.ply").size() + 12 * mesh.vertices.size() + 54)
+  EXPECT_EQ(read_bytes(folder / "b.ply").size(),
+            read_bytes(folder / "plain.ply").size() + 12 * mesh.vertices.size() + 54)
       << "12 bytes a vertex and three header lines";
 }
 
@@ -361,7 +366,8 @@ TEST(MeshNormals, RefusesNormalsNotOnePerVertexNotFiniteOrInGlbNotUnit) {
   EXPECT_FALSE(std::filesystem::exists(folder / "a.glb"));
   write_mesh(folder / "a.ply", mesh);  // PLY and OBJ hold any finite normal (another tool's, read back)
   mesh.normals[5] = Vec3(0, std::nan(""), 0);
-  EXPECT_CONTAINS(message_of<InvalidInputError>([&] { write_mesh(folder / "b.obj", mesh); }), "vertex 5's normal is not finite");
+  EXPECT_CONTAINS(message_of<InvalidInputError>([&] { write_mesh(folder / "b.obj", mesh); }),
+                  "vertex 5's normal is not finite");
   EXPECT_FALSE(std::filesystem::exists(folder / "b.obj"));
 }
 

@@ -10,8 +10,8 @@
 #include "io/io_test_helpers.h"
 #include "io/las_test_file.h"
 #include "recon/core/errors.h"
-#include "recon/io/point_io.h"
 #include "recon/core/resource_usage.h"
+#include "recon/io/point_io.h"
 
 #include <gtest/gtest.h>
 

@@ -121,7 +121,7 @@ TEST(LocalQuadrics, BoxSamplesNearEdgesTakeTheirFacesPlane) {
   }
   EXPECT_GT(tilted_before, 2000u);
   EXPECT_LT(tilted_after, tilted_before / 20);  // the corners' samples may still lean
-  EXPECT_GT(band, tilted_before / 2);            // the band along the edges is marked
+  EXPECT_GT(band, tilted_before / 2);           // the band along the edges is marked
 }
 
 // Two parallel sheets closer than a neighbourhood: every neighbourhood

@@ -1,8 +1,8 @@
 #include "recon/phase1_planes/pca.h"
 
+#include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
@@ -37,10 +37,10 @@ void check_against_eigen(std::uint32_t seed) {
     for (int r = 0; r < D; ++r)
       for (int c = 0; c < D; ++c) a(r, c) = g(rng);
     a = (a * a.transpose()).eval();
-    if (trial % 5 == 0) a(0, 1) = a(1, 0) = 0.0;           // already partly diagonal
-    if (trial % 7 == 0) a = Mat<D>::Identity() * 2.0;     // repeated eigenvalue
-    if (trial % 13 == 0) a(0, 1) = a(1, 0) = 1e-300;      // negligible: theta^2 would overflow
-    if (trial % 11 == 0) a *= 1e-12;                      // tiny scale
+    if (trial % 5 == 0) a(0, 1) = a(1, 0) = 0.0;       // already partly diagonal
+    if (trial % 7 == 0) a = Mat<D>::Identity() * 2.0;  // repeated eigenvalue
+    if (trial % 13 == 0) a(0, 1) = a(1, 0) = 1e-300;   // negligible: theta^2 would overflow
+    if (trial % 11 == 0) a *= 1e-12;                   // tiny scale
     const SymmetricEigen<D> ours = symmetric_eigen<D>(a);
     const Eigen::SelfAdjointEigenSolver<Mat<D>> theirs(a);
     const double scale = std::max(1e-300, a.norm());
@@ -71,7 +71,7 @@ TEST(Pca, PlaneFitAgreesWithTheRotationsOnEveryKindOfNeighbourhood) {
     const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
     const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
     const int kind = trial % 6;
-    const double spread_v = kind == 3 ? 1e-3 : kind == 4 ? 1e-9 : 1.0;  // strips, lines
+    const double spread_v = kind == 3 ? 1e-3 : kind == 4 ? 1e-9 : 1.0;                    // strips, lines
     const double spread_n = kind == 0 ? 0.0 : kind == 1 ? 1e-3 : kind == 5 ? 1.0 : 0.05;  // flat .. round
     const double scale = trial % 7 == 0 ? 1e-6 : 1.0;
     const Vec3 offset = trial % 5 == 0 ? Vec3(3e5, -2e5, 1e5) : Vec3::Zero();

@@ -49,8 +49,7 @@ TEST(TangentPlanes, OnlyStraySamplesAreIsolated) {
     options.rho = given;
     const auto planes = estimate_tangent_planes<3>(cloud.positions, options);
     EXPECT_EQ(planes.isolated, stray.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i)
-      EXPECT_EQ(planes.local_rho[i] == 0.0f, i >= 3000) << i;
+    for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_EQ(planes.local_rho[i] == 0.0f, i >= 3000) << i;
   }
 }
 

@@ -5,9 +5,9 @@
 
 #include "recon/alternatives/complete_graph_mst.h"
 #include "recon/core/parallel.h"
-#include "recon/phase2_orientation/riemannian_graph.h"
 #include "recon/core/shapes.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/riemannian_graph.h"
 #include "search_clouds.h"
 
 #include <gtest/gtest.h>

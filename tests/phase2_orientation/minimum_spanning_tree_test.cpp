@@ -1,8 +1,8 @@
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
 
-#include "recon/core/errors.h"
-#include "recon/alternatives/kruskal.h"
 #include "random_graphs.h"
+#include "recon/alternatives/kruskal.h"
+#include "recon/core/errors.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 #include "recon/phase2_orientation/riemannian_graph.h"
 
-#include "recon/phase2_orientation/emst.h"
 #include "recon/core/errors.h"
 #include "recon/core/shapes.h"
+#include "recon/phase2_orientation/emst.h"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +25,8 @@ bool oracle_gap(const TangentPlanes<3>& planes, std::uint32_t i, std::uint32_t j
          0.25;
 }
 
-void expect_oracle_graph(std::span<const Vec3> positions, const TangentPlanes<3>& planes, const RiemannianGraph<3>& rg) {
+void expect_oracle_graph(std::span<const Vec3> positions, const TangentPlanes<3>& planes,
+                         const RiemannianGraph<3>& rg) {
   const KdTree<3> tree(positions);
   std::vector<Edge> edges;
   std::size_t gaps = 0;

@@ -5,9 +5,9 @@
 #include "recon/phase3_distance/signed_distance.h"
 
 #include "recon/core/errors.h"
-#include "recon/structures/kdtree.h"
 #include "recon/core/shapes.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/structures/kdtree.h"
 
 #include <gtest/gtest.h>
 

@@ -142,9 +142,7 @@ TEST(MarchingSquares, SaddleSquaresFollowTheBilinearInterpolant) {
     const Vec2 corner = probe.origin + h * Vec2(std::floor((seed.x() - probe.origin.x()) / h),
                                                 std::floor((seed.y() - probe.origin.y()) / h));
     const Vec2 saddle = corner + Vec2(0.5 * h, 0.5 * h);
-    auto f = [&](const Vec2& p) -> std::optional<double> {
-      return (p.x() - saddle.x()) * (p.y() - saddle.y()) + c;
-    };
+    auto f = [&](const Vec2& p) -> std::optional<double> { return (p.x() - saddle.x()) * (p.y() - saddle.y()) + c; };
     const MarchingSquaresResult r = marching_squares(f, std::span(&seed, 1), with_cell(h));
     EXPECT_EQ(r.saddle_squares, 1U);
     expect_well_formed(r);
@@ -278,7 +276,8 @@ TEST(MarchingSquares, KeepsCornersAndSquaresWhenAsked) {
 TEST(MarchingSquares, RefusesBadCellsAndOverlongWalks) {
   auto f = [](const Vec2& p) -> std::optional<double> { return p.norm() - 1.0; };
   const std::vector<Vec2> seeds = circle_seeds(Vec2::Zero(), 1.0, 8);
-  for (const double cell : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
+  for (const double cell :
+       {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
     EXPECT_THROW((void)marching_squares(f, seeds, with_cell(cell)), InvalidInputError) << cell;
   EXPECT_THROW(
       (void)marching_squares(f, seeds, {.cell = 0.001, .max_slope = 0.0, .max_squares = 100, .keep_corners = false}),

@@ -1,10 +1,10 @@
 #include "recon/phase5_refine/refinement.h"
 
 #include "recon/core/errors.h"
-#include "recon/structures/mesh.h"
 #include "recon/core/parallel.h"
-#include "recon/reconstruct_parts.h"
 #include "recon/core/shapes.h"
+#include "recon/reconstruct_parts.h"
+#include "recon/structures/mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -31,8 +31,8 @@ class MeshDistance {
     for (const Neighbor& nb : tree_.knn(p, 12))
       for (const auto t : around_[nb.index]) {
         const auto& tri = mesh_.triangles[t];
-        best = std::min(best, point_triangle_distance(p, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]],
-                                                      mesh_.vertices[tri[2]]));
+        best = std::min(
+            best, point_triangle_distance(p, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]));
       }
     return best;
   }
@@ -55,8 +55,8 @@ SurfaceError surface_error(const Mesh& mesh, const Shape& shape) {
     const Vec3 &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
     const double quarter = 0.125 * (b - a).cross(c - a).norm();
     const Vec3 ab = (a + b) / 2, bc = (b + c) / 2, ca = (c + a) / 2;
-    for (const Vec3& p : {Vec3((a + ab + ca) / 3), Vec3((ab + b + bc) / 3), Vec3((ca + bc + c) / 3),
-                          Vec3((ab + bc + ca) / 3)}) {
+    for (const Vec3& p :
+         {Vec3((a + ab + ca) / 3), Vec3((ab + b + bc) / 3), Vec3((ca + bc + c) / 3), Vec3((ab + bc + ca) / 3)}) {
       const double d = shape.distance(p);
       total += quarter;
       sum += quarter * d;
@@ -142,7 +142,8 @@ TEST(Refinement, BoxEdgesAndCornersAreSharp) {
     EXPECT_GT(contour_sum / count, 0.2 * cell) << seed << ": phase IV alone cuts the edges off";
     std::vector<double> corners;
     for (int s = 0; s < 8; ++s) {
-      const Vec3 corner = turn * Vec3((s & 1 ? 1 : -1) * half.x(), (s & 2 ? 1 : -1) * half.y(), (s & 4 ? 1 : -1) * half.z());
+      const Vec3 corner =
+          turn * Vec3((s & 1 ? 1 : -1) * half.x(), (s & 2 ? 1 : -1) * half.y(), (s & 4 ? 1 : -1) * half.z());
       double nearest = std::numeric_limits<double>::infinity();
       for (const Vec3& v : mesh.vertices) nearest = std::min(nearest, (v - corner).norm());
       corners.push_back(nearest);
@@ -204,7 +205,8 @@ TEST(Refinement, FragmentsGoSmallObjectsStay) {
   const Vec3 at(0.0, 0.0, 1.05);
   for (const Vec3& corner : {Vec3(0.02, 0, 0), Vec3(-0.01, 0.017, 0), Vec3(-0.01, -0.017, 0), Vec3(0, 0, 0.02)})
     contoured.vertices.push_back(at + corner);
-  for (const std::array<std::uint32_t, 3> tri : {std::array<std::uint32_t, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}})
+  for (const std::array<std::uint32_t, 3> tri :
+       {std::array<std::uint32_t, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}})
     contoured.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
   const RefinementInput input = refinement_input_of(r, f);
   RefinementOptions refine;
@@ -283,8 +285,10 @@ TEST(Refinement, SheetsCloserThanTheLatticeCanFollowBecomeOne) {
     split.quadrics.min_sheet_separation = 1e-9;  // always split
     const Reconstruction torn = reconstruct(two_sheets(gap, turn), split);
     ASSERT_TRUE(torn.refinement.has_value());
-    const double torn_rho = static_cast<double>(*std::max_element(torn.planes.local_rho.begin(), torn.planes.local_rho.end()));
-    EXPECT_LT(farthest_off(torn.mesh(), turn, gap), RefinementInput{}.reach * torn_rho + torn.delta + 2.0 * torn.contour.cell)
+    const double torn_rho =
+        static_cast<double>(*std::max_element(torn.planes.local_rho.begin(), torn.planes.local_rho.end()));
+    EXPECT_LT(farthest_off(torn.mesh(), turn, gap),
+              RefinementInput{}.reach * torn_rho + torn.delta + 2.0 * torn.contour.cell)
         << gap;
     EXPECT_GT(torn.refinement->stray_triangles, 0u) << gap << ": the fins phase V drops";
   }
@@ -332,8 +336,8 @@ TEST(Refinement, PatchSaysWhereTrianglesAndVerticesCameFrom) {
     const auto [a, b] = patch.stem[v];
     ASSERT_LT(a, contoured.vertices.size());
     crease += b != RefinedPatch::none ? 1 : 0;  // (displaced from the midpoint of the edge it splits)
-    const Vec3 from = b != RefinedPatch::none ? Vec3(0.5 * (contoured.vertices[a] + contoured.vertices[b]))
-                                              : contoured.vertices[a];
+    const Vec3 from =
+        b != RefinedPatch::none ? Vec3(0.5 * (contoured.vertices[a] + contoured.vertices[b])) : contoured.vertices[a];
     EXPECT_LE((patch.mesh.vertices[v] - from).norm(), static_cast<double>(patch.displacement[v]) + 1e-6);
   }
   EXPECT_EQ(crease, patch.crease_vertices);

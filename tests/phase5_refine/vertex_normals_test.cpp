@@ -2,9 +2,9 @@
 
 #include "recon/core/errors.h"
 #include "recon/core/parallel.h"
-#include "recon/reconstruct_parts.h"
-#include "recon/phase5_refine/refinement.h"
 #include "recon/core/shapes.h"
+#include "recon/phase5_refine/refinement.h"
+#include "recon/reconstruct_parts.h"
 
 #include <gtest/gtest.h>
 

@@ -24,7 +24,7 @@ struct HandMadeLab {
   OrientedNormals<3> default_orientation;  ///< the Riemannian graph's
   std::vector<LabGraph> graphs;            ///< in all_orientation_graphs order
   std::string runs_json;
-  std::size_t runs = 0, skipped = 0;       ///< in runs_json
+  std::size_t runs = 0, skipped = 0;  ///< in runs_json
 };
 
 inline RiemannianGraph<3> graph_of_edges(std::size_t n, const std::vector<Edge>& edges) {
@@ -61,11 +61,16 @@ inline RiemannianGraph<3> hand_made_graph(const TangentPlanes<3>& planes, Orient
   }
   const auto k = static_cast<std::size_t>(planes.neighbors.k);
   switch (kind) {
-    case OrientationGraph::complete: return graph_of_edges(n, riemannian.emst);
-    case OrientationGraph::emst: return graph_of_edges(n, kept);
-    case OrientationGraph::knn: return graph_of_edges(n, knn_edges(planes, k, false));
-    case OrientationGraph::mutual_knn: return graph_of_edges(n, knn_edges(planes, k, true));
-    case OrientationGraph::riemannian: break;
+    case OrientationGraph::complete:
+      return graph_of_edges(n, riemannian.emst);
+    case OrientationGraph::emst:
+      return graph_of_edges(n, kept);
+    case OrientationGraph::knn:
+      return graph_of_edges(n, knn_edges(planes, k, false));
+    case OrientationGraph::mutual_knn:
+      return graph_of_edges(n, knn_edges(planes, k, true));
+    case OrientationGraph::riemannian:
+      break;
   }
   return riemannian;
 }
@@ -85,13 +90,12 @@ inline double agreement(const std::vector<Vec3>& normals, std::span<const Vec3> 
 inline std::string graph_run(std::string_view name, const LabGraph& g, const HandMadeLab& lab,
                              std::span<const Vec3> truth) {
   const OrientedNormals<3>& o = g.oriented;
-  return R"({"name":")" + std::string(name) + R"(","kind":"graph","graph":")" + std::string(name) +
-         R"(","seconds":)" + json_number(0.004 + 0.001 * static_cast<double>(o.graph.edge_count) / 1e4) +
-         R"(,"counts":{"pushes":)" + std::to_string(o.normals.size()) + R"(,"pops":)" +
-         std::to_string(o.normals.size()) + R"(},"tree_weight":)" + json_number(o.tree.total_weight) +
-         R"(,"edges":)" + std::to_string(o.graph.edge_count) + R"(,"components":)" +
-         std::to_string(o.component_count()) + R"(,"flips":)" + std::to_string(o.flip_count) +
-         R"(,"agree_default":)" + json_number(agreement(o.normals, lab.default_orientation.normals)) +
+  return R"({"name":")" + std::string(name) + R"(","kind":"graph","graph":")" + std::string(name) + R"(","seconds":)" +
+         json_number(0.004 + 0.001 * static_cast<double>(o.graph.edge_count) / 1e4) + R"(,"counts":{"pushes":)" +
+         std::to_string(o.normals.size()) + R"(,"pops":)" + std::to_string(o.normals.size()) + R"(},"tree_weight":)" +
+         json_number(o.tree.total_weight) + R"(,"edges":)" + std::to_string(o.graph.edge_count) + R"(,"components":)" +
+         std::to_string(o.component_count()) + R"(,"flips":)" + std::to_string(o.flip_count) + R"(,"agree_default":)" +
+         json_number(agreement(o.normals, lab.default_orientation.normals)) +
          (truth.empty() ? "" : R"(,"agree_truth":)" + json_number(agreement(o.normals, truth))) + "}";
 }
 

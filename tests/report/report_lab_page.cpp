@@ -7,8 +7,8 @@
 
 #include "hand_made_lab.h"
 
-#include "recon/report/report.h"
 #include "recon/core/shapes.h"
+#include "recon/report/report.h"
 
 #include <cstdlib>
 #include <exception>

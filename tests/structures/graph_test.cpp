@@ -3,8 +3,8 @@
 
 #include "recon/structures/graph.h"
 
-#include "recon/core/errors.h"
 #include "random_graphs.h"
+#include "recon/core/errors.h"
 
 #include <gtest/gtest.h>
 

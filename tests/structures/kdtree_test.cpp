@@ -45,7 +45,8 @@ std::vector<Vec<D>> make_points(std::size_t n, Layout layout, std::uint32_t seed
 template <int D>
 std::vector<Neighbor> brute_force(const std::vector<Vec<D>>& pts, const Vec<D>& q) {
   std::vector<Neighbor> all;
-  for (std::size_t i = 0; i < pts.size(); ++i) all.push_back({static_cast<std::uint32_t>(i), (pts[i] - q).squaredNorm()});
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    all.push_back({static_cast<std::uint32_t>(i), (pts[i] - q).squaredNorm()});
   std::sort(all.begin(), all.end());
   return all;
 }
@@ -89,7 +90,8 @@ void check_against_brute_force(Layout layout, std::uint32_t seed, Fit fit = Fit:
           const auto got = tree.knn(q, k);
           const std::size_t want = std::min<std::size_t>(static_cast<std::size_t>(k), n);
           ASSERT_EQ(got.size(), want);
-          for (std::size_t j = 0; j < want; ++j) ASSERT_EQ(got[j], expected[j]) << "n=" << n << " k=" << k << " j=" << j;
+          for (std::size_t j = 0; j < want; ++j)
+            ASSERT_EQ(got[j], expected[j]) << "n=" << n << " k=" << k << " j=" << j;
         }
         ASSERT_EQ(tree.nearest(q), expected[0]);
         // A bounded k-NN: the first k of the points within the bound
@@ -111,8 +113,8 @@ void check_against_brute_force(Layout layout, std::uint32_t seed, Fit fit = Fit:
         ASSERT_EQ(tree.any_within(q, expected[0].distance2 * (1.0 - 1e-9) - 1e-300), false)
             << "nearest at " << expected[0].distance2;
         const auto in_ball = tree.radius(q, r2);
-        const auto expected_ball = std::count_if(expected.begin(), expected.end(),
-                                                 [&](const Neighbor& nb) { return nb.distance2 <= r2; });
+        const auto expected_ball =
+            std::count_if(expected.begin(), expected.end(), [&](const Neighbor& nb) { return nb.distance2 <= r2; });
         ASSERT_EQ(in_ball.size(), static_cast<std::size_t>(expected_ball));
         for (std::size_t j = 0; j < in_ball.size(); ++j) ASSERT_EQ(in_ball[j], expected[j]);
       }
@@ -252,8 +254,8 @@ TEST(KdTree, NearestWithOtherLabelMatchesBruteForce) {
         expected = nb;
         break;
       }
-    const auto got = tree.nearest_with_other_label(pts[q], labels[q], labels, node_labels,
-                                                   std::numeric_limits<double>::infinity());
+    const auto got =
+        tree.nearest_with_other_label(pts[q], labels[q], labels, node_labels, std::numeric_limits<double>::infinity());
     ASSERT_EQ(got, expected);
     // A bound below the answer finds nothing; a bound equal to it finds it.
     const auto none = tree.nearest_with_other_label(pts[q], labels[q], labels, node_labels, expected.distance2 * 0.999);

@@ -54,14 +54,14 @@ TEST(UnionFind, CountsFindsAndUnions) {
   UnionFind sets(6);
   EXPECT_EQ(sets.finds(), 0u);
   EXPECT_EQ(sets.unions(), 0u);
-  EXPECT_TRUE(sets.unite(0, 1));   // two finds, a union
+  EXPECT_TRUE(sets.unite(0, 1));  // two finds, a union
   EXPECT_TRUE(sets.unite(2, 3));
   EXPECT_FALSE(sets.unite(1, 0));  // two finds, no union
   EXPECT_EQ(sets.finds(), 6u);
   EXPECT_EQ(sets.unions(), 2u);
   (void)sets.find(4);
-  (void)sets.set_size(2);          // a find
-  (void)sets.root(5);              // changes nothing, counts nothing
+  (void)sets.set_size(2);  // a find
+  (void)sets.root(5);      // changes nothing, counts nothing
   EXPECT_EQ(sets.finds(), 8u);
   EXPECT_EQ(sets.unions(), 2u);
   EXPECT_EQ(sets.set_count(), 4u);

@@ -7,11 +7,11 @@
 
 #include "recon/tiles/tiles.h"
 
-#include "recon/core/errors.h"
-#include "recon/io/mesh_io.h"
-#include "recon/core/shapes.h"
-#include "tiles/files.h"  // (the tiles' files, changed by hand below)
 #include "mesh_compare.h"
+#include "recon/core/errors.h"
+#include "recon/core/shapes.h"
+#include "recon/io/mesh_io.h"
+#include "tiles/files.h"  // (the tiles' files, changed by hand below)
 
 #include <gtest/gtest.h>
 
@@ -22,8 +22,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -276,7 +276,8 @@ TEST(TileFiles, APieceOrientedTheOtherWayIsTurned) {
   std::size_t top_tile = 0, turned_tile = 0;
   double top = -1e300, bottom = 1e300;
   for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
-    const tile_files::Orientation o = tile_files::read_orientation(tile_files::of_tile(dir, plan.tiles[t].id, "orient"));
+    const tile_files::Orientation o =
+        tile_files::read_orientation(tile_files::of_tile(dir, plan.tiles[t].id, "orient"));
     for (const tile_files::PieceTop& p : o.tops) {
       if (p.index == UINT64_MAX) continue;
       if (p.z > top) {
@@ -456,13 +457,15 @@ TEST(TiledProgram, AnInputShortenedWhileTiledLeavesNoTiles) {
   const std::string command =
       "cd " + quoted(dir) + " && { " + quoted(RECON_CLI_PATH) +
       " reconstruct big.xyz -o out.ply --tile-size 10 --tmpdir tmp </dev/null >/dev/null 2>stderr.txt & pid=$!; " +
-      "while [ -e /proc/$pid ] && ! { ls tmp | grep -q recon-tiles- && grep -q big.xyz /proc/$pid/maps; } 2>/dev/null; " +
+      "while [ -e /proc/$pid ] && ! { ls tmp | grep -q recon-tiles- && grep -q big.xyz /proc/$pid/maps; } "
+      "2>/dev/null; " +
       "do :; done; truncate -s 4096 big.xyz; wait $pid; exit $?; }";
   const int status = std::system(command.c_str());
   ASSERT_TRUE(status != -1 && WIFEXITED(status)) << status;
   const std::string message = bytes_of(dir / "stderr.txt");
   EXPECT_EQ(WEXITSTATUS(status), 1) << message;
-  EXPECT_EQ(message, "recon: error: big.xyz: the file was shortened, or could not be read, while recon was reading it\n");
+  EXPECT_EQ(message,
+            "recon: error: big.xyz: the file was shortened, or could not be read, while recon was reading it\n");
   EXPECT_TRUE(fs::is_empty(dir / "tmp")) << "the tiles' folder was left behind";
   EXPECT_FALSE(fs::exists(dir / "out.ply"));
   fs::remove_all(dir);
@@ -474,12 +477,14 @@ TEST(TiledProgram, AnInputShortenedWhileTiledLeavesNoTiles) {
 TEST(TiledProgram, AnInterruptWhileContouringLeavesNoTiles) {
   const auto dir = scratch("sigint-contour");
   const std::string cli = quoted(RECON_CLI_PATH);
-  ASSERT_EQ(std::system(("cd " + quoted(dir) + " && " + cli + " --quiet generate terrain -n 40000 -o t.ply").c_str()), 0);
+  ASSERT_EQ(std::system(("cd " + quoted(dir) + " && " + cli + " --quiet generate terrain -n 40000 -o t.ply").c_str()),
+            0);
   for (int attempt = 0; attempt < 2; ++attempt) {
     fs::create_directories(dir / "tmp");
     const std::string command =
         "cd " + quoted(dir) + " && { " + cli +
-        " --quiet reconstruct t.ply -o m.ply --tile-size 0.3 --tmpdir tmp </dev/null >/dev/null 2>/dev/null & pid=$!; " +
+        " --quiet reconstruct t.ply -o m.ply --tile-size 0.3 --tmpdir tmp </dev/null >/dev/null 2>/dev/null & "
+        "pid=$!; " +
         "while [ -e /proc/$pid ] && ! ls tmp/recon-tiles-*/tile-*.mesh >/dev/null 2>&1; do :; done; " +
         "kill -INT $pid; wait $pid; exit $?; }";
     const int status = std::system(command.c_str());

@@ -7,9 +7,9 @@
 
 #include "recon/tiles/tiles.h"
 
-#include "recon/io/mesh_io.h"
-#include "recon/core/shapes.h"
 #include "mesh_compare.h"
+#include "recon/core/shapes.h"
+#include "recon/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 
@@ -94,14 +94,16 @@ TEST_P(MeasuredOverTiles, MeasuresAndMeshAreTheInMemoryOnes) {
 // Clean data in both methods (the refined one measures its fits too), the
 // terrain with 40 copies of one sample (their gap, 0, is left out of the
 // median); a noisy cloud, on which phase I raises k; a given rho.
-INSTANTIATE_TEST_SUITE_P(
-    Clouds, MeasuredOverTiles,
-    ::testing::Values(Case{"terrain", 12000, Method::refined, 0.0, std::nullopt, 40}, Case{"torus", 10000, Method::hoppe92},
-                      Case{"box", 40000, Method::refined, 1.2}, Case{"two", 10000, Method::refined, 0.0, 0.05}),
-    [](const auto& p) {
-      return std::string(p.param.shape) + "_" + method_name(p.param.method) + (p.param.noise > 0.0 ? "_noisy" : "") +
-             (p.param.rho ? "_rho" : "") + (p.param.copies > 0 ? "_copies" : "");
-    });
+INSTANTIATE_TEST_SUITE_P(Clouds, MeasuredOverTiles,
+                         ::testing::Values(Case{"terrain", 12000, Method::refined, 0.0, std::nullopt, 40},
+                                           Case{"torus", 10000, Method::hoppe92},
+                                           Case{"box", 40000, Method::refined, 1.2},
+                                           Case{"two", 10000, Method::refined, 0.0, 0.05}),
+                         [](const auto& p) {
+                           return std::string(p.param.shape) + "_" + method_name(p.param.method) +
+                                  (p.param.noise > 0.0 ? "_noisy" : "") + (p.param.rho ? "_rho" : "") +
+                                  (p.param.copies > 0 ? "_copies" : "");
+                         });
 
 // Samples a tile cannot measure exactly are counted, not hidden: five
 // strays far from the rest make a tile of their own, too few for a

@@ -7,9 +7,9 @@
 
 #include "recon/tiles/tiles.h"
 
-#include "recon/io/mesh_io.h"
-#include "recon/core/shapes.h"
 #include "mesh_compare.h"
+#include "recon/core/shapes.h"
+#include "recon/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 

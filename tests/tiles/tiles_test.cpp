@@ -5,12 +5,12 @@
 
 #include "recon/tiles/tiles.h"
 
-#include "recon/core/errors.h"
-#include "recon/io/mesh_io.h"
-#include "recon/core/shapes.h"
-#include "tiles/files.h"  // (the tiles' files, made by hand below)
 #include "mesh_compare.h"
+#include "recon/core/errors.h"
+#include "recon/core/shapes.h"
+#include "recon/io/mesh_io.h"
 #include "test_data.h"
+#include "tiles/files.h"  // (the tiles' files, made by hand below)
 
 #include <gtest/gtest.h>
 
@@ -40,8 +40,8 @@ struct Case {
 };
 
 std::string name_of(const Case& c) {
-  return std::string(c.shape) + "_" + method_name(c.method) + "_" + std::to_string(static_cast<int>(c.tile_size * 100)) +
-         (c.noise > 0.0 ? "_noisy" : "");
+  return std::string(c.shape) + "_" + method_name(c.method) + "_" +
+         std::to_string(static_cast<int>(c.tile_size * 100)) + (c.noise > 0.0 ? "_noisy" : "");
 }
 
 PointCloud cloud_of(const Case& c) {
@@ -186,7 +186,8 @@ TEST(TiledRun, RealScansSameAsInMemory) {
     cloud.normals.clear();
     const Reconstruction whole = reconstruct(cloud);
     const std::string name = path.stem().string();
-    const Case c{name.c_str(), cloud.size(), Method::refined, 0.25 * bounding_box<3>(cloud.positions).extent().maxCoeff()};
+    const Case c{name.c_str(), cloud.size(), Method::refined,
+                 0.25 * bounding_box<3>(cloud.positions).extent().maxCoeff()};
     const Tiled tiled = run_tiled(cloud, c);
     EXPECT_GT(tiled.run.plan.tiles.size(), 1u) << file;
     EXPECT_TRUE(same_mesh(tiled.mesh, whole.mesh(), 1e-9 * whole.contour.cell)) << file;
@@ -387,8 +388,8 @@ TEST(TiledRun, StitchDecidesTrimmingAndFragmentsAcrossTiles) {
   a.peel_open = {0, 0};
   a.votes = {{0, 0, 101}, {1, 0, 1}};
   tile_files::TileMesh b;
-  b.vertices = {vertex(2002, true, 0), vertex(2001, true, 1), vertex(2003, false, 2),   // peelable
-                vertex(1000, true, 3), vertex(3001, false, 3), vertex(3002, false, 3),  // hanging on the fan
+  b.vertices = {vertex(2002, true, 0),  vertex(2001, true, 1),  vertex(2003, false, 2),   // peelable
+                vertex(1000, true, 3),  vertex(3001, false, 3), vertex(3002, false, 3),   // hanging on the fan
                 vertex(4000, false, 4), vertex(4001, false, 4), vertex(4002, false, 4)};  // alone
   b.triangles = {triangle(0, 1, 2, 0), triangle(3, 4, 5, tile_files::none), triangle(6, 7, 8, tile_files::none)};
   b.peel_open = {1};

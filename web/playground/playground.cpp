@@ -21,13 +21,13 @@
 
 #include "recon/alternatives/boruvka.h"
 #include "recon/alternatives/counting_queue.h"
-#include "recon/core/errors.h"
-#include "recon/structures/fibonacci_heap.h"
 #include "recon/alternatives/kruskal.h"
+#include "recon/core/errors.h"
+#include "recon/core/timer.h"
+#include "recon/curves/reconstruct_curve.h"
+#include "recon/structures/fibonacci_heap.h"
 #include "recon/structures/list_heap.h"
 #include "recon/structures/pairing_heap.h"
-#include "recon/curves/reconstruct_curve.h"
-#include "recon/core/timer.h"
 
 #include <emscripten/emscripten.h>
 
@@ -58,10 +58,30 @@ constexpr std::size_t layer_count = 9;
 
 // Entries of the stats layer.
 enum Stat : std::size_t {
-  k_used, rho_used, delta_used, cell_used, components, seconds_planes, seconds_orientation, seconds_distance,
-  seconds_contour, seconds_total, undefined_squares, seam_squares, saddle_squares,
+  k_used,
+  rho_used,
+  delta_used,
+  cell_used,
+  components,
+  seconds_planes,
+  seconds_orientation,
+  seconds_distance,
+  seconds_contour,
+  seconds_total,
+  undefined_squares,
+  seam_squares,
+  saddle_squares,
   // the chosen spanning-tree algorithm on the chosen graph (costs 1 - |n_i . n_j|)
-  seconds_tree, tree_weight, pushes, pops, decrease_keys, comparisons, finds, unions, rounds, graph_edge_count,
+  seconds_tree,
+  tree_weight,
+  pushes,
+  pops,
+  decrease_keys,
+  comparisons,
+  finds,
+  unions,
+  rounds,
+  graph_edge_count,
   stat_count
 };
 
@@ -98,12 +118,18 @@ TreeRun run_tree(const recon::CurveReconstruction& r, int tree) {
       recon::with_orientation_costs<2>(r.oriented.graph.graph, std::span<const Vec2>(r.planes.normals));
   recon::Timer timer;
   switch (tree) {
-    case prim_fibonacci: return prim_on<recon::FibonacciHeap>(g);
-    case prim_pairing: return prim_on<recon::PairingHeap>(g);
-    case prim_list: return prim_on<recon::ListHeap>(g);
-    case kruskal: return edges_of(recon::kruskal_minimum_spanning_forest(g), timer.elapsed());
-    case boruvka: return edges_of(recon::boruvka_minimum_spanning_forest(g), timer.elapsed());
-    default: return prim_on<recon::IndexedBinaryHeap>(g);
+    case prim_fibonacci:
+      return prim_on<recon::FibonacciHeap>(g);
+    case prim_pairing:
+      return prim_on<recon::PairingHeap>(g);
+    case prim_list:
+      return prim_on<recon::ListHeap>(g);
+    case kruskal:
+      return edges_of(recon::kruskal_minimum_spanning_forest(g), timer.elapsed());
+    case boruvka:
+      return edges_of(recon::boruvka_minimum_spanning_forest(g), timer.elapsed());
+    default:
+      return prim_on<recon::IndexedBinaryHeap>(g);
   }
 }
 
@@ -136,7 +162,8 @@ void fill_layers(const recon::CurveReconstruction& r, const TreeRun& chosen, dou
   for (std::uint32_t v = 0; v < graph.vertex_count(); ++v)
     for (const std::uint32_t u : graph.neighbors(v))
       if (v < u) layers[graph_edges].insert(layers[graph_edges].end(), {double(v), double(u)});
-  for (const recon::Edge& e : chosen.edges) layers[tree_edges].insert(layers[tree_edges].end(), {double(e.u), double(e.v)});
+  for (const recon::Edge& e : chosen.edges)
+    layers[tree_edges].insert(layers[tree_edges].end(), {double(e.u), double(e.v)});
 
   const recon::MarchingSquaresResult& c = r.contour;
   auto corner_position = [&](std::int32_t i, std::int32_t j) {
@@ -149,8 +176,9 @@ void fill_layers(const recon::CurveReconstruction& r, const TreeRun& chosen, dou
   // Squares: their corners are among the kept ones (sorted by index).
   auto find_corner = [&](std::int32_t i, std::int32_t j) -> const recon::SquareCorner* {
     const std::array<std::int32_t, 2> key{i, j};
-    auto at = std::lower_bound(c.corners.begin(), c.corners.end(), key,
-                               [](const recon::SquareCorner& a, const std::array<std::int32_t, 2>& b) { return a.index < b; });
+    auto at = std::lower_bound(
+        c.corners.begin(), c.corners.end(), key,
+        [](const recon::SquareCorner& a, const std::array<std::int32_t, 2>& b) { return a.index < b; });
     return at != c.corners.end() && at->index == key ? &*at : nullptr;
   };
   for (const auto& square : c.squares) {
@@ -169,8 +197,8 @@ void fill_layers(const recon::CurveReconstruction& r, const TreeRun& chosen, dou
   // Each curve's vertices contiguously, in curve order: the page draws
   // them one after the other.
   for (const recon::Polyline& line : set.polylines) {
-    layers[curves].insert(layers[curves].end(), {double(layers[vertices].size() / 2), double(line.vertices.size()),
-                                                 line.closed ? 1.0 : 0.0});
+    layers[curves].insert(layers[curves].end(),
+                          {double(layers[vertices].size() / 2), double(line.vertices.size()), line.closed ? 1.0 : 0.0});
     for (const std::uint32_t v : line.vertices)
       layers[vertices].insert(layers[vertices].end(), {set.vertices[v].x(), set.vertices[v].y()});
   }
@@ -244,8 +272,9 @@ EMSCRIPTEN_KEEPALIVE const double* recon_layer(int id) {
 }
 
 EMSCRIPTEN_KEEPALIVE int recon_layer_size(int id) {
-  return id >= 0 && static_cast<std::size_t>(id) < layer_count ? static_cast<int>(layers[static_cast<std::size_t>(id)].size())
-                                                                : 0;
+  return id >= 0 && static_cast<std::size_t>(id) < layer_count
+             ? static_cast<int>(layers[static_cast<std::size_t>(id)].size())
+             : 0;
 }
 
 }  // extern "C"

@@ -38,15 +38,15 @@
 
 #include "recon/core/errors.h"
 #include "recon/core/interruption.h"
-#include "recon/io/mesh_io.h"
-#include "recon/io/point_io.h"
 #include "recon/core/memory_budget.h"
 #include "recon/core/parallel.h"  // thread_count
+#include "recon/core/progress.h"
+#include "recon/core/shapes.h"
+#include "recon/core/timer.h"
+#include "recon/io/mesh_io.h"
+#include "recon/io/point_io.h"
 #include "recon/reconstruct.h"
 #include "recon/report/report.h"
-#include "recon/core/shapes.h"
-#include "recon/core/progress.h"
-#include "recon/core/timer.h"
 
 #include <emscripten/emscripten.h>
 
@@ -73,13 +73,13 @@ constexpr std::size_t mid_run_triangles = 20'000;
 
 struct State {
   PointCloud cloud;
-  std::string name;                        // as the program would say it
-  std::optional<cli::Summary> read;        // the input's account
-  std::optional<Reconstruction> r;         // phases I-II kept, and the later ones
+  std::string name;                  // as the program would say it
+  std::optional<cli::Summary> read;  // the input's account
+  std::optional<Reconstruction> r;   // phases I-II kept, and the later ones
   ReconstructionOptions options;
-  std::optional<cli::Summary> summary;     // the last run's account
-  std::string error, text;                 // returned strings
-  double limit = default_page_limit;       // bytes a run may use (webapp_set_limit)
+  std::optional<cli::Summary> summary;  // the last run's account
+  std::string error, text;              // returned strings
+  double limit = default_page_limit;    // bytes a run may use (webapp_set_limit)
 };
 State state;
 

@@ -32,8 +32,8 @@
 // the edges are too many to list and a tree's cheapest edge out comes from
 // kd-tree queries instead, is phase II's EMST: emst.h, src/phase2_orientation/emst.cpp.
 
-#include "recon/structures/graph.h"
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
+#include "recon/structures/graph.h"
 
 #include <cstddef>
 #include <vector>

@@ -22,9 +22,9 @@
 //
 // D is not deduced from a std::vector: call brute_force_all_knn<3>(points, k).
 
-#include "recon/structures/kdtree.h"
 #include "recon/core/operation_counts.h"
 #include "recon/core/point_cloud.h"
+#include "recon/structures/kdtree.h"
 
 #include <span>
 #include <vector>

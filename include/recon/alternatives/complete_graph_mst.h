@@ -22,8 +22,8 @@
 // each with u < v and weight = Euclidean length; counts.distance_evaluations
 // = n(n-1)/2 (squared distances computed), other counters 0.
 
-#include "recon/phase2_orientation/minimum_spanning_tree.h"
 #include "recon/core/point_cloud.h"
+#include "recon/phase2_orientation/minimum_spanning_tree.h"
 
 #include <span>
 

@@ -20,8 +20,8 @@
 // Result: the forest's edges in the order taken (by lighter()), each with
 // u < v; V - (number of trees) of them.
 
-#include "recon/structures/graph.h"
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
+#include "recon/structures/graph.h"
 
 #include <cstddef>
 #include <vector>

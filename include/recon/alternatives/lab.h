@@ -37,11 +37,11 @@
 // a queue down). The other runs count as they go (an addition per distance
 // or find, next to the work it counts).
 
+#include "recon/alternatives/orientation_graphs.h"
 #include "recon/core/errors.h"
 #include "recon/core/operation_counts.h"
-#include "recon/phase2_orientation/orientation.h"
-#include "recon/alternatives/orientation_graphs.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/orientation.h"
 
 #include <optional>
 #include <span>
@@ -62,10 +62,10 @@ enum class LabKind { search, queue, mst, graph, simplify };
 [[nodiscard]] std::string_view name_of(LabKind kind);
 
 struct LabRun {
-  std::string name;                   ///< "kd-tree", "prim/fibonacci-heap", "kruskal", "mutual-knn", ... (unique)
+  std::string name;  ///< "kd-tree", "prim/fibonacci-heap", "kruskal", "mutual-knn", ... (unique)
   LabKind kind = LabKind::search;
-  std::string graph;                  ///< the graph it ran on (queue, mst, graph runs); empty for searches
-  std::string skipped;                ///< why it did not run; empty when it ran
+  std::string graph;    ///< the graph it ran on (queue, mst, graph runs); empty for searches
+  std::string skipped;  ///< why it did not run; empty when it ran
   double seconds = 0.0;
   OperationCounts counts;
   std::optional<double> tree_weight;  ///< the spanning forest's total weight (queue, mst, graph)
@@ -76,19 +76,19 @@ struct LabRun {
   double agree_default = 0.0;         ///< share of normals on the default run's side
   std::optional<double> agree_truth;  ///< share on the true side, where it is known
   // simplify runs
-  std::size_t triangles = 0;          ///< triangles left
+  std::size_t triangles = 0;  ///< triangles left
 };
 
 struct LabOptions {
-  TangentPlaneOptions planes{};              ///< phase I
+  TangentPlaneOptions planes{};  ///< phase I
   /// Outward normals of the input (a generated shape's), one per point, or
   /// empty: the graph runs then also report agreement with them.
   std::span<const Vec3> true_normals;
-  std::size_t max_points_complete = 20'000;  ///< beyond: the complete graph is skipped (n^2 / 2 distances)
+  std::size_t max_points_complete = 20'000;     ///< beyond: the complete graph is skipped (n^2 / 2 distances)
   std::size_t max_points_brute_force = 20'000;  ///< beyond: brute-force search is skipped (n^2 distances)
   std::size_t max_points_list_heap = 100'000;   ///< beyond: the list heap is skipped (a scan per pop)
-  bool keep_graphs = false;                  ///< keep every graph's orientation (the report draws them)
-  bool simplify = false;                     ///< also the simplify runs (a reconstruction first: off by default)
+  bool keep_graphs = false;                     ///< keep every graph's orientation (the report draws them)
+  bool simplify = false;                        ///< also the simplify runs (a reconstruction first: off by default)
   /// Test hook: the run of this name has its result deliberately spoiled,
   /// so that the agreement checks must catch it. Empty in real use.
   std::string spoil;
@@ -107,8 +107,8 @@ struct LabResult {
   /// default_orientation and graphs are in this order too.
   TangentPlanes<3> planes;
   std::vector<std::uint32_t> order;
-  OrientedNormals<3> default_orientation; ///< the Riemannian graph's (the default run)
-  std::vector<LabGraph> graphs;           ///< with keep_graphs: every graph that ran, in all_orientation_graphs order
+  OrientedNormals<3> default_orientation;  ///< the Riemannian graph's (the default run)
+  std::vector<LabGraph> graphs;            ///< with keep_graphs: every graph that ran, in all_orientation_graphs order
   double seconds_planes = 0.0;
 };
 

@@ -30,8 +30,8 @@
 // of each, itself excluded), as the Riemannian graph's do.
 
 #include "recon/core/operation_counts.h"
-#include "recon/phase2_orientation/riemannian_graph.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/riemannian_graph.h"
 
 #include <optional>
 #include <string_view>
@@ -40,9 +40,9 @@ namespace recon {
 
 enum class OrientationGraph { complete, emst, knn, mutual_knn, riemannian };
 
-inline constexpr OrientationGraph all_orientation_graphs[] = {
-    OrientationGraph::complete, OrientationGraph::emst, OrientationGraph::knn, OrientationGraph::mutual_knn,
-    OrientationGraph::riemannian};
+inline constexpr OrientationGraph all_orientation_graphs[] = {OrientationGraph::complete, OrientationGraph::emst,
+                                                              OrientationGraph::knn, OrientationGraph::mutual_knn,
+                                                              OrientationGraph::riemannian};
 
 /// "complete", "emst", "knn", "mutual-knn", "riemannian".
 [[nodiscard]] std::string_view name_of(OrientationGraph graph);

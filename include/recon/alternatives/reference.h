@@ -38,9 +38,9 @@
 // turns those off so that the two can be compared. Meant for a few
 // thousand points.
 
-#include "recon/structures/mesh.h"
 #include "recon/core/point_cloud.h"
 #include "recon/reconstruct.h"
+#include "recon/structures/mesh.h"
 
 #include <cstdint>
 #include <span>
@@ -56,13 +56,13 @@ struct Options {
 };
 
 struct Result {
-  std::vector<Vec3> origins;    ///< o_i, per input point
-  std::vector<Vec3> normals;    ///< n_i, unit, oriented by phase II
-  std::vector<Edge> emst;       ///< the samples' Euclidean minimum spanning tree (u < v)
-  std::vector<Edge> graph;      ///< the Riemannian graph (u < v, weight 1 - |n_u . n_v|), sorted by (u, v)
+  std::vector<Vec3> origins;          ///< o_i, per input point
+  std::vector<Vec3> normals;          ///< n_i, unit, oriented by phase II
+  std::vector<Edge> emst;             ///< the samples' Euclidean minimum spanning tree (u < v)
+  std::vector<Edge> graph;            ///< the Riemannian graph (u < v, weight 1 - |n_u . n_v|), sorted by (u, v)
   std::vector<std::uint32_t> parent;  ///< phase II's spanning tree; the root is its own parent
-  std::size_t flips = 0;        ///< normals turned round by the walk
-  Mesh mesh;                    ///< phase IV's
+  std::size_t flips = 0;              ///< normals turned round by the walk
+  Mesh mesh;                          ///< phase IV's
 };
 
 /// The four phases in a row, on `points` as given (no renumbering, no offset).

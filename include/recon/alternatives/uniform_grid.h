@@ -72,9 +72,9 @@
 //   are taken as 4 * max_coordinate, so that squared distances in cells
 //   cannot overflow.
 
-#include "recon/structures/kdtree.h"
 #include "recon/core/operation_counts.h"
 #include "recon/core/point_cloud.h"
+#include "recon/structures/kdtree.h"
 
 #include <cstdint>
 #include <span>

@@ -13,7 +13,7 @@ struct OperationCounts {
   std::uint64_t pushes = 0;
   std::uint64_t pops = 0;
   std::uint64_t decrease_keys = 0;
-  std::uint64_t comparisons = 0;           ///< key comparisons inside the queue
+  std::uint64_t comparisons = 0;  ///< key comparisons inside the queue
   // union-find (Kruskal, Borůvka)
   std::uint64_t finds = 0;
   std::uint64_t unions = 0;

@@ -45,8 +45,8 @@ struct PointCloud {
 /// the same arrays as PointCloud, not owned, never copied by the view.
 struct PointCloudView {
   std::span<const Vec3> positions;
-  std::span<const Vec3> normals;   ///< empty or one per position
-  std::span<const Color> colors;   ///< empty or one per position
+  std::span<const Vec3> normals;  ///< empty or one per position
+  std::span<const Color> colors;  ///< empty or one per position
 
   PointCloudView() = default;
   PointCloudView(const PointCloud& cloud)  // NOLINT: a cloud is its own view

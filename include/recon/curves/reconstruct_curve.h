@@ -21,11 +21,11 @@
 // Cost: O(n k log n) for phases I-II over n points at k, then phase IV's s squares with a nearest-line query each
 // (O(s log n)); the complete orientation graph, if chosen, is O(n^2).
 
-#include "recon/phase4_contour/marching_squares.h"
-#include "recon/phase2_orientation/orientation.h"
 #include "recon/alternatives/orientation_graphs.h"
-#include "recon/phase3_distance/signed_distance.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/orientation.h"
+#include "recon/phase3_distance/signed_distance.h"
+#include "recon/phase4_contour/marching_squares.h"
 
 #include <optional>
 #include <span>
@@ -47,24 +47,25 @@ inline constexpr int curve_default_k = 8;
 inline constexpr double curve_max_slope = 2.0;
 
 struct CurveReconstructionOptions {
-  TangentPlaneOptions planes{.k = curve_default_k, .adapt_k = true, .rho = std::nullopt, .tree = {}, .cloud = std::nullopt};  ///< phase I
-  OrientationOptions orientation{};                   ///< phase II
+  TangentPlaneOptions planes{
+      .k = curve_default_k, .adapt_k = true, .rho = std::nullopt, .tree = {}, .cloud = std::nullopt};  ///< phase I
+  OrientationOptions orientation{};                                                                    ///< phase II
   OrientationGraph graph = OrientationGraph::riemannian;  ///< the graph phase II walks (orientation_graphs.h)
-  SignedDistanceOptions distance{};                   ///< phase III: delta
-  std::optional<double> cell;                         ///< phase IV square side; default rho / 2
-  std::optional<int> resolution;                      ///< or: squares along the longest side of the bounding box
-  double max_slope = curve_max_slope;                 ///< phase IV's seam test (marching_squares.h); 0: off
+  SignedDistanceOptions distance{};                       ///< phase III: delta
+  std::optional<double> cell;                             ///< phase IV square side; default rho / 2
+  std::optional<int> resolution;                          ///< or: squares along the longest side of the bounding box
+  double max_slope = curve_max_slope;                     ///< phase IV's seam test (marching_squares.h); 0: off
   std::size_t max_squares = MarchingSquaresOptions{}.max_squares;  ///< memory guard of the walk
-  bool keep_corners = false;                          ///< keep the evaluated corners and visited squares
+  bool keep_corners = false;                                       ///< keep the evaluated corners and visited squares
 };
 
 struct CurveReconstruction {
-  TangentPlanes<2> planes;            ///< phase I (indexed like the input)
-  OrientedNormals<2> oriented;        ///< phase II: normals, Riemannian graph, spanning tree
-  KdTree<2> origin_tree;              ///< over the plane origins: phase III's nearest-line queries
-  double delta = 0.0;                 ///< phase III's noise level
+  TangentPlanes<2> planes;      ///< phase I (indexed like the input)
+  OrientedNormals<2> oriented;  ///< phase II: normals, Riemannian graph, spanning tree
+  KdTree<2> origin_tree;        ///< over the plane origins: phase III's nearest-line queries
+  double delta = 0.0;           ///< phase III's noise level
   bool delta_given = false;
-  MarchingSquaresResult contour;      ///< phase IV: the polylines and the lattice statistics
+  MarchingSquaresResult contour;  ///< phase IV: the polylines and the lattice statistics
   double seconds_distance_setup = 0.0;
 };
 

@@ -27,8 +27,8 @@
 // uses a vertex never added (the message names the first triangle that used
 // the largest such index); a call after finish().
 
-#include "recon/io/atomic_file.h"
 #include "recon/core/point_cloud.h"
+#include "recon/io/atomic_file.h"
 
 #include <array>
 #include <cstddef>

@@ -43,8 +43,8 @@
 // invalid (...)" comes at the end when none was left. Whatever `take` throws
 // ends the reading and goes to the caller.
 
-#include "recon/io/point_io.h"
 #include "recon/core/point_cloud.h"
+#include "recon/io/point_io.h"
 
 #include <cstddef>
 #include <filesystem>

@@ -85,8 +85,8 @@ struct Curvature {
 };
 
 struct LocalQuadrics {
-  std::vector<Vec3> origins;         ///< s_i: x_i moved onto its quadric (replaces the centroid)
-  std::vector<Vec3> normals;         ///< unit normal at s_i, on the same side as phase I's n_i
+  std::vector<Vec3> origins;  ///< s_i: x_i moved onto its quadric (replaces the centroid)
+  std::vector<Vec3> normals;  ///< unit normal at s_i, on the same side as phase I's n_i
   /// Phase I's PCA normals in single precision, phase II's guide
   /// (orientation.h; filled and released by reconstruct()).
   std::vector<Eigen::Vector3f> guide;
@@ -96,16 +96,16 @@ struct LocalQuadrics {
   /// (signed_distance.h) away from this sample's: the band along creases,
   /// where phase III weighs several planes.
   std::vector<std::uint8_t> near_crease;
-  double noise = 0.0;           ///< median residual of the fits taken: the noise, without the curvature a plane misses
-  QuadricMedians medians;       ///< the medians used (noise among them)
+  double noise = 0.0;      ///< median residual of the fits taken: the noise, without the curvature a plane misses
+  QuadricMedians medians;  ///< the medians used (noise among them)
   /// With keep_parts: per sample, its own fit's residual (before any is
   /// borrowed; medians.fit_residual is the median of the finite ones), and
   /// 1 where its neighbourhood was split into two sheets.
   std::vector<float> fit_residual;
   std::vector<std::uint8_t> was_split;
-  std::size_t borrowed = 0;     ///< samples that took a neighbour's quadric (near creases)
-  std::size_t split = 0;        ///< neighbourhoods split into two sheets
-  std::size_t flat = 0;         ///< fits that fell back to a plane (samples too few, collinear, or no surface)
+  std::size_t borrowed = 0;  ///< samples that took a neighbour's quadric (near creases)
+  std::size_t split = 0;     ///< neighbourhoods split into two sheets
+  std::size_t flat = 0;      ///< fits that fell back to a plane (samples too few, collinear, or no surface)
   double seconds = 0.0;
 };
 

@@ -49,8 +49,8 @@
 // Cost: O(n log n + n k) expected for n points at k (the tree, then a query and an O(k) fit per
 // point); here the same shared among the threads, twice when adapt_k raises k.
 
-#include "recon/structures/kdtree.h"
 #include "recon/core/point_cloud.h"
+#include "recon/structures/kdtree.h"
 
 #include <cstdint>
 #include <functional>
@@ -160,10 +160,10 @@ struct TangentPlaneOptions;
                            std::size_t n, const std::function<double()>& probe_median);
 
 struct TangentPlaneOptions {
-  int k = 20;                          ///< neighbourhood size, the point itself included
-  bool adapt_k = true;                 ///< raise k once for noisy data (see above)
-  std::optional<double> rho;           ///< sampling density; estimated per point when absent
-  KdTreeOptions tree{};                ///< kd-tree over the input points
+  int k = 20;                 ///< neighbourhood size, the point itself included
+  bool adapt_k = true;        ///< raise k once for noisy data (see above)
+  std::optional<double> rho;  ///< sampling density; estimated per point when absent
+  KdTreeOptions tree{};       ///< kd-tree over the input points
   /// Given: the cloud-wide measures are taken from here instead of being
   /// measured over these points (the local values still are); with rho
   /// estimated only.
@@ -197,9 +197,9 @@ struct TangentPlanes {
   /// mean of its neighbourhood's (the irregularity's part), and gap_i before
   /// a neighbourhood of copies takes the median gap (0 there).
   std::vector<float> relative_spacing, raw_gap;
-  double rho = 0.0;                 ///< median of local_rho, or the given rho
-  double gap = 0.0;                 ///< median of local_gap, or the given rho
-  double irregularity = 0.0;        ///< spread of the spacing: ~0.5 random, ~0.1 scanner grids
+  double rho = 0.0;           ///< median of local_rho, or the given rho
+  double gap = 0.0;           ///< median of local_gap, or the given rho
+  double irregularity = 0.0;  ///< spread of the spacing: ~0.5 random, ~0.1 scanner grids
   bool rho_given = false;
   int k = 0;                        ///< the k used
   int k_requested = 0;              ///< the k asked for (differs when adapt_k raised it)

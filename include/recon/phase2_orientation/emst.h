@@ -53,8 +53,7 @@ struct EmstHints {
 /// form a cycle; nothing else.
 /// Pre: `tree` was built over `points` (or numbered by leaf order over its own copy of them).
 template <int D>
-[[nodiscard]] std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree,
-                                                                std::span<const Vec<D>> points,
+[[nodiscard]] std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::span<const Vec<D>> points,
                                                                 const EmstHints& hints = {});
 
 /// The same, with hints from tree.all_knn(k) for some k.
@@ -62,8 +61,7 @@ template <int D>
 /// Throws: as above.
 /// Pre: as above, and `knn` is tree.all_knn(k) with k >= 1 over the same points.
 template <int D>
-[[nodiscard]] std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree,
-                                                                std::span<const Vec<D>> points,
+[[nodiscard]] std::vector<Edge> euclidean_minimum_spanning_tree(const KdTree<D>& tree, std::span<const Vec<D>> points,
                                                                 const KnnTable& knn);
 
 }  // namespace recon

@@ -64,9 +64,9 @@
 // Cost: O(n k log n) for n planes at k: the Riemannian graph, then Prim's O(E log V) on its E ~ n k
 // edges; then O(n k) a vote round.
 
+#include "recon/phase1_planes/tangent_planes.h"
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
 #include "recon/phase2_orientation/riemannian_graph.h"
-#include "recon/phase1_planes/tangent_planes.h"
 
 #include <cstdint>
 #include <span>
@@ -96,14 +96,14 @@ struct OrientationOptions {
 
 template <int D>
 struct OrientedNormals {
-  std::vector<Vec<D>> normals;        ///< unit, consistently oriented
+  std::vector<Vec<D>> normals;  ///< unit, consistently oriented
   RiemannianGraph<D> graph;
-  SpanningForest tree;                ///< tree.roots[c] is the root of component c
-  std::vector<std::uint8_t> flipped;  ///< 1 where the normal was reversed from the PCA one
-  std::size_t flip_count = 0;         ///< normals reversed in the end
-  std::size_t vote_flips = 0;         ///< of which changed by the vote
-  std::size_t components_turned = 0;  ///< components turned round by sign_by_extremes
-  std::size_t sheet_edges = 0;        ///< tree edges between facing sheets (walked reversed)
+  SpanningForest tree;                    ///< tree.roots[c] is the root of component c
+  std::vector<std::uint8_t> flipped;      ///< 1 where the normal was reversed from the PCA one
+  std::size_t flip_count = 0;             ///< normals reversed in the end
+  std::size_t vote_flips = 0;             ///< of which changed by the vote
+  std::size_t components_turned = 0;      ///< components turned round by sign_by_extremes
+  std::size_t sheet_edges = 0;            ///< tree edges between facing sheets (walked reversed)
   std::size_t crease_patches_turned = 0;  ///< faces turned round across a sharp crease (see above)
   double seconds_mst = 0.0;
 

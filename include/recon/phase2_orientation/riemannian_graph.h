@@ -50,9 +50,9 @@
 // Cost: the EMST's (emst.h), then O(n k) for the rows, in parallel; the textbook edge list through
 // make_graph takes O(n k log k) for them.
 
+#include "recon/phase1_planes/tangent_planes.h"
 #include "recon/structures/graph.h"
 #include "recon/structures/kdtree.h"
-#include "recon/phase1_planes/tangent_planes.h"
 
 #include <cmath>
 #include <span>
@@ -81,19 +81,19 @@ template <int D>
 [[nodiscard]] Graph with_orientation_costs(Graph graph, std::span<const Vec<D>> normals);
 
 struct RiemannianGraphOptions {
-  int k = 0;                 ///< k-NN edges from the first k of each neighbourhood (itself included); 0: all
-  double gap_factor = 1.5;   ///< a gap is longer than this many local gaps (and leaves the surface)
+  int k = 0;                     ///< k-NN edges from the first k of each neighbourhood (itself included); 0: all
+  double gap_factor = 1.5;       ///< a gap is longer than this many local gaps (and leaves the surface)
   int min_component_points = 0;  ///< smaller pieces are joined back; 0 = 2 k (phase I's k)
 };
 
 template <int D>
 struct RiemannianGraph {
-  Graph graph;                    ///< kept edges (no stored weights: see orientation_cost)
-  std::vector<Edge> emst;         ///< every EMST edge of the samples, weight = length
-  Components components;          ///< pieces of the data (over the kept edges)
-  std::size_t gap_emst_edges = 0; ///< EMST edges found to be gaps (before small pieces rejoin)
-  std::size_t rejoined = 0;       ///< small pieces joined back
-  std::size_t edge_count = 0;     ///< graph.edge_count(), kept when the graph itself is released
+  Graph graph;                     ///< kept edges (no stored weights: see orientation_cost)
+  std::vector<Edge> emst;          ///< every EMST edge of the samples, weight = length
+  Components components;           ///< pieces of the data (over the kept edges)
+  std::size_t gap_emst_edges = 0;  ///< EMST edges found to be gaps (before small pieces rejoin)
+  std::size_t rejoined = 0;        ///< small pieces joined back
+  std::size_t edge_count = 0;      ///< graph.edge_count(), kept when the graph itself is released
   double seconds_emst = 0.0, seconds_graph = 0.0;
 };
 

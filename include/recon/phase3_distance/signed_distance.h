@@ -44,8 +44,8 @@
 // Cost: O(log n) expected per evaluation of f (a nearest-origin query and a bounded query for a sample;
 // O(log n + c) with c candidates); the phase is as many evaluations as phase IV's walk asks for.
 
-#include "recon/structures/kdtree.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/structures/kdtree.h"
 
 #include <cstdint>
 #include <optional>

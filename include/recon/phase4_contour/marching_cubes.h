@@ -33,9 +33,9 @@
 // Cost: textbook O(N^3) evaluations of f for a lattice of N^3 cubes; here
 // O(c) for the c cubes visited (about 1.5 A / cell^2 for a surface of area A).
 
+#include "recon/core/point_cloud.h"
 #include "recon/structures/lattice.h"
 #include "recon/structures/mesh.h"
-#include "recon/core/point_cloud.h"
 
 #include <array>
 #include <cstdint>
@@ -64,12 +64,12 @@ struct LatticeRegion {
 };
 
 struct MarchingCubesOptions {
-  double cell = 0.0;                     ///< cube side (a length); must be > 0
-  std::size_t max_cubes = 200'000'000;   ///< refuse lattices that would visit more (memory guard)
-  bool keep_corners = false;             ///< keep every evaluated corner in the result
-  std::optional<LatticeRegion> region;   ///< walk part of this lattice (see above); its cell must be `cell`
-  bool keep_vertex_edges = false;        ///< name each vertex's lattice edge in the result
-  bool keep_triangle_cubes = false;      ///< name each triangle's cube in the result (triangle_cube finds it too)
+  double cell = 0.0;                    ///< cube side (a length); must be > 0
+  std::size_t max_cubes = 200'000'000;  ///< refuse lattices that would visit more (memory guard)
+  bool keep_corners = false;            ///< keep every evaluated corner in the result
+  std::optional<LatticeRegion> region;  ///< walk part of this lattice (see above); its cell must be `cell`
+  bool keep_vertex_edges = false;       ///< name each vertex's lattice edge in the result
+  bool keep_triangle_cubes = false;     ///< name each triangle's cube in the result (triangle_cube finds it too)
 };
 
 /// The lattice edge a vertex lies on: the key of the edge's lower corner
@@ -86,18 +86,19 @@ using LatticeCorner = Lattice<3>::Corner;
 struct MarchingCubesResult {
   Mesh mesh;
   double cell = 0.0;
-  Vec3 origin = Vec3::Zero();             ///< position of lattice corner (0, 0, 0)
-  std::array<std::int32_t, 3> size{};     ///< cubes along each axis
-  std::size_t seed_cubes = 0;             ///< cubes containing a sample
-  std::size_t visited_cubes = 0;          ///< cubes whose corners were looked at
-  std::size_t undefined_cubes = 0;        ///< visited cubes with an undefined corner
+  Vec3 origin = Vec3::Zero();          ///< position of lattice corner (0, 0, 0)
+  std::array<std::int32_t, 3> size{};  ///< cubes along each axis
+  std::size_t seed_cubes = 0;          ///< cubes containing a sample
+  std::size_t visited_cubes = 0;       ///< cubes whose corners were looked at
+  std::size_t undefined_cubes = 0;     ///< visited cubes with an undefined corner
   std::size_t evaluated_corners = 0;
   std::size_t undefined_corners = 0;
-  std::vector<LatticeCorner> corners;     ///< every evaluated corner (if keep_corners)
-  std::vector<VertexEdge> vertex_edges;   ///< per mesh vertex, its edge (if keep_vertex_edges)
-  std::vector<std::uint64_t> triangle_cubes;  ///< per triangle, its cube's key (Lattice<3>::key; if keep_triangle_cubes)
-  double seconds = 0.0;                   ///< the whole walk, evaluations of f included
-  double seconds_field = 0.0;             ///< of which evaluating f (phase III's share)
+  std::vector<LatticeCorner> corners;    ///< every evaluated corner (if keep_corners)
+  std::vector<VertexEdge> vertex_edges;  ///< per mesh vertex, its edge (if keep_vertex_edges)
+  std::vector<std::uint64_t>
+      triangle_cubes;          ///< per triangle, its cube's key (Lattice<3>::key; if keep_triangle_cubes)
+  double seconds = 0.0;        ///< the whole walk, evaluations of f included
+  double seconds_field = 0.0;  ///< of which evaluating f (phase III's share)
 };
 
 /// The function contoured: its value at a point, or nullopt where undefined.

@@ -48,8 +48,8 @@
 // Cost: textbook O(N^2) evaluations of f for a lattice of N^2 squares; here
 // O(s) for the s squares visited (about the curve's length / cell).
 
-#include "recon/structures/lattice.h"
 #include "recon/core/point_cloud.h"
+#include "recon/structures/lattice.h"
 #include "recon/structures/polyline.h"
 
 #include <array>
@@ -73,19 +73,19 @@ using SquareCorner = Lattice<2>::Corner;
 struct MarchingSquaresResult {
   PolylineSet curves;
   double cell = 0.0;
-  Vec2 origin = Vec2::Zero();              ///< position of lattice corner (0, 0)
-  std::array<std::int32_t, 2> size{};      ///< squares along each axis
-  std::size_t seed_squares = 0;            ///< squares containing a seed
-  std::size_t visited_squares = 0;         ///< squares whose corners were looked at
-  std::size_t undefined_squares = 0;       ///< visited squares with an undefined corner
-  std::size_t seam_squares = 0;            ///< visited squares refused by the seam test
-  std::size_t saddle_squares = 0;          ///< visited squares decided by the saddle value
+  Vec2 origin = Vec2::Zero();          ///< position of lattice corner (0, 0)
+  std::array<std::int32_t, 2> size{};  ///< squares along each axis
+  std::size_t seed_squares = 0;        ///< squares containing a seed
+  std::size_t visited_squares = 0;     ///< squares whose corners were looked at
+  std::size_t undefined_squares = 0;   ///< visited squares with an undefined corner
+  std::size_t seam_squares = 0;        ///< visited squares refused by the seam test
+  std::size_t saddle_squares = 0;      ///< visited squares decided by the saddle value
   std::size_t evaluated_corners = 0;
   std::size_t undefined_corners = 0;
-  std::vector<SquareCorner> corners;       ///< every evaluated corner (if keep_corners)
+  std::vector<SquareCorner> corners;                 ///< every evaluated corner (if keep_corners)
   std::vector<std::array<std::int32_t, 2>> squares;  ///< lower corner of every visited square (if keep_corners)
-  double seconds = 0.0;                    ///< the whole walk, evaluations of f included
-  double seconds_field = 0.0;              ///< of which evaluating f (phase III's share)
+  double seconds = 0.0;                              ///< the whole walk, evaluations of f included
+  double seconds_field = 0.0;                        ///< of which evaluating f (phase III's share)
 };
 
 /// The function contoured: its value at a point, or nullopt where undefined.

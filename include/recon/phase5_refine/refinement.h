@@ -51,8 +51,8 @@
 // Cost: Hoppe's 1993 optimisation iterates a global fit; this one pass is O(V log n) for V vertices over n planes.
 
 #include "recon/phase1_planes/local_quadrics.h"
-#include "recon/structures/mesh.h"
 #include "recon/phase3_distance/signed_distance.h"
+#include "recon/structures/mesh.h"
 
 #include <array>
 #include <cstdint>
@@ -62,11 +62,13 @@
 namespace recon {
 
 struct RefinementOptions {
-  double crease_angle_degrees = recon::crease_angle_degrees;  ///< normals further apart (and than curvature explains) meet at a crease
-  double chord_balance = 1.5;          ///< multiple of the mean edge sag a vertex moves outward (0: vertices on the surface)
-  double fragment_fraction = 0.02;     ///< drop components with fewer triangles than this fraction of their piece's largest
-  bool keep_fragments = false;         ///< keep every component
-  double max_move = 0.0;               ///< a projection moving a vertex further is not trusted (0: unbounded)
+  double crease_angle_degrees =
+      recon::crease_angle_degrees;  ///< normals further apart (and than curvature explains) meet at a crease
+  double chord_balance = 1.5;  ///< multiple of the mean edge sag a vertex moves outward (0: vertices on the surface)
+  double fragment_fraction =
+      0.02;                     ///< drop components with fewer triangles than this fraction of their piece's largest
+  bool keep_fragments = false;  ///< keep every component
+  double max_move = 0.0;        ///< a projection moving a vertex further is not trusted (0: unbounded)
   /// Record in mesh.normals each projected vertex's fitted normal (the
   /// quadric's, at the point it was projected to, on the side the
   /// triangles face), and (0, 0, 0) where there is none: crease and corner
@@ -80,18 +82,18 @@ struct RefinementOptions {
 /// piece of data each plane belongs to.
 struct RefinementInput {
   std::span<const Vec3> origins;
-  std::span<const Vec3> normals;             ///< unit, as local_quadrics.h gives them (unoriented)
-  std::span<const Vec3> oriented;            ///< the same normals oriented (phase II), which tell convex edges from concave
+  std::span<const Vec3> normals;   ///< unit, as local_quadrics.h gives them (unoriented)
+  std::span<const Vec3> oriented;  ///< the same normals oriented (phase II), which tell convex edges from concave
   std::span<const Curvature> curvature;
   const SignedDistance<3>* distance = nullptr;  ///< over these origins
   /// Per plane, the spacing of the samples there (phase I's gap_i); empty:
   /// open boundaries are not cut back (step 4).
   std::span<const float> spacing;
-  std::span<const std::uint32_t> piece;      ///< per plane, its component in phase II (empty: one piece)
+  std::span<const std::uint32_t> piece;  ///< per plane, its component in phase II (empty: one piece)
   /// Noisy data: each vertex is projected onto the quadrics of this many
   /// origins around it and the points averaged (1: its plane's alone).
   int blend = 1;
-  const KdTree<3>* origin_tree = nullptr;    ///< over `origins`; needed when blend > 1
+  const KdTree<3>* origin_tree = nullptr;  ///< over `origins`; needed when blend > 1
   /// The samples: a triangle whose three vertices all lie farther than
   /// reach * rho_i + delta (rho_i of each vertex's plane) from every sample
   /// is no part of the surface but a fin drawn where two sheets lie closer
@@ -100,32 +102,32 @@ struct RefinementInput {
   /// and 3 the sparse distcap and oni lost triangles of their surface).
   /// Null: not looked for.
   const KdTree<3>* sample_tree = nullptr;
-  std::span<const float> local_rho;          ///< per plane, phase I's rho_i (with sample_tree)
+  std::span<const float> local_rho;  ///< per plane, phase I's rho_i (with sample_tree)
   double delta = 0.0;
   double reach = 5.0;
 };
 
 struct Refinement {
-  Mesh mesh;                          ///< the refined mesh (same coordinates as the contoured one)
+  Mesh mesh;  ///< the refined mesh (same coordinates as the contoured one)
   /// Per vertex of `mesh`: how far it lies from where the contoured mesh had
   /// it (for a vertex added on a crease, from the midpoint of the edge it split).
   std::vector<float> displacement;
-  std::size_t crease_vertices = 0;    ///< vertices added on creases
-  std::size_t brought_back = 0;       ///< vertices moved back onto a crease they were projected past
-  std::size_t corner_vertices = 0;    ///< vertices added at corners
-  std::size_t unmoved = 0;            ///< vertices whose projection moved them further than max_move
-  std::size_t trimmed = 0;            ///< triangles cut off past open boundaries
-  std::size_t stray_triangles = 0;    ///< triangles dropped beyond f's reach from every sample (step 4)
-  std::size_t fragments = 0;          ///< components dropped (see above)
-  std::size_t fragment_triangles = 0; ///< their triangles
+  std::size_t crease_vertices = 0;     ///< vertices added on creases
+  std::size_t brought_back = 0;        ///< vertices moved back onto a crease they were projected past
+  std::size_t corner_vertices = 0;     ///< vertices added at corners
+  std::size_t unmoved = 0;             ///< vertices whose projection moved them further than max_move
+  std::size_t trimmed = 0;             ///< triangles cut off past open boundaries
+  std::size_t stray_triangles = 0;     ///< triangles dropped beyond f's reach from every sample (step 4)
+  std::size_t fragments = 0;           ///< components dropped (see above)
+  std::size_t fragment_triangles = 0;  ///< their triangles
   double seconds = 0.0;
 };
 
 /// Steps 1 to 3, and per vertex and triangle what step 4 decides by.
 struct RefinedPatch {
   static constexpr std::uint32_t none = UINT32_MAX;
-  Mesh mesh;                          ///< nothing removed yet
-  std::vector<float> displacement;    ///< per vertex (as Refinement's)
+  Mesh mesh;                        ///< nothing removed yet
+  std::vector<float> displacement;  ///< per vertex (as Refinement's)
   /// Per vertex, the contoured vertex it was moved from ({v, none}), or for
   /// a vertex added on a crease the two ends of the contoured edge it splits.
   std::vector<std::array<std::uint32_t, 2>> stem;

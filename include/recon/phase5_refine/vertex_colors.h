@@ -29,8 +29,8 @@
 // Each vertex is computed alone, in parallel (parallel.h): the result is
 // the same bit for bit for any thread count.
 
-#include "recon/structures/kdtree.h"
 #include "recon/core/point_cloud.h"
+#include "recon/structures/kdtree.h"
 
 #include <span>
 #include <vector>

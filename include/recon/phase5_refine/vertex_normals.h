@@ -27,7 +27,7 @@
 namespace recon {
 
 struct FaceNormalFill {
-  std::size_t filled = 0;     ///< zero entries given the mean of their triangles' normals
+  std::size_t filled = 0;  ///< zero entries given the mean of their triangles' normals
   /// Zero entries whose triangles all have zero area (or no triangle):
   /// given their neighbours' mean, or (0, 0, 1) when that is zero too.
   std::size_t undefined = 0;

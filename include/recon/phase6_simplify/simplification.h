@@ -100,8 +100,8 @@
 // whole mesh took 2.3-2.4 s beside it, mostly cache misses in its random
 // order; meshoptimizer takes 0.54 s.
 
-#include "recon/structures/mesh.h"
 #include "recon/core/operation_counts.h"
+#include "recon/structures/mesh.h"
 
 #include <cstddef>
 
@@ -116,9 +116,9 @@ enum class SimplifyQueue {
 };
 
 struct SimplifyOptions {
-  std::size_t target_triangles = 0;   ///< stop at this many triangles or fewer (0: no count target)
-  double ratio = 0.0;                 ///< or at this fraction of the input's (0 < ratio < 1; 0: none)
-  double max_error = 0.0;             ///< distance every input vertex stays within (input units; 0: no bound)
+  std::size_t target_triangles = 0;       ///< stop at this many triangles or fewer (0: no count target)
+  double ratio = 0.0;                     ///< or at this fraction of the input's (0 < ratio < 1; 0: none)
+  double max_error = 0.0;                 ///< distance every input vertex stays within (input units; 0: no bound)
   double max_normal_turn_degrees = 60.0;  ///< a collapse may turn a triangle's normal by at most this
   SimplifyQueue queue = SimplifyQueue::binary_heap;
   /// The blocks' size, in vertices (see "Rounds of blocks" above; 0: none,
@@ -129,13 +129,14 @@ struct SimplifyOptions {
 };
 
 struct Simplification {
-  Mesh mesh;                          ///< the simplified mesh: a subset of the input's vertices (ordered by position: x, y, z), colours and normals carried
+  Mesh mesh;  ///< the simplified mesh: a subset of the input's vertices (ordered by position: x, y, z), colours and
+              ///< normals carried
   std::size_t triangles_before = 0;
   std::size_t triangles_after = 0;
   std::size_t collapses = 0;
-  std::size_t refused = 0;            ///< moves refused at the top of the queue (topology, flips, the bound)
-  std::size_t crease_vertices = 0;    ///< input vertices that move only along a crease or boundary
-  std::size_t corner_vertices = 0;    ///< input vertices that never move
+  std::size_t refused = 0;          ///< moves refused at the top of the queue (topology, flips, the bound)
+  std::size_t crease_vertices = 0;  ///< input vertices that move only along a crease or boundary
+  std::size_t corner_vertices = 0;  ///< input vertices that never move
   /// The largest distance from an input vertex to the triangle keeping it
   /// (an upper bound of its distance to the simplified mesh); tracked only
   /// with max_error, else 0.

@@ -58,10 +58,10 @@
 // two meshes of about a million triangles each.
 
 #include "recon/alternatives/lab.h"
-#include "recon/phase4_contour/marching_cubes.h"
-#include "recon/phase2_orientation/orientation.h"
-#include "recon/phase5_refine/refinement.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/orientation.h"
+#include "recon/phase4_contour/marching_cubes.h"
+#include "recon/phase5_refine/refinement.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -76,14 +76,15 @@ namespace recon {
 struct Reconstruction;
 
 struct ReportOptions {
-  std::size_t max_points = 100'000;      ///< points drawn, with their planes and normals (27 bytes each)
-  std::size_t max_edges = 100'000;       ///< Riemannian-graph edges drawn (24 bytes each; tree edges: one per drawn point)
-  std::size_t max_corners = 200'000;     ///< lattice corners drawn (16 bytes each)
-  std::size_t max_triangles = 1'000'000; ///< mesh triangles drawn, per mesh layer (7 and 8; 12 bytes each, and their vertices)
+  std::size_t max_points = 100'000;   ///< points drawn, with their planes and normals (27 bytes each)
+  std::size_t max_edges = 100'000;    ///< Riemannian-graph edges drawn (24 bytes each; tree edges: one per drawn point)
+  std::size_t max_corners = 200'000;  ///< lattice corners drawn (16 bytes each)
+  std::size_t max_triangles =
+      1'000'000;  ///< mesh triangles drawn, per mesh layer (7 and 8; 12 bytes each, and their vertices)
   std::size_t max_boundary_edges = 100'000;  ///< mesh boundary edges drawn (24 bytes each)
-  int max_kdtree_depth = 12;             ///< kd-tree cells stored down to this depth (the root is depth 0)
-  std::string title;                     ///< shown as the page's heading (the input file, say)
-  std::string stats_json = "{}";         ///< the run's statistics (the --stats JSON), shown beside the view
+  int max_kdtree_depth = 12;                 ///< kd-tree cells stored down to this depth (the root is depth 0)
+  std::string title;                         ///< shown as the page's heading (the input file, say)
+  std::string stats_json = "{}";             ///< the run's statistics (the --stats JSON), shown beside the view
 };
 
 /// What the report is drawn from. Per-point spans are indexed alike (spatial
@@ -93,13 +94,14 @@ struct ReportOptions {
 struct ReportInput {
   std::span<const Vec3> points;
   Vec3 offset = Vec3::Zero();
-  const TangentPlanes<3>* planes = nullptr;          ///< required
-  const OrientedNormals<3>* oriented = nullptr;      ///< phase II with its graph kept; null: no layer 4
-  std::span<const Vec3> normals;                     ///< the oriented normals used (phase II's or the input's); empty: none yet (no layer 5)
-  std::span<const Color> colors;                     ///< the points' own colours, or empty (none)
-  const MarchingCubesResult* contour = nullptr;      ///< null: no layers 6, 7 and 8 (`recon normals`)
-  const Mesh* mesh = nullptr;                        ///< the mesh drawn in layer 7; null: contour->mesh
-  const Refinement* refinement = nullptr;            ///< phase V (input coordinates); null: no layer 8 (hoppe92)
+  const TangentPlanes<3>* planes = nullptr;      ///< required
+  const OrientedNormals<3>* oriented = nullptr;  ///< phase II with its graph kept; null: no layer 4
+  std::span<const Vec3>
+      normals;  ///< the oriented normals used (phase II's or the input's); empty: none yet (no layer 5)
+  std::span<const Color> colors;                 ///< the points' own colours, or empty (none)
+  const MarchingCubesResult* contour = nullptr;  ///< null: no layers 6, 7 and 8 (`recon normals`)
+  const Mesh* mesh = nullptr;                    ///< the mesh drawn in layer 7; null: contour->mesh
+  const Refinement* refinement = nullptr;        ///< phase V (input coordinates); null: no layer 8 (hoppe92)
 };
 
 /// What a report draws of a Reconstruction made with keep_graph and keep_corners (without them,
@@ -114,40 +116,40 @@ struct ReportInput {
 /// layers' centre.
 struct ReportMesh {
   std::size_t triangles_total = 0;
-  std::size_t triangle_stride = 1;         ///< every triangle_stride-th triangle is drawn
-  std::vector<float> vertices;             ///< all, or (when subsampled) those of the drawn triangles, 3 each
-  std::vector<std::uint32_t> triangles;    ///< 3 per drawn triangle, indices into `vertices`
-  std::vector<std::uint8_t> colors;        ///< r g b per drawn vertex when the mesh has colours, else empty
+  std::size_t triangle_stride = 1;       ///< every triangle_stride-th triangle is drawn
+  std::vector<float> vertices;           ///< all, or (when subsampled) those of the drawn triangles, 3 each
+  std::vector<std::uint32_t> triangles;  ///< 3 per drawn triangle, indices into `vertices`
+  std::vector<std::uint8_t> colors;      ///< r g b per drawn vertex when the mesh has colours, else empty
   std::size_t boundary_edges_total = 0;
   std::size_t boundary_stride = 1;
-  std::vector<float> boundary_segments;    ///< every boundary_stride-th boundary edge (of the whole mesh), 6 each
+  std::vector<float> boundary_segments;  ///< every boundary_stride-th boundary edge (of the whole mesh), 6 each
 };
 
 /// A graph and its minimum spanning tree as drawn (layer 4, and each graph
 /// of the lab panel): six floats per segment, relative to the layers' centre.
 struct ReportGraph {
   std::size_t edges_total = 0;
-  std::size_t vertex_stride = 1;           ///< edges of every vertex_stride-th vertex are drawn
+  std::size_t vertex_stride = 1;  ///< edges of every vertex_stride-th vertex are drawn
   std::vector<float> segments;
   std::size_t tree_edges_total = 0;
-  std::vector<float> tree_segments;        ///< each drawn point (layer 1's) to its parent
-  std::vector<std::uint8_t> tree_flip;     ///< per tree segment: orientation reversed across it
-  std::size_t tree_flips_total = 0;        ///< over the whole tree
+  std::vector<float> tree_segments;     ///< each drawn point (layer 1's) to its parent
+  std::vector<std::uint8_t> tree_flip;  ///< per tree segment: orientation reversed across it
+  std::size_t tree_flips_total = 0;     ///< over the whole tree
 };
 
 /// One orientation graph of the lab (lab.h's LabGraph) as drawn.
 struct ReportLabGraph {
-  std::string name;                        ///< "complete", "emst", "knn", "mutual-knn", "riemannian"
+  std::string name;  ///< "complete", "emst", "knn", "mutual-knn", "riemannian"
   ReportGraph drawn;
-  std::size_t component_count = 0;         ///< the pieces the graph falls into
-  std::vector<std::uint32_t> component;    ///< per drawn point (layer 1's): its piece
-  std::size_t flips = 0;                   ///< normals reversed from the PCA ones, over all points
+  std::size_t component_count = 0;       ///< the pieces the graph falls into
+  std::vector<std::uint32_t> component;  ///< per drawn point (layer 1's): its piece
+  std::size_t flips = 0;                 ///< normals reversed from the PCA ones, over all points
 };
 
 /// The lab panel's data (see above).
 struct ReportLab {
-  std::string runs_json = "{}";            ///< `recon lab`'s --stats text: {"runs": [...], ...}
-  std::vector<ReportLabGraph> graphs;      ///< in the order given to make_report_lab
+  std::string runs_json = "{}";        ///< `recon lab`'s --stats text: {"runs": [...], ...}
+  std::vector<ReportLabGraph> graphs;  ///< in the order given to make_report_lab
 };
 
 /// The layers as drawn: float positions relative to `centre`, three floats
@@ -160,25 +162,26 @@ struct ReportLayers {
 
   // 1. points
   std::size_t points_total = 0;
-  std::size_t point_stride = 1;            ///< every point_stride-th point is drawn
-  std::vector<float> points;               ///< 3 per drawn point
-  std::vector<std::uint32_t> component;    ///< per drawn point (0 when phase II did not run)
+  std::size_t point_stride = 1;          ///< every point_stride-th point is drawn
+  std::vector<float> points;             ///< 3 per drawn point
+  std::vector<std::uint32_t> component;  ///< per drawn point (0 when phase II did not run)
   std::size_t component_count = 1;
   std::vector<std::uint8_t> point_colors;  ///< r g b per drawn point when the input had colours, else empty
 
   // 2. kd-tree cells: the node boxes down to kdtree_drawn_depth, in pre-order
-  int kdtree_depth = 0;                    ///< of the whole tree
+  int kdtree_depth = 0;  ///< of the whole tree
   int kdtree_drawn_depth = 0;
   std::vector<float> kdtree_boxes;         ///< 6 per node: min xyz, max xyz
   std::vector<std::uint8_t> kdtree_level;  ///< per node: its depth; leaves shallower than the drawn depth + 128
 
   // 3. and 5. planes and normals, per drawn point
-  std::vector<float> origins;              ///< o_i
-  std::vector<std::int8_t> pca_normals;    ///< n_i before orientation, 3 per point, times 127 (a normal drawn needs no more)
-  std::vector<float> planarity;            ///< surface variation lambda_0 / (lambda_0 + lambda_1 + lambda_2), in [0, 1/3]
-  std::vector<std::uint8_t> no_plane;      ///< 1 where the sample draws no surface (isolated, or copies only)
-  std::vector<std::int8_t> normals;        ///< oriented, as pca_normals
-  std::vector<std::uint8_t> flipped;       ///< 1 where the oriented normal is the PCA normal reversed
+  std::vector<float> origins;  ///< o_i
+  std::vector<std::int8_t>
+      pca_normals;               ///< n_i before orientation, 3 per point, times 127 (a normal drawn needs no more)
+  std::vector<float> planarity;  ///< surface variation lambda_0 / (lambda_0 + lambda_1 + lambda_2), in [0, 1/3]
+  std::vector<std::uint8_t> no_plane;  ///< 1 where the sample draws no surface (isolated, or copies only)
+  std::vector<std::int8_t> normals;    ///< oriented, as pca_normals
+  std::vector<std::uint8_t> flipped;   ///< 1 where the oriented normal is the PCA normal reversed
 
   // 4. graph and spanning tree
   bool has_graph = false;
@@ -189,8 +192,8 @@ struct ReportLayers {
   std::size_t corners_total = 0;
   std::size_t undefined_corners_total = 0;
   std::size_t corner_stride = 1;
-  std::vector<float> corners;              ///< 3 per drawn corner
-  std::vector<float> corner_values;        ///< f, NaN where undefined
+  std::vector<float> corners;        ///< 3 per drawn corner
+  std::vector<float> corner_values;  ///< f, NaN where undefined
   double cell = 0.0;
 
   // 7. phase IV's mesh
@@ -203,7 +206,7 @@ struct ReportLayers {
   /// Per drawn vertex of `refined`: its distance to layer 7's mesh (the
   /// nearest point on any of its triangles, all of them, not only those drawn).
   std::vector<float> refined_distance;
-  double distance_mean = 0.0;   ///< over the drawn vertices
+  double distance_mean = 0.0;  ///< over the drawn vertices
   double distance_max = 0.0;
   double distance_scale = 0.0;  ///< where the page's colour ramp ends: the 98th percentile of refined_distance
 

@@ -33,7 +33,7 @@ struct Graph {
   /// Every entry is written by whoever builds the graph (resize() leaves
   /// new ones unwritten: detail/uninitialized_allocator.h).
   std::vector<std::uint32_t, detail::UninitializedAllocator<std::uint32_t>> targets;
-  std::vector<double> weights;          ///< empty, or one per target
+  std::vector<double> weights;  ///< empty, or one per target
 
   [[nodiscard]] std::size_t vertex_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   /// Undirected edges (each is stored twice).

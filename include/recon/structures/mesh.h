@@ -35,7 +35,7 @@ struct Mesh {
 /// Topology of a mesh. "Edge" means an undirected pair of vertices used by
 /// at least one triangle.
 struct MeshTopology {
-  std::size_t vertices = 0;              ///< vertices used by a triangle
+  std::size_t vertices = 0;  ///< vertices used by a triangle
   std::size_t edges = 0;
   std::size_t triangles = 0;
   std::size_t components = 0;            ///< connected through shared edges

@@ -49,17 +49,21 @@
 //      they come; vertices other tiles use too are welded by name, so there
 //      are no cracks and no doubled triangles. Phase V's last step (trim
 //      open boundaries, drop strays and fragments) is decided over the
-//      whole mesh first, from what each tile marked (tiles/step5_stitch.cpp); the
-//      vertices without a fitted normal get their kept faces' mean.
+//      whole mesh first, from what each tile marked (step5_stitch.cpp);
+//      the vertices without a fitted normal get their kept faces' mean.
+//
+// Each step is a source of its own in src/tiles/ (step1_plan.cpp to
+// step5_stitch.cpp), and reconstruct_tiled (driver.cpp) runs them in a row;
+// the tiles' files are private to that folder (files.h).
 //
 // Steps 2 and 4 read and write only their tile's files in the work
 // directory: they can run in any order, in parallel, on other machines
 // sharing the directory (python -m recon.distributed runs them as Dask
 // tasks), and rerun after a failure: each output file appears whole or not
 // at all, and carries a checksum that every reader checks, as it checks
-// every index in it (tiles/files.h): a damaged file is a ParseError naming
-// it, and the step's error names its tile. Every step is deterministic, so the mesh does not depend on who
-// ran which tile.
+// every index in it (src/tiles/files.h): a damaged file is a ParseError
+// naming it, and the step's error names its tile. Every step is
+// deterministic, so the mesh does not depend on who ran which tile.
 //
 // What a tiled mesh is. On clouds that fit in memory it has the same
 // triangles as reconstruct()'s final mesh on clean data, phase V's for the
@@ -93,8 +97,8 @@
 // Cost: reconstruct()'s, O(n k log n) for n points at k, spread over the tiles (the halos' points counted again),
 // one tile in memory at a time; plus three or four streamed passes over the input, and the tiles' files.
 
-#include "recon/io/point_io.h"
 #include "recon/core/progress.h"
+#include "recon/io/point_io.h"
 #include "recon/reconstruct.h"
 
 #include <cstdint>
@@ -137,29 +141,29 @@ struct TileInfo {
 
 struct TilePlan {
   Method method = Method::refined;
-  int k = 0;                        ///< phase I's k for every tile (raised for noise once, for the whole cloud)
-  CloudSpacing spacing;             ///< the cloud-wide measures of phase I
+  int k = 0;             ///< phase I's k for every tile (raised for noise once, for the whole cloud)
+  CloudSpacing spacing;  ///< the cloud-wide measures of phase I
   bool has_quadric_medians = false;
-  QuadricMedians quadric_medians;   ///< of the refined fits
-  std::optional<double> rho;        ///< given by the user
-  std::optional<double> delta;      ///< given by the user
+  QuadricMedians quadric_medians;  ///< of the refined fits
+  std::optional<double> rho;       ///< given by the user
+  std::optional<double> delta;     ///< given by the user
   int vote_rounds = 3;
   double gap_factor = 1.5;
   int min_component_points = 0;
-  Vec3 offset = Vec3::Zero();       ///< the working offset (reconstruct.h)
-  Box<3> box;                       ///< of the input, in working coordinates
-  Lattice<3> lattice;               ///< the one lattice of every tile (working coordinates)
-  std::int32_t tile_cubes = 0;      ///< a tile's core is tile_cubes^3 cubes
-  double halo = 0.0;                ///< a length (see the header)
-  double exact_margin = 0.0;        ///< around the core, where planes and f are exact
-  std::int32_t walk_margin = 2;     ///< cubes around the core the walk may cross
+  Vec3 offset = Vec3::Zero();    ///< the working offset (reconstruct.h)
+  Box<3> box;                    ///< of the input, in working coordinates
+  Lattice<3> lattice;            ///< the one lattice of every tile (working coordinates)
+  std::int32_t tile_cubes = 0;   ///< a tile's core is tile_cubes^3 cubes
+  double halo = 0.0;             ///< a length (see the header)
+  double exact_margin = 0.0;     ///< around the core, where planes and f are exact
+  std::int32_t walk_margin = 2;  ///< cubes around the core the walk may cross
   /// Cubes around the core whose triangles a tile makes too, to see the
   /// triangles its own meet (1), and for phase V (the refined method) the
   /// neighbours its choices depend on (3). The walk goes 2 cubes further.
   std::int32_t ring = 1;
-  RefinementOptions refinement;     ///< phase V's options (max_move 0: the cell)
-  bool colors = false;              ///< the cloud has colours, and the mesh gets them (mesh_colors)
-  VertexColorOptions color_blend;   ///< how (vertex_colors.h)
+  RefinementOptions refinement;    ///< phase V's options (max_move 0: the cell)
+  bool colors = false;             ///< the cloud has colours, and the mesh gets them (mesh_colors)
+  VertexColorOptions color_blend;  ///< how (vertex_colors.h)
   /// The mesh gets vertex normals (ReconstructionOptions::vertex_normals):
   /// each tile writes phase V's fitted ones, the stitch fills the rest from
   /// the faces it keeps, as reconstruct() does (vertex_normals.h).
@@ -174,7 +178,7 @@ struct TilePlan {
   /// plan's file.
   bool statistics_over_tiles = false;
   std::uint64_t statistics_inexact = 0;
-  std::vector<TileInfo> tiles;      ///< the non-empty tiles, in grid order
+  std::vector<TileInfo> tiles;  ///< the non-empty tiles, in grid order
   double seconds_statistics = 0.0, seconds_binning = 0.0, seconds_bounds = 0.0;
 };
 
@@ -188,12 +192,12 @@ struct TileOrientation {
 };
 
 struct TileReconciliation {
-  std::size_t nodes = 0;          ///< (tile, piece) pairs
-  std::size_t edges = 0;          ///< pairs that share samples
-  std::size_t objects = 0;        ///< components of the graph with a sample in some tile's core
-  std::size_t turned = 0;         ///< pieces turned round
-  std::size_t shared_samples = 0; ///< sample pairs compared
-  std::size_t disagreeing = 0;    ///< of which still disagree after the turns (0 on clean data)
+  std::size_t nodes = 0;           ///< (tile, piece) pairs
+  std::size_t edges = 0;           ///< pairs that share samples
+  std::size_t objects = 0;         ///< components of the graph with a sample in some tile's core
+  std::size_t turned = 0;          ///< pieces turned round
+  std::size_t shared_samples = 0;  ///< sample pairs compared
+  std::size_t disagreeing = 0;     ///< of which still disagree after the turns (0 on clean data)
   double seconds = 0.0;
 };
 
@@ -271,9 +275,10 @@ struct TiledRun {
 /// Cost: the steps' (see the header).
 /// Throws: what the steps throw (the first failure, once the tiles running are done), and what on_tile throws.
 /// Pre: as plan_tiles.
-TiledRun reconstruct_tiled(const PointPass& pass, const TilingOptions& options, const std::filesystem::path& work_dir,
-                           const std::filesystem::path& output,
-                           const std::function<void(const char* step, std::size_t done, std::size_t total)>& on_tile = {});
+TiledRun reconstruct_tiled(
+    const PointPass& pass, const TilingOptions& options, const std::filesystem::path& work_dir,
+    const std::filesystem::path& output,
+    const std::function<void(const char* step, std::size_t done, std::size_t total)>& on_tile = {});
 
 /// A pass over the points of an in-memory cloud, in chunks of `chunk`.
 /// Cost: O(1); each pass O(n / chunk) chunk views.

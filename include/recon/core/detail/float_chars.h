@@ -28,8 +28,7 @@ namespace recon::detail {
 std::from_chars_result portable_from_chars(const char* first, const char* last, double& value);
 std::to_chars_result portable_to_chars(char* first, char* last, double value);
 std::to_chars_result portable_to_chars(char* first, char* last, float value);
-std::to_chars_result portable_to_chars(char* first, char* last, double value, std::chars_format format,
-                                       int precision);
+std::to_chars_result portable_to_chars(char* first, char* last, double value, std::chars_format format, int precision);
 
 #if defined(__EMSCRIPTEN__)  // its libc++ has no floating-point <charconv>
 inline std::from_chars_result float_from_chars(const char* first, const char* last, double& value) {

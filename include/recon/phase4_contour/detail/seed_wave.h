@@ -11,8 +11,8 @@
 // both beside phase II, and the walk then starts from it with the values
 // instead of from the seeds.
 
-#include "recon/structures/lattice.h"
 #include "recon/phase4_contour/marching_cubes.h"
+#include "recon/structures/lattice.h"
 
 #include <array>
 #include <cstdint>
