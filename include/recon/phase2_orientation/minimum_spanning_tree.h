@@ -19,8 +19,9 @@
 //
 // The queue is a template parameter, so that the alternatives lab can run
 // this very loop on another heap, or on one that counts its work. A queue
-// has IndexedBinaryHeap<double>'s interface as Prim uses it: Queue(capacity),
-// empty(), top_key(), pop(), push(item, key), decrease_key(item, key). When
+// is any DecreaseKeyQueue<double> (indexed_heap.h): Queue(capacity), empty(),
+// top_key(), pop(), push(item, key), decrease_key(item, key); every
+// IndexedMinHeap is one. When
 // it also has a `counts()` member returning OperationCounts (as
 // counting_queue.h's CountingQueue does), the forest's `counts` is a copy of
 // them after the run; with any other queue, the default one included,
@@ -36,6 +37,7 @@
 // They return MinimumSpanningEdges (below).
 
 #include "recon/structures/binary_heap.h"
+#include "recon/structures/indexed_heap.h"
 #include "recon/core/errors.h"
 #include "recon/structures/graph.h"
 #include "recon/core/interruption.h"
@@ -102,7 +104,7 @@ concept counts_operations = requires(const Queue& queue) {
 /// infinite weight is never taken. Precondition: no weight is NaN.
 /// `Queue`: see the header comment; prim_minimum_spanning_forest<MyQueue>(
 /// graph, roots, weight) runs on MyQueue.
-template <class Queue = IndexedBinaryHeap<double>, class Weight>
+template <DecreaseKeyQueue<double> Queue = IndexedBinaryHeap<double>, class Weight>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph, std::span<const std::uint32_t> roots,
                                                           Weight&& weight) {
   const std::size_t n = graph.vertex_count();
@@ -172,7 +174,7 @@ template <class Queue = IndexedBinaryHeap<double>, class Weight>
 }
 
 /// The same on another queue: prim_minimum_spanning_forest<MyQueue>(graph).
-template <class Queue>
+template <DecreaseKeyQueue<double> Queue>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph,
                                                           std::span<const std::uint32_t> roots = {}) {
   return prim_minimum_spanning_forest<Queue>(graph, roots, stored_weights(graph, "Prim"));
