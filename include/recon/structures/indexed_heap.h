@@ -5,17 +5,17 @@
 // Items are the integers 0..capacity-1, each in the heap at most once, with a
 // key. Order: by key, then by item, so that equal keys leave in a fixed order
 // and every heap gives the same sequence of pops (Prim the same tree). Keys
-// are compared with operator< alone. The operations, for a heap h:
+// are compared with operator< alone. The operations of a heap type H:
 //   H(capacity)                  an empty heap for items 0..capacity-1
-//   H::absent                    UINT32_MAX, the "no item" of the heap's links
-//   empty(), size(), capacity()  as for a container; size() counts queued items
+//   H::absent                    UINT32_MAX, "no item" in the heap's links
+//   empty(), size(), capacity()  as for a container; size() counts the queued items
 //   contains(item)               whether item is queued
-//   key(item)                    its key.                     Pre: contains(item).
-//   top(), top_key()             the smallest item, its key.  Pre: !empty().
-//   push(item, key)              queues item.      Pre: !contains(item), item < capacity().
-//   pop()                        removes and returns the smallest item.  Pre: !empty().
-//   decrease_key(item, key)      lowers item's key.  Pre: contains(item), key <= key(item).
-//   clear()                      empties the heap.
+//   key(item)                    its key                                Pre: contains(item)
+//   top(), top_key()             the smallest item, its key             Pre: !empty()
+//   push(item, key)              queues item                            Pre: !contains(item), item < capacity()
+//   pop()                        removes and returns the smallest item  Pre: !empty()
+//   decrease_key(item, key)      lowers item's key                      Pre: contains(item), key <= key(item)
+//   clear()                      empties the heap
 // push_or_decrease (below) is written once, over these, for every heap.
 // Throws: none of them throws, unless Key's operator< or its moves do. No
 // precondition is checked. Each heap's header gives the costs of its own.
