@@ -51,6 +51,19 @@ void check_outputs(const std::filesystem::path& input, const std::vector<std::fi
 /// --report FILE.html.
 void add_report_option(CLI::App& app, std::filesystem::path& report);
 
+/// The two ways to simplify, as reconstruct and simplify both offer them: a
+/// target (`target_flag`: a count, ratio or percentage of the triangles of
+/// `subject`) and a bound (`bound_flag`: how far, in `measure`, a vertex of
+/// `reference` may end from the result).
+void add_simplify_options(CLI::App& app, const std::string& target_flag, std::string& target,
+                          const std::string& subject, const std::string& bound_flag, std::optional<double>& bound,
+                          const std::string& reference, const std::string& measure);
+
+/// The options of a command that writes a mesh: --ascii, --normals (whose
+/// help starts with where the normals come from: `source`) and --stats.
+void add_mesh_output_options(CLI::App& app, bool& ascii, bool& normals, const std::string& source,
+                             std::filesystem::path& stats);
+
 
 // Options of phases I and II, and the memory limit.
 struct PhaseOptions {

@@ -112,6 +112,29 @@ void add_report_option(CLI::App& app, std::filesystem::path& report) {
                  "Also write an interactive HTML report of every phase (one self-contained file, opens offline)");
 }
 
+void add_simplify_options(CLI::App& app, const std::string& target_flag, std::string& target,
+                          const std::string& subject, const std::string& bound_flag, std::optional<double>& bound,
+                          const std::string& reference, const std::string& measure) {
+  app.add_option(target_flag, target,
+                 "Simplify " + subject + "to this many triangles, or this ratio or percentage of them (5000, 0.1, "
+                 "10%), keeping creases, corners, open boundaries and separate objects")
+      ->check(simplify_target());
+  app.add_option(bound_flag, bound,
+                 "Simplify keeping every vertex of the " + reference + " within this " + measure +
+                     " of the result (with " + target_flag + ": stop at whichever comes first)")
+      ->check(positive_length());
+}
+
+// --ascii, --normals and --stats, shared by reconstruct and simplify.
+void add_mesh_output_options(CLI::App& app, bool& ascii, bool& normals, const std::string& source,
+                             std::filesystem::path& stats) {
+  app.add_flag("--ascii", ascii, "Write ASCII PLY instead of binary");
+  app.add_flag("--normals", normals,
+               "Write vertex normals (PLY nx ny nz, OBJ vn): " + source +
+                   ", the triangles' area-weighted mean elsewhere (a .glb always has them)");
+  app.add_option("--stats", stats, "Also write the run's figures as JSON to this file");
+}
+
 namespace {
 
 // The formats write_points can write.
@@ -271,19 +294,9 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::Range(1, 1 << 20))
       ->excludes(cell);
   app.add_flag("--use-normals", o->use_normals, "Use the input's own normals (skips phase II)");
-  app.add_option("--simplify", o->simplify,
-                 "Simplify the mesh to this many triangles, or this ratio or percentage of them (5000, 0.1, 10%), "
-                 "keeping creases, corners, open boundaries and separate objects")
-      ->check(simplify_target());
-  app.add_option("--max-error", o->max_error,
-                 "Simplify keeping every vertex of the unsimplified mesh within this multiple of rho of the result "
-                 "(with --simplify: stop at whichever comes first)")
-      ->check(positive_length());
-  app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
-  app.add_flag("--normals", o->normals,
-               "Write vertex normals (PLY nx ny nz, OBJ vn): the fitted surface's where phase V has one, the "
-               "triangles' area-weighted mean elsewhere (a .glb always has them)");
-  app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
+  add_simplify_options(app, "--simplify", o->simplify, "the mesh ", "--max-error", o->max_error, "unsimplified mesh",
+                       "multiple of rho");
+  add_mesh_output_options(app, o->ascii, o->normals, "the fitted surface's where phase V has one", o->stats);
   add_report_option(app, o->report);
   app.add_option("--tile-size", o->tile_size,
                  "Work in tiles with cores of this edge (a length), streaming the input and the mesh; without it, "

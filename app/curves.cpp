@@ -29,15 +29,9 @@ StepReport phase_4_report(const MarchingSquaresResult& c) {
        << " squares visited of " << static_cast<double>(c.size[0]) * c.size[1] << " in the lattice (" << c.size[0]
        << " x " << c.size[1] << "), " << plural(c.saddle_squares, "saddle") << " ("
        << format_seconds(c.seconds - c.seconds_field) << ")";
-  StepReport report{{line.str()}, {}};
-  Json& s = report.stats;
-  s["cell"] = c.cell;
-  s["lattice_size"] = lattice_size_json(c.size);
-  s["visited_squares"] = c.visited_squares;
-  s["undefined_squares"] = c.undefined_squares;
-  s["saddle_squares"] = c.saddle_squares;
-  s["seconds"] = c.seconds - c.seconds_field;
-  return report;
+  return step_report(line.str(), {{"cell", c.cell}, {"lattice_size", lattice_size_json(c.size)},
+                                  {"visited_squares", c.visited_squares}, {"undefined_squares", c.undefined_squares},
+                                  {"saddle_squares", c.saddle_squares}, {"seconds", c.seconds - c.seconds_field}});
 }
 
 StepReport curves_report(const PolylineSet& curves) {
@@ -47,14 +41,9 @@ StepReport curves_report(const PolylineSet& curves) {
   line << "curves    " << plural(curves.polylines.size(), "curve") << ": " << curves.closed_count() << " closed, "
        << curves.open_count() << " open; " << plural(curves.vertices.size(), "vertex") << ", length "
        << format_length(total_length);
-  StepReport report{{line.str()}, {}};
-  Json& s = report.stats;
-  s["count"] = curves.polylines.size();
-  s["closed"] = curves.closed_count();
-  s["open"] = curves.open_count();
-  s["vertices"] = curves.vertices.size();
-  s["length"] = total_length;
-  return report;
+  return step_report(line.str(), {{"count", curves.polylines.size()}, {"closed", curves.closed_count()},
+                                  {"open", curves.open_count()}, {"vertices", curves.vertices.size()},
+                                  {"length", total_length}});
 }
 
 void report(const CurveReconstruction& r, std::size_t points, Summary& summary) {
@@ -94,11 +83,8 @@ std::vector<Vec2> read_input_2d(const ReconstructCommandOptions& o, Summary& sum
   opened.reset();
   summary.say("read      " + o.in.path.string() + ": " + plural(points.size(), "point") + " in 2D (" +
               format_seconds(timer.elapsed()) + ")");
-  Json& s = summary.stats()["input"];
-  s["file"] = o.in.path.string();
-  s["points"] = points.size();
-  s["dimension"] = 2;
-  s["seconds"] = timer.elapsed();
+  put(summary.stats()["input"],
+      {{"file", o.in.path.string()}, {"points", points.size()}, {"dimension", 2}, {"seconds", timer.elapsed()}});
   return points;
 }
 

@@ -26,21 +26,13 @@ StepReport phase_1_report(const TangentPlanes<D>& planes, std::size_t points) {
        << plural(planes.degenerate, "degenerate neighbourhood");
   if (planes.isolated > 0) line << ", " << plural(planes.isolated, "isolated point") << " (outliers: no surface)";
   line << " (" << format_seconds(seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  Json& s = report.stats;
-  s["k"] = planes.k;
-  s["k_requested"] = planes.k_requested;
-  s["noise"] = planes.noise;
-  s["rho"] = planes.rho;
-  s["rho_estimated"] = !planes.rho_given;
-  s["distinct_points"] = planes.distinct_points;
-  s["degenerate_neighbourhoods"] = planes.degenerate;
-  s["isolated_points"] = planes.isolated;
-  s["seconds_tree"] = planes.seconds_tree;
-  s["seconds_knn_pca"] = planes.seconds_knn_pca;
-  s["seconds_spacing"] = planes.seconds_spacing;
-  s["seconds"] = seconds;
-  return report;
+  return step_report(line.str(), {{"k", planes.k}, {"k_requested", planes.k_requested}, {"noise", planes.noise},
+                                  {"rho", planes.rho}, {"rho_estimated", !planes.rho_given},
+                                  {"distinct_points", planes.distinct_points},
+                                  {"degenerate_neighbourhoods", planes.degenerate},
+                                  {"isolated_points", planes.isolated}, {"seconds_tree", planes.seconds_tree},
+                                  {"seconds_knn_pca", planes.seconds_knn_pca},
+                                  {"seconds_spacing", planes.seconds_spacing}, {"seconds", seconds}});
 }
 
 StepReport quadrics_report(const LocalQuadrics& q) {
@@ -48,13 +40,8 @@ StepReport quadrics_report(const LocalQuadrics& q) {
   line << "          second-order fits: " << plural(q.borrowed, "sample") << " near creases took a neighbour's, "
        << plural(q.split, "neighbourhood") << " split between two sheets, " << plural(q.flat, "flat fit") << " ("
        << format_seconds(q.seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  Json& s = report.stats;
-  s["borrowed"] = q.borrowed;
-  s["split_sheets"] = q.split;
-  s["flat"] = q.flat;
-  s["seconds"] = q.seconds;
-  return report;
+  return step_report(line.str(), {{"borrowed", q.borrowed}, {"split_sheets", q.split}, {"flat", q.flat},
+                                  {"seconds", q.seconds}});
 }
 
 template <int D>
@@ -72,25 +59,16 @@ StepReport phase_2_report(const OrientedNormals<D>& oriented) {
   if (oriented.crease_patches_turned > 0)
     line << ", " << plural(oriented.crease_patches_turned, "face") << " turned across a sharp crease";
   line << " (" << format_seconds(seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  Json& s = report.stats;
-  s["components"] = oriented.component_count();
   Json::Array size_list;
   for (std::uint32_t v : g.components.sizes) size_list.emplace_back(static_cast<std::size_t>(v));
-  s["component_sizes"] = Json(size_list);
-  s["graph_edges"] = g.edge_count;
-  s["gap_edges"] = g.gap_emst_edges;
-  s["rejoined_pieces"] = g.rejoined;
-  s["flips"] = oriented.flip_count;
-  s["seconds_emst"] = g.seconds_emst;
-  s["seconds_graph"] = g.seconds_graph;
-  s["seconds_mst"] = oriented.seconds_mst;
-  s["vote_flips"] = oriented.vote_flips;
-  s["sheet_edges"] = oriented.sheet_edges;
-  s["crease_patches_turned"] = oriented.crease_patches_turned;
-  s["components_turned"] = oriented.components_turned;
-  s["seconds"] = seconds;
-  return report;
+  return step_report(line.str(), {{"components", oriented.component_count()}, {"component_sizes", Json(size_list)},
+                                  {"graph_edges", g.edge_count}, {"gap_edges", g.gap_emst_edges},
+                                  {"rejoined_pieces", g.rejoined}, {"flips", oriented.flip_count},
+                                  {"seconds_emst", g.seconds_emst}, {"seconds_graph", g.seconds_graph},
+                                  {"seconds_mst", oriented.seconds_mst}, {"vote_flips", oriented.vote_flips},
+                                  {"sheet_edges", oriented.sheet_edges},
+                                  {"crease_patches_turned", oriented.crease_patches_turned},
+                                  {"components_turned", oriented.components_turned}, {"seconds", seconds}});
 }
 
 StepReport input_report(const std::string& file, const PointCloud& cloud, const io::ReadNotes& notes,
@@ -101,12 +79,9 @@ StepReport input_report(const std::string& file, const PointCloud& cloud, const 
   report.lines.push_back("read      " + file + ": " + plural(cloud.size(), "point") + extras + " (" +
                          format_seconds(seconds) + ")");
   for (const std::string& line : notes.lines) report.lines.push_back("          " + line);
-  report.stats["file"] = file;
-  report.stats["points"] = cloud.size();
-  report.stats["has_normals"] = cloud.has_normals();
-  report.stats["has_colors"] = cloud.has_colors();
-  report.stats["skipped_points"] = notes.skipped_points;
-  report.stats["seconds"] = seconds;
+  put(report.stats, {{"file", file}, {"points", cloud.size()}, {"has_normals", cloud.has_normals()},
+                     {"has_colors", cloud.has_colors()}, {"skipped_points", notes.skipped_points},
+                     {"seconds", seconds}});
   return report;
 }
 
@@ -117,15 +92,9 @@ StepReport phase_3_report(const SignedDistanceFigures& f) {
        << format_seconds(f.seconds);
   if (f.seconds_beside > 0.0) line << ", and " << format_seconds(f.seconds_beside) << " beside phase II";
   line << ")";
-  StepReport report{{line.str()}, {}};
-  Json& s = report.stats;
-  s["delta"] = f.delta;
-  s["delta_estimated"] = !f.delta_given;
-  s["corners_evaluated"] = f.evaluated;
-  s["corners_undefined"] = f.undefined;
-  s["seconds"] = f.seconds;
-  s["seconds_beside_orientation"] = f.seconds_beside;
-  return report;
+  return step_report(line.str(), {{"delta", f.delta}, {"delta_estimated", !f.delta_given},
+                                  {"corners_evaluated", f.evaluated}, {"corners_undefined", f.undefined},
+                                  {"seconds", f.seconds}, {"seconds_beside_orientation", f.seconds_beside}});
 }
 
 Json lattice_size_json(std::span<const std::int32_t> size) {
@@ -154,26 +123,20 @@ StepReport phase_4_report(const MarchingCubesResult& c, std::span<const ClusterL
     line << "), ";
   }
   line << format_seconds(c.seconds - c.seconds_field);
-  StepReport report{{line.str()}, {}};
+  StepReport report = step_report(line.str(), {{"cell", c.cell}});
   Json& m = report.stats;
-  m["cell"] = c.cell;
   if (clusters.empty()) {
     m["lattice_size"] = lattice_size_json(c.size);
   } else {
     Json::Array list;
     for (const ClusterLattice& l : clusters) {
-      Json one;
-      one["points"] = l.points;
-      one["lattice_size"] = lattice_size_json(l.size);
-      one["triangles"] = l.triangles;
-      list.push_back(std::move(one));
+      Json& one = list.emplace_back();
+      put(one, {{"points", l.points}, {"lattice_size", lattice_size_json(l.size)}, {"triangles", l.triangles}});
     }
     m["clusters"] = Json(std::move(list));
   }
-  m["seed_cubes"] = c.seed_cubes;
-  m["visited_cubes"] = c.visited_cubes;
-  m["undefined_cubes"] = c.undefined_cubes;
-  m["seconds"] = c.seconds - c.seconds_field;
+  put(m, {{"seed_cubes", c.seed_cubes}, {"visited_cubes", c.visited_cubes}, {"undefined_cubes", c.undefined_cubes},
+          {"seconds", c.seconds - c.seconds_field}});
   return report;
 }
 
@@ -189,19 +152,11 @@ StepReport refinement_report(const Refinement& r) {
   if (r.stray_triangles > 0) line << plural(r.stray_triangles, "triangle") << " beyond the data's reach dropped, ";
   line << plural(r.fragments, "fragment") << " dropped (" << plural(r.fragment_triangles, "triangle") << ") ("
        << format_seconds(r.seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  Json& s = report.stats;
-  s["mean_displacement"] = moved;
-  s["crease_vertices"] = r.crease_vertices;
-  s["brought_back"] = r.brought_back;
-  s["corner_vertices"] = r.corner_vertices;
-  s["unmoved_vertices"] = r.unmoved;
-  s["trimmed_triangles"] = r.trimmed;
-  s["stray_triangles"] = r.stray_triangles;
-  s["fragments"] = r.fragments;
-  s["fragment_triangles"] = r.fragment_triangles;
-  s["seconds"] = r.seconds;
-  return report;
+  return step_report(line.str(), {{"mean_displacement", moved}, {"crease_vertices", r.crease_vertices},
+                                  {"brought_back", r.brought_back}, {"corner_vertices", r.corner_vertices},
+                                  {"unmoved_vertices", r.unmoved}, {"trimmed_triangles", r.trimmed},
+                                  {"stray_triangles", r.stray_triangles}, {"fragments", r.fragments},
+                                  {"fragment_triangles", r.fragment_triangles}, {"seconds", r.seconds}});
 }
 
 // The mesh's colours (when the input had some).
@@ -209,10 +164,7 @@ StepReport colors_report(const VertexColorOptions& options, double seconds) {
   std::ostringstream line;
   line << "colours   mesh vertices coloured from the samples: inverse-distance blend of the " << options.k
        << " nearest (" << format_seconds(seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  report.stats["k"] = options.k;
-  report.stats["seconds"] = seconds;
-  return report;
+  return step_report(line.str(), {{"k", options.k}, {"seconds", seconds}});
 }
 
 StepReport mesh_report(const Mesh& mesh) {
@@ -222,19 +174,12 @@ StepReport mesh_report(const Mesh& mesh) {
        << plural(t.components, "component") << ", "
        << (t.boundary_loops == 0 ? std::string("closed") : plural(t.boundary_loops, "boundary loop"))
        << ", Euler characteristic " << t.euler_characteristic;
-  StepReport report{{line.str()}, {}};
-  Json& m = report.stats;
-  m["vertices"] = t.vertices;
-  m["faces"] = t.triangles;
-  m["components"] = t.components;
-  m["boundary_edges"] = t.boundary_edges;
-  m["boundary_loops"] = t.boundary_loops;
-  m["non_manifold_edges"] = t.non_manifold_edges;
-  m["euler_characteristic"] = static_cast<double>(t.euler_characteristic);
-  m["area"] = t.area;
-  m["signed_volume"] = t.signed_volume;
-  m["has_colors"] = mesh.has_colors();
-  return report;
+  return step_report(line.str(), {{"vertices", t.vertices}, {"faces", t.triangles}, {"components", t.components},
+                                  {"boundary_edges", t.boundary_edges}, {"boundary_loops", t.boundary_loops},
+                                  {"non_manifold_edges", t.non_manifold_edges},
+                                  {"euler_characteristic", static_cast<double>(t.euler_characteristic)},
+                                  {"area", t.area}, {"signed_volume", t.signed_volume},
+                                  {"has_colors", mesh.has_colors()}});
 }
 
 // Without a report only the mesh is needed once the phases are reported:
@@ -279,20 +224,12 @@ StepReport simplification_report(const Simplification& s, std::optional<double> 
   if (s.vertex_error > 0.0)
     line << "; vertices within " << (rho ? format_length(s.vertex_error / *rho) + " rho" : format_length(s.vertex_error));
   line << ") (" << format_seconds(s.seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  Json& j = report.stats;
-  j["triangles_before"] = s.triangles_before;
-  j["triangles_after"] = s.triangles_after;
-  j["collapses"] = s.collapses;
-  j["fixed_vertices"] = s.corner_vertices;
-  j["line_vertices"] = s.crease_vertices;
-  if (rho) {
-    j["vertex_error_rho"] = s.vertex_error / *rho;
-  } else {
-    j["vertex_error"] = s.vertex_error;
-  }
-  j["seconds"] = s.seconds;
-  return report;
+  return step_report(line.str(), {{"triangles_before", s.triangles_before}, {"triangles_after", s.triangles_after},
+                                  {"collapses", s.collapses}, {"fixed_vertices", s.corner_vertices},
+                                  {"line_vertices", s.crease_vertices},
+                                  {rho ? "vertex_error_rho" : "vertex_error",
+                                   rho ? s.vertex_error / *rho : s.vertex_error},
+                                  {"seconds", s.seconds}});
 }
 
 template StepReport phase_1_report<2>(const TangentPlanes<2>&, std::size_t);

@@ -38,12 +38,8 @@ StepReport read_report(const std::filesystem::path& path, const Mesh& mesh, doub
   std::ostringstream line;
   line << "read      " << path.string() << ": " << plural(mesh.vertices.size(), "vertex") << ", "
        << plural(mesh.triangles.size(), "triangle") << " (" << format_seconds(seconds) << ")";
-  StepReport report{{line.str()}, {}};
-  report.stats["path"] = path.string();
-  report.stats["vertices"] = mesh.vertices.size();
-  report.stats["triangles"] = mesh.triangles.size();
-  report.stats["seconds"] = seconds;
-  return report;
+  return step_report(line.str(), {{"path", path.string()}, {"vertices", mesh.vertices.size()},
+                                  {"triangles", mesh.triangles.size()}, {"seconds", seconds}});
 }
 
 SimplifyOptions simplify_options(const SimplifyCommandOptions& o) {
@@ -91,19 +87,9 @@ Command add_simplify(CLI::App& app, const GlobalOptions& global) {
   auto o = std::make_shared<SimplifyCommandOptions>();
   app.add_option("input", o->input, "Mesh to simplify (PLY, OBJ or OFF)")->required();
   app.add_option("-o,--output", o->output, "Simplified mesh (.ply, .obj, .off, .stl or .glb)")->required();
-  app.add_option("--to", o->target,
-                 "Simplify to this many triangles, or this ratio or percentage of them (5000, 0.1, 10%), keeping "
-                 "creases, corners, open boundaries and separate objects")
-      ->check(simplify_target());
-  app.add_option("--max-distance", o->max_distance,
-                 "Simplify keeping every vertex of the input mesh within this distance (in the mesh's units) of the "
-                 "result (with --to: stop at whichever comes first)")
-      ->check(positive_length());
-  app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
-  app.add_flag("--normals", o->normals,
-               "Write vertex normals (PLY nx ny nz, OBJ vn): the input's own where it has them, the triangles' "
-               "area-weighted mean elsewhere (a .glb always has them)");
-  app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
+  add_simplify_options(app, "--to", o->target, "", "--max-distance", o->max_distance, "input mesh",
+                       "distance (in the mesh's units)");
+  add_mesh_output_options(app, o->ascii, o->normals, "the input's own where it has them", o->stats);
   return [o, &global] { run_simplify(*o, global); };
 }
 

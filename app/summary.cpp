@@ -100,6 +100,16 @@ std::string Json::dump(int indent) const {
   return out;
 }
 
+void put(Json& object, JsonMembers members) {
+  for (const auto& [name, value] : members) object[name] = value;
+}
+
+StepReport step_report(std::string line, JsonMembers stats) {
+  StepReport report{{std::move(line)}, {}};
+  put(report.stats, stats);
+  return report;
+}
+
 Summary::Summary(bool quiet) : quiet_(quiet) { stats_["version"] = std::string(version()); }
 
 void Summary::add(const StepReport& report, const std::string& key, const std::string& subkey) {

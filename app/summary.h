@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <string>
@@ -45,6 +46,14 @@ struct StepReport {
   std::vector<std::string> lines;
   Json stats;
 };
+
+/// Named values for an object's members, in the order they are to appear.
+using JsonMembers = std::initializer_list<std::pair<const char*, Json>>;
+
+/// Sets `object`'s members (creating those absent) in the order given.
+void put(Json& object, JsonMembers members);
+/// A step's report of one line, with these statistics in this order.
+[[nodiscard]] StepReport step_report(std::string line, JsonMembers stats);
 
 class Summary {
  public:

@@ -81,18 +81,13 @@ StepReport plan_report(const TilePlan& plan, const std::string& why) {
   if (plan.statistics_inexact > 0)
     r.lines.push_back("          " + plural(plan.statistics_inexact, "sample") +
                       " measured with a neighbourhood that may reach past its tile (halo too narrow)");
-  r.stats["reason"] = why;
-  r.stats["tiles"] = plan.tiles.size();
-  r.stats["core_edge"] = edge;
-  r.stats["halo"] = plan.halo;
-  r.stats["points_binned"] = static_cast<double>(binned);
-  r.stats["statistics_points"] = static_cast<double>(plan.statistics_points);
-  r.stats["statistics_over_tiles"] = plan.statistics_over_tiles;
-  r.stats["statistics_inexact"] = static_cast<double>(plan.statistics_inexact);
-  r.stats["k"] = plan.k;
-  r.stats["rho"] = plan.spacing.rho;
-  r.stats["cell"] = plan.lattice.cell;
-  r.stats["seconds_plan"] = plan.seconds_bounds + plan.seconds_statistics + plan.seconds_binning;
+  put(r.stats, {{"reason", why}, {"tiles", plan.tiles.size()}, {"core_edge", edge}, {"halo", plan.halo},
+                {"points_binned", static_cast<double>(binned)},
+                {"statistics_points", static_cast<double>(plan.statistics_points)},
+                {"statistics_over_tiles", plan.statistics_over_tiles},
+                {"statistics_inexact", static_cast<double>(plan.statistics_inexact)}, {"k", plan.k},
+                {"rho", plan.spacing.rho}, {"cell", plan.lattice.cell},
+                {"seconds_plan", plan.seconds_bounds + plan.seconds_statistics + plan.seconds_binning}});
   return r;
 }
 
@@ -107,12 +102,9 @@ StepReport run_report(const TiledRun& run) {
     contour += run.contours[t].seconds;
     inexact += o.inexact_samples;
     Json tile;
-    tile["points"] = o.points;
-    tile["pieces"] = o.pieces;
-    tile["inexact_samples"] = o.inexact_samples;
-    tile["triangles"] = run.contours[t].triangles;
-    tile["seconds_orient"] = o.seconds;
-    tile["seconds_contour"] = run.contours[t].seconds;
+    put(tile, {{"points", o.points}, {"pieces", o.pieces}, {"inexact_samples", o.inexact_samples},
+               {"triangles", run.contours[t].triangles}, {"seconds_orient", o.seconds},
+               {"seconds_contour", run.contours[t].seconds}});
     per_tile.push_back(tile);
   }
   StepReport r;
@@ -124,30 +116,21 @@ StepReport run_report(const TiledRun& run) {
   r.lines.push_back("contour   " + plural(run.mesh.triangles, "triangle") + " (" + format_seconds(contour) +
                     "); stitched with " + std::to_string(run.mesh.welded) + " vertices welded at tile borders (" +
                     format_seconds(run.mesh.seconds) + ")");
-  r.stats["objects"] = c.objects;
-  r.stats["pieces"] = c.nodes;
-  r.stats["pieces_turned"] = c.turned;
-  r.stats["shared_samples"] = c.shared_samples;
-  r.stats["disagreeing_samples"] = c.disagreeing;
-  r.stats["inexact_samples"] = inexact;
-  r.stats["welded_vertices"] = run.mesh.welded;
+  put(r.stats, {{"objects", c.objects}, {"pieces", c.nodes}, {"pieces_turned", c.turned},
+                {"shared_samples", c.shared_samples}, {"disagreeing_samples", c.disagreeing},
+                {"inexact_samples", inexact}, {"welded_vertices", run.mesh.welded}});
   if (run.plan.method == Method::refined) {
     const StitchedMesh& m = run.mesh;
     r.lines.push_back("refine    " + plural(m.crease_vertices, "vertex") + " added on creases; " +
                       plural(m.trimmed, "triangle") + " trimmed past open boundaries, " +
                       plural(m.stray_triangles, "stray triangle") + ", " + plural(m.fragments, "fragment") + " (" +
                       plural(m.fragment_triangles, "triangle") + ") dropped, over the whole mesh");
-    r.stats["crease_vertices"] = m.crease_vertices;
-    r.stats["trimmed_triangles"] = m.trimmed;
-    r.stats["stray_triangles"] = m.stray_triangles;
-    r.stats["fragments"] = m.fragments;
-    r.stats["fragment_triangles"] = m.fragment_triangles;
+    put(r.stats, {{"crease_vertices", m.crease_vertices}, {"trimmed_triangles", m.trimmed},
+                  {"stray_triangles", m.stray_triangles}, {"fragments", m.fragments},
+                  {"fragment_triangles", m.fragment_triangles}});
   }
-  r.stats["seconds_orient"] = orient;
-  r.stats["seconds_reconcile"] = c.seconds;
-  r.stats["seconds_contour"] = contour;
-  r.stats["seconds_stitch"] = run.mesh.seconds;
-  r.stats["per_tile"] = Json(per_tile);
+  put(r.stats, {{"seconds_orient", orient}, {"seconds_reconcile", c.seconds}, {"seconds_contour", contour},
+                {"seconds_stitch", run.mesh.seconds}, {"per_tile", Json(per_tile)}});
   return r;
 }
 

@@ -8,13 +8,10 @@
 #   METHODS_SHAPE=terrain METHODS_POINTS=1000000 METHODS_RUNS=5 bench/methods.sh
 set -euo pipefail
 
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-cd "$root"
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 shape="${METHODS_SHAPE:-torus}"
 points="${METHODS_POINTS:-1000000}"
 runs="${METHODS_RUNS:-3}"
-recon="$root/build/release/app/recon"
-[ -x "$recon" ] || cmake --build --preset release --target recon_cli
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
 

@@ -21,38 +21,14 @@
 # installs them); builds bench/peers' cgal_poisson into build/peers.
 set -euo pipefail
 
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-cd "$root"
-eval_dir="${QUALITY_EVAL:-$root/../shared/eval}"
-data_dir="${QUALITY_DATA:-$root/../shared/data}"
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 output="${QUALITY_OUTPUT:-$root/bench/results/quality.md}"
 clouds="${QUALITY_CLOUDS:-sphere torus box plate noisy-torus ellipsoid part part-4100 handle conics bunny}"
-python=/usr/bin/python3
-recon="$root/build/release/app/recon"
 work="$root/build/quality"
 mkdir -p "$work"
-[ -x "$recon" ] || cmake --build --preset release --target recon_cli
 cmake -S bench/peers -B build/peers -DCMAKE_BUILD_TYPE=Release -G Ninja > "$work/peers-configure.log"
 cmake --build build/peers --target cgal_poisson > "$work/peers-build.log"
 cgal="$root/build/peers/cgal_poisson"
-
-# Makes $work/NAME.ply (the cloud) and $work/NAME_gt.ply (the truth).
-make_cloud() {
-  local name="$1" out="$work/$1.ply"
-  case "$name" in
-    sphere|torus) $python "$eval_dir/gen_synthetic.py" "$name" "$out" --n 100000 --seed 1 ;;
-    box) $python "$eval_dir/gen_synthetic.py" box "$out" --n 60000 --seed 1 ;;
-    plate) $python "$eval_dir/gen_synthetic.py" plate "$out" --n 40000 --thickness 0.05 --seed 1 ;;
-    noisy-torus) $python "$eval_dir/gen_synthetic.py" torus "$out" --n 100000 --noise 0.002 --seed 1 ;;
-    ellipsoid|part|handle) "$recon" generate "$name" -n 20000 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
-    part-4100) "$recon" generate part -n 4100 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
-    conics) "$recon" generate conics --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
-    bunny)  # the scan's vertices are the cloud (every program reads a PLY's vertices); its mesh is the truth
-      cp "$data_dir/stanford_bunny/bun_zipper.ply" "$work/bunny_gt.ply"
-      cp "$data_dir/stanford_bunny/bun_zipper.ply" "$out" ;;
-    *) echo "quality.sh: unknown cloud '$name'" >&2; exit 2 ;;
-  esac > /dev/null
-}
 
 # One row: method, Chamfer, Hausdorff-95, components, watertight, Euler.
 measure() {

@@ -13,34 +13,11 @@
 #   SIMPLIFY_BIG     points of the timing run (default 1000000; 0: skip)
 set -euo pipefail
 
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-cd "$root"
-eval_dir="${QUALITY_EVAL:-$root/../shared/eval}"
-data_dir="${QUALITY_DATA:-$root/../shared/data}"
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 clouds="${SIMPLIFY_CLOUDS:-torus box part part-4100 noisy-torus bunny}"
 ratio="${SIMPLIFY_RATIO:-0.1}"
-python=/usr/bin/python3
-recon="$root/build/release/app/recon"
 work="$root/build/simplify"
 mkdir -p "$work"
-
-# The clouds and truths exactly as bench/quality.sh makes them.
-make_cloud() {
-  local name="$1" out="$work/$1.ply"
-  case "$name" in
-    sphere|torus) $python "$eval_dir/gen_synthetic.py" "$name" "$out" --n 100000 --seed 1 ;;
-    box) $python "$eval_dir/gen_synthetic.py" box "$out" --n 60000 --seed 1 ;;
-    plate) $python "$eval_dir/gen_synthetic.py" plate "$out" --n 40000 --thickness 0.05 --seed 1 ;;
-    noisy-torus) $python "$eval_dir/gen_synthetic.py" torus "$out" --n 100000 --noise 0.002 --seed 1 ;;
-    ellipsoid|part|handle) "$recon" generate "$name" -n 20000 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
-    part-4100) "$recon" generate part -n 4100 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
-    conics) "$recon" generate conics --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
-    bunny)
-      cp "$data_dir/stanford_bunny/bun_zipper.ply" "$work/bunny_gt.ply"
-      cp "$data_dir/stanford_bunny/bun_zipper.ply" "$out" ;;
-    *) echo "simplify.sh: unknown cloud '$name'" >&2; exit 2 ;;
-  esac > /dev/null
-}
 
 echo "| cloud | triangles | simplified | H95 before | H95 after | growth / rho | seconds |"
 echo "|---|---|---|---|---|---|---|"

@@ -13,13 +13,8 @@
 # OLD_RECON: a build of another commit (bench/two_builds.sh says how).
 set -euo pipefail
 
-[ $# -eq 2 ] || { echo "usage: $0 OLD_RECON NEW_RECON" >&2; exit 2; }
-old="$1"
-new="$2"
+source "$(dirname "${BASH_SOURCE[0]}")/old_and_new.sh"
 runs="${SPEED_RUNS:-5}"
-scratch="$(mktemp -d)"
-trap 'rm -rf "$scratch"' EXIT
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 mesh="${SPEED_MESH:-}"
 if [ -z "$mesh" ]; then
@@ -31,21 +26,19 @@ echo "commit $(git -C "$root" rev-parse --short HEAD), $(date -u '+%Y-%m-%d %H:%
 echo
 echo "| build | run | threads | triangles | seconds | load (1 min) |"
 echo "|---|---:|---:|---:|---:|---:|"
-for run in $(seq 1 "$runs"); do
-  for build in old new; do
-    binary="$old"
-    [ "$build" = new ] && binary="$new"
-    for threads in 1 2; do
-      "$binary" simplify "$mesh" -o "$scratch/$build-$threads.ply" --to 10% --threads "$threads" \
-        --stats "$scratch/stats.json" --quiet
-      /usr/bin/python3 - "$scratch/stats.json" "$build" "$run" "$threads" <<'PY'
+one_run() {
+  local run="$1" build="$2" binary="$3" threads
+  for threads in 1 2; do
+    "$binary" simplify "$mesh" -o "$scratch/$build-$threads.ply" --to 10% --threads "$threads" \
+      --stats "$scratch/stats.json" --quiet
+    /usr/bin/python3 - "$scratch/stats.json" "$build" "$run" "$threads" <<'PY'
 import json, sys
 stats, build, run, threads = sys.argv[1:5]
 s = json.load(open(stats))["simplification"]
 load = open("/proc/loadavg").read().split()[0]
 print(f"| {build} | {run} | {threads} | {s['triangles_after']} | {s['seconds']:.3f} | {load} |")
 PY
-    done
-    cmp -s "$scratch/$build-1.ply" "$scratch/$build-2.ply" || echo "$build: 1 and 2 threads DIFFER"
   done
-done
+  cmp -s "$scratch/$build-1.ply" "$scratch/$build-2.ply" || echo "$build: 1 and 2 threads DIFFER"
+}
+alternate_builds one_run

@@ -11,32 +11,24 @@
 #   -DCMAKE_BUILD_TYPE=Release -DRECON_REPORT=OFF -DRECON_PYTHON=OFF && cmake --build /tmp/old/build --target recon_cli
 set -euo pipefail
 
-[ $# -eq 2 ] || { echo "usage: $0 OLD_RECON NEW_RECON" >&2; exit 2; }
-old="$1"
-new="$2"
+source "$(dirname "${BASH_SOURCE[0]}")/old_and_new.sh"
 shape="${TWO_SHAPE:-torus}"
 points="${TWO_POINTS:-1000000}"
 method="${TWO_METHOD:-refined}"
 runs="${TWO_RUNS:-3}"
-scratch="$(mktemp -d)"
-trap 'rm -rf "$scratch"' EXIT
 
 "$new" generate "$shape" -n "$points" --seed 1 -o "$scratch/cloud.ply" > /dev/null
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 echo "$shape, $points points, $method, commit $(git -C "$root" rev-parse --short HEAD), $(date -u '+%Y-%m-%d %H:%M UTC'), load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
 echo "| build | run | wall s | I s | II s | III s | IV s | V s | peak MiB | mesh |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"
-for run in $(seq 1 "$runs"); do
-  for build in old new; do
-    binary="$old"
-    [ "$build" = new ] && binary="$new"
-    "$binary" reconstruct "$scratch/cloud.ply" --method "$method" -o "$scratch/$build.ply" --stats "$scratch/stats.json" --quiet
-    same="(first)"
-    [ -f "$scratch/reference.ply" ] || cp "$scratch/$build.ply" "$scratch/reference.ply"
-    if [ "$build" = new ] || [ "$run" -gt 1 ]; then
-      if cmp -s "$scratch/$build.ply" "$scratch/reference.ply"; then same="same bytes"; else same="DIFFERS"; fi
-    fi
-    /usr/bin/python3 "$root/bench/stats_row.py" "$scratch/stats.json" "$build" "$run" "$same"
-  done
-done
+one_run() {
+  local run="$1" build="$2" binary="$3" same="(first)"
+  "$binary" reconstruct "$scratch/cloud.ply" --method "$method" -o "$scratch/$build.ply" --stats "$scratch/stats.json" --quiet
+  [ -f "$scratch/reference.ply" ] || cp "$scratch/$build.ply" "$scratch/reference.ply"
+  if [ "$build" = new ] || [ "$run" -gt 1 ]; then
+    if cmp -s "$scratch/$build.ply" "$scratch/reference.ply"; then same="same bytes"; else same="DIFFERS"; fi
+  fi
+  /usr/bin/python3 "$root/bench/stats_row.py" "$scratch/stats.json" "$build" "$run" "$same"
+}
+alternate_builds one_run

@@ -145,6 +145,14 @@ long stat_count(const std::string& json, std::string_view section, std::string_v
   return value ? static_cast<long>(*value) : -1;
 }
 
+// n points uniform in the cube [-1, 1]^3.
+std::vector<Vec3> random_cube_points(int n, std::mt19937_64& random) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Vec3> points;
+  for (int i = 0; i < n; ++i) points.emplace_back(unit(random), unit(random), unit(random));
+  return points;
+}
+
 std::string xyz_text(const std::vector<Vec3>& points) {
   std::ostringstream text;
   text.precision(17);
@@ -437,10 +445,7 @@ TEST_F(CliErrors, NanCoordinateNamesTheLine) {
 
 TEST_F(CliErrors, FewerPointsThanTheNeighbourhoodSaysToLowerK) {
   std::mt19937_64 random(7);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::vector<Vec3> points;
-  for (int i = 0; i < 10; ++i) points.emplace_back(unit(random), unit(random), unit(random));
-  write_file(at("ten.xyz"), xyz_text(points));
+  write_file(at("ten.xyz"), xyz_text(random_cube_points(10, random)));
   EXPECT_TRUE(refused(recon({"reconstruct", "ten.xyz", "-o", "out.ply"}), {"10", "--k"}));
   EXPECT_TRUE(refused(recon({"normals", "ten.xyz", "-o", "out.ply"}), {"10", "--k"}));
   EXPECT_EQ(entries(), std::vector<std::string>{"ten.xyz"});
@@ -928,9 +933,7 @@ TEST_F(CliLattice, ResolutionAndCellTogetherAreRefused) {
 
 TEST_F(CliInfo, ReportsDuplicatesAndPointCount) {
   std::mt19937_64 random(11);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::vector<Vec3> points;
-  for (int i = 0; i < 100; ++i) points.emplace_back(unit(random), unit(random), unit(random));
+  std::vector<Vec3> points = random_cube_points(100, random);
   for (const int i : {3, 17, 17, 42, 60, 88, 99}) {  // 7 exact copies of earlier points
     const Vec3 copy = points[static_cast<std::size_t>(i)];
     points.push_back(copy);

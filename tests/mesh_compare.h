@@ -1,6 +1,6 @@
 #pragma once
 // Comparing two meshes as sets of triangles (the tests of the textbook path
-// and of tiled runs).
+// and of tiled runs), and a point's distance to a mesh by brute force.
 
 #include "recon/structures/kdtree.h"
 #include "recon/structures/mesh.h"
@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <set>
 #include <vector>
 
@@ -50,6 +51,15 @@ inline ::testing::AssertionResult same_mesh(const Mesh& a, const Mesh& b, double
   if (canonical(a.triangles, to_b) != canonical(b.triangles))
     return ::testing::AssertionFailure() << "the triangles differ";
   return ::testing::AssertionSuccess();
+}
+
+// The oracle of a point's distance to a mesh: the nearest of all its
+// triangles, by brute force.
+inline double brute_force_distance(const Vec3& p, const Mesh& mesh) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : mesh.triangles)
+    best = std::min(best, point_triangle_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+  return best;
 }
 
 }  // namespace recon

@@ -2,15 +2,33 @@
 // Seeded random edge lists for the minimum spanning tree tests, made to be
 // hard on them: few distinct weights (many ties), repeated edges with other
 // weights, self-loops, and several components (edges only join vertices of
-// one group, and sparse lists leave vertices alone).
+// one group, and sparse lists leave vertices alone). And the bad input
+// every edge-list algorithm must refuse.
 
+#include "recon/core/errors.h"
 #include "recon/structures/graph.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
 namespace recon::testing {
+
+/// `forest(vertex_count, edges)` and `forest(graph)` must throw
+/// InvalidInputError on an endpoint not below the vertex count (`outside`),
+/// on a NaN weight, and on a graph without stored weights.
+template <class Forest>
+void expect_bad_input_refused(Forest&& forest, Edge outside) {
+  EXPECT_THROW((void)forest(std::size_t{2}, std::vector<Edge>{outside}), InvalidInputError);
+  EXPECT_THROW((void)forest(std::size_t{2}, std::vector<Edge>{{0, 1, std::numeric_limits<double>::quiet_NaN()}}),
+               InvalidInputError);
+  Graph unweighted = make_graph(2, std::vector<Edge>{{0, 1, 1.0}});
+  unweighted.weights.clear();
+  EXPECT_THROW((void)forest(unweighted), InvalidInputError);
+}
 
 struct RandomEdges {
   std::size_t vertex_count = 0;

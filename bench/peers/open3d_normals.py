@@ -16,12 +16,26 @@ Threads: Open3D's OpenMP default (all cores; OMP_NUM_THREADS limits it).
 import argparse
 import os
 import sys
-import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plyio  # noqa: E402
+import steps  # noqa: E402
+
+
+def read_and_orient(o3d, path, k, step):
+    """Reads the cloud's positions alone and gives it Open3D's oriented normals,
+    steps read, estimate_normals and orient_normals: (positions, cloud).
+    open3d_poisson.py's first steps too."""
+    positions = plyio.positions(path)
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(positions))
+    step("read")
+    cloud.estimate_normals(search_param=o3d.geometry.KDTreeSearchParamKNN(knn=k))
+    step("estimate_normals")
+    cloud.orient_normals_consistent_tangent_plane(k)
+    step("orient_normals")
+    return positions, cloud
 
 
 def main():
@@ -31,30 +45,14 @@ def main():
     parser.add_argument("--k", type=int, default=15)
     args = parser.parse_args()
 
-    last = time.perf_counter()
-
-    def step(name):
-        nonlocal last
-        now = time.perf_counter()
-        print(f"step {name:<16} {now - last:9.3f} s", flush=True)
-        last = now
+    step = steps.printer()
 
     import open3d as o3d  # timed: importing Open3D is part of what a user pays
     print(f"open3d {o3d.__version__}; threads: OpenMP, "
           f"{os.environ.get('OMP_NUM_THREADS', f'all {os.cpu_count()} cores')}", flush=True)
     step("import")
 
-    data, _ = plyio.read_vertices(args.input)
-    positions = plyio.columns(data, "x", "y", "z")
-    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(positions))
-    step("read")
-
-    cloud.estimate_normals(search_param=o3d.geometry.KDTreeSearchParamKNN(knn=args.k))
-    step("estimate_normals")
-
-    cloud.orient_normals_consistent_tangent_plane(args.k)
-    step("orient_normals")
-
+    positions, cloud = read_and_orient(o3d, args.input, args.k, step)
     normals = np.asarray(cloud.normals)
     if len(normals) != len(positions) or not np.array_equal(np.asarray(cloud.points), positions):
         sys.exit("open3d_normals: Open3D changed the points or their order")

@@ -14,12 +14,10 @@ line per step.
 import argparse
 import os
 import sys
-import time
-
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import plyio  # noqa: E402
+import steps  # noqa: E402
+from open3d_normals import read_and_orient  # noqa: E402
 
 
 def main():
@@ -30,24 +28,11 @@ def main():
     parser.add_argument("--depth", type=int, default=8)
     args = parser.parse_args()
 
-    last = time.perf_counter()
-
-    def step(name):
-        nonlocal last
-        now = time.perf_counter()
-        print(f"step {name:<16} {now - last:9.3f} s", flush=True)
-        last = now
+    step = steps.printer()
 
     import open3d as o3d
     step("import")
-    data, _ = plyio.read_vertices(args.input)
-    positions = plyio.columns(data, "x", "y", "z")
-    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(positions))
-    step("read")
-    cloud.estimate_normals(search_param=o3d.geometry.KDTreeSearchParamKNN(knn=args.k))
-    step("estimate_normals")
-    cloud.orient_normals_consistent_tangent_plane(args.k)
-    step("orient_normals")
+    _, cloud = read_and_orient(o3d, args.input, args.k, step)
     mesh, _ = o3d.geometry.TriangleMesh.create_from_point_cloud_poisson(cloud, depth=args.depth)
     step("poisson")
     if not o3d.io.write_triangle_mesh(args.output, mesh, write_ascii=False):

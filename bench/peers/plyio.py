@@ -4,6 +4,7 @@ read_vertices(path) -> (numpy structured array of the vertex element, header)
     ASCII or binary little-endian; the vertex element must come first (it does
     in every file the benchmark sees: recon's, PCL's, the C++ peers').
     header["elements"] maps each element name to its count.
+positions(path) -> (n, 3) float64 array of the vertices' x y z.
 write_points(path, positions, normals): binary little-endian, double
     x y z nx ny nz, the layout of recon's own files.
 """
@@ -61,6 +62,11 @@ def read_vertices(path):
 def columns(data, *names):
     """An (n, len(names)) float64 array of the named vertex properties."""
     return np.stack([data[n].astype(np.float64) for n in names], axis=1)
+
+
+def positions(path):
+    data, _ = read_vertices(path)
+    return columns(data, "x", "y", "z")
 
 
 def write_points(path, positions, normals):

@@ -6,6 +6,7 @@
 #include "recon/alternatives/counting_queue.h"
 #include "recon/phase2_orientation/emst.h"
 #include "recon/structures/fibonacci_heap.h"
+#include "recon/structures/indexed_heap.h"
 #include "recon/alternatives/kruskal.h"
 #include "recon/structures/list_heap.h"
 #include "recon/phase1_planes/local_quadrics.h"
@@ -122,6 +123,7 @@ void run_searches(std::span<const Vec3> points, int k, const LabOptions& options
 // Prim on the queue Heap over the graph's stored costs: timed plain (the
 // tree grown is left in `forest`), counted in a second run.
 template <template <class> class Heap>
+  requires IndexedMinHeap<Heap<double>, double>
 LabRun queue_run(std::string name, const Graph& g, const LabOptions& options, SpanningForest& forest) {
   LabRun run = make_run("prim/" + std::move(name), LabKind::queue, "riemannian");
   Timer timer;
@@ -135,6 +137,7 @@ LabRun queue_run(std::string name, const Graph& g, const LabOptions& options, Sp
 
 // The queues order equal keys alike, so Prim must grow the same tree on each.
 template <template <class> class Heap>
+  requires IndexedMinHeap<Heap<double>, double>
 LabRun checked_queue_run(std::string name, const Graph& g, const LabOptions& options,
                          const SpanningForest& binary_heap_tree) {
   SpanningForest forest;

@@ -308,34 +308,18 @@ void append_base64(std::string& out, const void* data, std::size_t bytes) {
 class JsonWriter {
  public:
   explicit JsonWriter(std::string& out) : out_(out) {}
-  void open(std::string_view key) {
-    this->key(key);
-    out_ += '{';
-    first_ = true;
-  }
-  void close() {
-    out_ += '}';
-    first_ = false;
-  }
+  void open(std::string_view key) { begin(key, '{'); }
+  void close() { end('}'); }
   // A list; its elements are opened with an empty key.
-  void open_list(std::string_view key) {
-    this->key(key);
-    out_ += '[';
-    first_ = true;
-  }
-  void close_list() {
-    out_ += ']';
-    first_ = false;
-  }
+  void open_list(std::string_view key) { begin(key, '['); }
+  void close_list() { end(']'); }
   void number(std::string_view k, double v) {
     key(k);
     if (!std::isfinite(v)) {
       out_ += "null";
       return;
     }
-    char buffer[32];
-    const auto end = detail::float_to_chars(buffer, buffer + sizeof buffer, v).ptr;
-    out_.append(buffer, end);
+    append(v);
   }
   void count(std::string_view k, std::size_t v) { number(k, static_cast<double>(v)); }
   void string(std::string_view k, std::string_view v) {
@@ -378,13 +362,27 @@ class JsonWriter {
     out_ += '[';
     for (int i = 0; i < 3; ++i) {
       if (i > 0) out_ += ',';
-      char buffer[32];
-      out_.append(buffer, detail::float_to_chars(buffer, buffer + sizeof buffer, v[i]).ptr);
+      append(v[i]);
     }
     out_ += ']';
   }
 
  private:
+  // An object's or a list's brackets: what follows the opening one is its first member.
+  void begin(std::string_view k, char bracket) {
+    key(k);
+    out_ += bracket;
+    first_ = true;
+  }
+  void end(char bracket) {
+    out_ += bracket;
+    first_ = false;
+  }
+  // A finite number, shortest round-trip form.
+  void append(double v) {
+    char buffer[32];
+    out_.append(buffer, detail::float_to_chars(buffer, buffer + sizeof buffer, v).ptr);
+  }
   void key(std::string_view k) {
     if (!first_) out_ += ',';
     first_ = false;

@@ -14,12 +14,7 @@
 namespace recon {
 namespace {
 
-using testing::all_clouds;
-using testing::Cloud;
-using testing::make_cloud;
-using testing::name_of;
-using testing::same_neighbors;
-using testing::same_table;
+using namespace testing;  // search_clouds.h
 
 // Brute force and the kd-tree must give one table, entry for entry, on every
 // kind of cloud, for k from 1 to n.

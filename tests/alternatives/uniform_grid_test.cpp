@@ -17,12 +17,7 @@
 namespace recon {
 namespace {
 
-using testing::all_clouds;
-using testing::Cloud;
-using testing::make_cloud;
-using testing::name_of;
-using testing::same_neighbors;
-using testing::same_table;
+using namespace testing;  // search_clouds.h
 
 // The cell sizes every comparison runs with: the default; a thousandth of
 // it (rings far too many: the search falls back to visiting the occupied

@@ -239,9 +239,8 @@ TEST(BadCoordinates, BinaryFormatsNameTheByte) {
   TempFolder folder;
   for (const bool big : {false, true}) {
     Bytes bytes(big);
-    bytes.text(std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
-               " 1.0\nelement vertex 4\nproperty double x\nproperty float y\nproperty double z\n"
-               "property float nx\nproperty float ny\nproperty float nz\nend_header\n");
+    bytes.ply_header("element vertex 4\nproperty double x\nproperty float y\nproperty double z\n"
+                     "property float nx\nproperty float ny\nproperty float nz\n");
     const std::size_t body = bytes.size();  // records of 32 bytes: x at 0, y at 8, z at 12, normal at 20
     bytes.put(1.0).put(2.0F).put(3.0).put(0.0F).put(0.0F).put(1.0F);
     bytes.put(1.0).put(std::numeric_limits<float>::signaling_NaN()).put(3.0).put(0.0F).put(0.0F).put(1.0F);

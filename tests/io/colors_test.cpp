@@ -101,9 +101,8 @@ TEST(ColorRead, BinaryUcharUshortAndFloatInEitherByteOrder) {
   TempFolder folder;
   for (const bool big : {false, true}) {
     Bytes bytes(big);
-    bytes.text(std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
-               " 1.0\nelement vertex 2\nproperty ushort blue\nproperty double x\nproperty uchar red\n"
-               "property double y\nproperty float green\nproperty double z\nproperty uchar alpha\nend_header\n");
+    bytes.ply_header("element vertex 2\nproperty ushort blue\nproperty double x\nproperty uchar red\n"
+                     "property double y\nproperty float green\nproperty double z\nproperty uchar alpha\n");
     bytes.put<std::uint16_t>(65535).put(1.0).put<std::uint8_t>(10).put(2.0).put(0.5F).put(3.0).put<std::uint8_t>(9);
     bytes.put<std::uint16_t>(0).put(4.0).put<std::uint8_t>(255).put(5.0).put(1.0F).put(6.0).put<std::uint8_t>(9);
     write_file(folder / "b.ply", bytes.str());
@@ -160,8 +159,7 @@ TEST(ColorIo, ObjWritesColoursInZeroToOne) {
 
 TEST(ColorRead, ObjColoursOnlyWhenEveryVertexHasThem) {
   TempFolder folder;
-  write_file(folder / "a.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 0.5 1\nv 0 1 0 0 0 0\n");
-  PointCloud cloud = read_points(folder / "a.obj");
+  PointCloud cloud = write_and_read(folder, "a.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 0.5 1\nv 0 1 0 0 0 0\n");
   ASSERT_TRUE(cloud.has_colors());
   EXPECT_EQ(cloud.colors[1], (Color{0, 128, 255}));
   // A w weight, a vertex without a colour, or something other than numbers: none.

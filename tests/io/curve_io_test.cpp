@@ -27,9 +27,8 @@ PolylineSet square_and_hook() {
 
 TEST(CurveIo, TwoColumnsAreRead) {
   TempFolder folder;
-  write_file(folder / "a.txt", "# x y\n0.5 1.5\n\n-2, 3e-1  # comma and comment\n4 5\n");
-  EXPECT_TRUE(holds_2d_points(folder / "a.txt"));
-  const std::vector<Vec2> points = read_points_2d(folder / "a.txt");
+  const std::vector<Vec2> points =
+      read_2d_text(folder, "a.txt", "# x y\n0.5 1.5\n\n-2, 3e-1  # comma and comment\n4 5\n");
   ASSERT_EQ(points.size(), 3U);
   EXPECT_EQ(points[0], Vec2(0.5, 1.5));
   EXPECT_EQ(points[1], Vec2(-2.0, 0.3));
@@ -38,9 +37,7 @@ TEST(CurveIo, TwoColumnsAreRead) {
 
 TEST(CurveIo, HoppePtsWithConstantXIsReadAsYZ) {
   TempFolder folder;
-  write_file(folder / "c.pts", "p 0 0.25 0.5\np 0 0.75 1\n# comment\np 0 1 -2\n");
-  EXPECT_TRUE(holds_2d_points(folder / "c.pts"));
-  const std::vector<Vec2> points = read_points_2d(folder / "c.pts");
+  const std::vector<Vec2> points = read_2d_text(folder, "c.pts", "p 0 0.25 0.5\np 0 0.75 1\n# comment\np 0 1 -2\n");
   ASSERT_EQ(points.size(), 3U);
   EXPECT_EQ(points[0], Vec2(0.25, 0.5));
   EXPECT_EQ(points[2], Vec2(1.0, -2.0));

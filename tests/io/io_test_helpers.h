@@ -5,6 +5,7 @@
 // messages (one bad file, or a table of them).
 
 #include "recon/core/errors.h"
+#include "recon/io/curve_io.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 #include "recon/structures/mesh.h"
@@ -82,6 +83,14 @@ inline void write_file(const std::filesystem::path& path, std::string_view conte
   ASSERT_TRUE(out.good()) << "cannot write " << path;
 }
 
+/// Writes `content` to folder/name and reads it back as 2D points, once
+/// holds_2d_points has taken it for 2D.
+inline std::vector<Vec2> read_2d_text(const TempFolder& folder, std::string_view name, std::string_view content) {
+  write_file(folder / name, content);
+  EXPECT_TRUE(holds_2d_points(folder / name)) << name;
+  return read_points_2d(folder / name);
+}
+
 inline std::string read_bytes(const std::filesystem::path& path) {
   std::string content(static_cast<std::size_t>(std::filesystem::file_size(path)), '\0');
   std::ifstream in(path, std::ios::binary);
@@ -96,6 +105,13 @@ class Bytes {
   Bytes& text(std::string_view s) {
     data_.append(s);
     return *this;
+  }
+  /// A binary PLY header in this byte order around `elements` (the element
+  /// and property lines).
+  Bytes& ply_header(std::string_view elements) {
+    text(big_endian_ ? "ply\nformat binary_big_endian 1.0\n" : "ply\nformat binary_little_endian 1.0\n");
+    text(elements);
+    return text("end_header\n");
   }
   template <typename T>
   Bytes& put(T value) {
@@ -215,6 +231,19 @@ inline PointCloud read_with_notes(const std::filesystem::path& path, ReadNotes& 
   ReadPointsOptions options;
   options.skip_invalid = skip_invalid;
   return read_points(path, options, &notes);
+}
+
+/// Writes `content` to folder/name and reads it back.
+inline PointCloud write_and_read(const TempFolder& folder, std::string_view name, std::string_view content) {
+  write_file(folder / name, content);
+  return read_points(folder / name);
+}
+
+/// Writes `content` to folder/name and reads it back, with its notes.
+inline PointCloud write_and_read(const TempFolder& folder, std::string_view name, std::string_view content,
+                                 ReadNotes& notes) {
+  write_file(folder / name, content);
+  return read_with_notes(folder / name, notes);
 }
 
 /// How many times `part` occurs in `text` (not overlapping).

@@ -64,9 +64,8 @@ TEST(LasReader, EveryFormatOfEveryVersion) {
         for (std::uint16_t& c : p.rgb) c = static_cast<std::uint16_t>(c & 0xFF00);  // 16-bit colours
       }
       ASSERT_EQ(las.record_length(), spec_record_size[format]);
-      write_file(folder / "f.las", las.bytes());
       ReadNotes notes;
-      const PointCloud cloud = read_with_notes(folder / "f.las", notes);
+      const PointCloud cloud = write_and_read(folder, "f.las", las.bytes(), notes);
       ASSERT_EQ(cloud.size(), las.points.size());
       EXPECT_FALSE(cloud.has_normals());
       EXPECT_EQ(cloud.has_colors(), las.has_rgb());
@@ -93,9 +92,8 @@ TEST(LasReader, ExtraBytesAndVariableLengthRecordsAreSkipped) {
     las.extra_bytes = 13;
     las.vlr_bytes = 54 + 100;  // a VLR header and its payload: not read
     las.points = some_points(9, format);
-    write_file(folder / "x.las", las.bytes());
     ReadNotes notes;
-    const PointCloud cloud = read_with_notes(folder / "x.las", notes);
+    const PointCloud cloud = write_and_read(folder, "x.las", las.bytes(), notes);
     ASSERT_EQ(cloud.size(), las.points.size());
     for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_EQ(cloud.positions[i], expected_position(las, las.points[i]));
   }
@@ -139,9 +137,8 @@ TEST(LasReader, GeoReferencedCoordinatesKeepTheMillimetre) {
   las.offset = {4.5e6, 5.2e6, 150.0};
   las.points = some_points(2000, 99);
   las.points[0].xyz = {std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::min(), 1};
-  write_file(folder / "geo.las", las.bytes());
   ReadNotes notes;
-  const PointCloud cloud = read_with_notes(folder / "geo.las", notes);
+  const PointCloud cloud = write_and_read(folder, "geo.las", las.bytes(), notes);
   ASSERT_EQ(cloud.size(), las.points.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     for (std::size_t k = 0; k < 3; ++k) {
@@ -164,9 +161,8 @@ TEST(LasReader, ColoursOfEightBitsAreTakenAsTheyAre) {
     for (std::uint16_t& c : p.rgb) c = static_cast<std::uint16_t>(c % 256);
   }
   las.points[3].rgb = {255, 0, 128};
-  write_file(folder / "c8.las", las.bytes());
   ReadNotes notes;
-  const PointCloud cloud = read_with_notes(folder / "c8.las", notes);
+  const PointCloud cloud = write_and_read(folder, "c8.las", las.bytes(), notes);
   ASSERT_TRUE(cloud.has_colors());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Rgb16& rgb = las.points[i].rgb;
@@ -187,9 +183,8 @@ TEST(LasReader, ColoursOfSixteenBitsKeepTheirHighByte) {
   las.points[0].rgb = {65535, 256, 255};  // one value above 255 decides for the whole file
   las.points[1].rgb = {0, 32768, 511};
   las.points[2].rgb = {100, 200, 300};
-  write_file(folder / "c16.las", las.bytes());
   ReadNotes notes;
-  const PointCloud cloud = read_with_notes(folder / "c16.las", notes);
+  const PointCloud cloud = write_and_read(folder, "c16.las", las.bytes(), notes);
   ASSERT_EQ(cloud.colors.size(), 3U);
   EXPECT_EQ(cloud.colors[0], (Color{255, 1, 0}));
   EXPECT_EQ(cloud.colors[1], (Color{0, 128, 1}));

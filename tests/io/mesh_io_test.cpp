@@ -126,9 +126,8 @@ TEST(MeshIo, PlyFacesFirstWithOtherIndexTypes) {
   TempFolder folder;
   for (const bool big : {false, true}) {
     Bytes bytes(big);
-    bytes.text(std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
-               " 1.0\nelement face 2\nproperty uchar flags\nproperty list ushort uchar vertex_index\n"
-               "element vertex 4\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
+    bytes.ply_header("element face 2\nproperty uchar flags\nproperty list ushort uchar vertex_index\n"
+                     "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n");
     bytes.put<std::uint8_t>(1).put<std::uint16_t>(3).put<std::uint8_t>(0).put<std::uint8_t>(1).put<std::uint8_t>(2);
     bytes.put<std::uint8_t>(1).put<std::uint16_t>(4).put<std::uint8_t>(3).put<std::uint8_t>(2).put<std::uint8_t>(1);
     bytes.put<std::uint8_t>(0);

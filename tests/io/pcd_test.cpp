@@ -397,11 +397,11 @@ TEST(PcdColours, RgbAsPclWritesItInAsciiAndBinary) {
 
 TEST(PcdColours, AColourThatIsNotANumberDropsTheColours) {
   TempFolder folder;
-  write_file(folder / "n.pcd",
-             "FIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nPOINTS 3\nDATA ascii\n1 2 3 255\n"
-             "1 2 4 nan\n1 2 5 nan\n");
   ReadNotes notes;
-  const PointCloud cloud = read_with_notes(folder / "n.pcd", notes);
+  const PointCloud cloud = write_and_read(folder, "n.pcd",
+                                          "FIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nPOINTS 3\nDATA ascii\n"
+                                          "1 2 3 255\n1 2 4 nan\n1 2 5 nan\n",
+                                          notes);
   EXPECT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_colors());
   ASSERT_EQ(notes.lines.size(), 1U);
@@ -444,9 +444,8 @@ TEST(PcdNaN, OrganizedCloudsSkipPointsWithoutPosition) {
       {compressed_pcd(columns, 4, 3), "point 4 (row 1, column 0)"},
   };
   for (const auto& [content, first] : files) {
-    write_file(folder / "o.pcd", content);
     ReadNotes notes;
-    const PointCloud cloud = read_with_notes(folder / "o.pcd", notes);
+    const PointCloud cloud = write_and_read(folder, "o.pcd", content, notes);
     ASSERT_EQ(cloud.size(), 7U);
     EXPECT_EQ(cloud.positions[4], Vec3(0, 2, 1));
     EXPECT_EQ(cloud.positions[6], Vec3(3, 2, 1));  // after the skipped (row 2, column 2)
@@ -493,11 +492,11 @@ TEST(PcdNaN, NaNNormalsAreDroppedNotRefused) {
   const std::string header =
       "FIELDS x y z normal_x normal_y normal_z curvature\nSIZE 4 4 4 4 4 4 4\nTYPE F F F F F F F\n"
       "COUNT 1 1 1 1 1 1 1\nWIDTH 4\nHEIGHT 1\nPOINTS 4\nDATA ascii\n";
-  write_file(folder / "s.pcd", header +
-                                   "1 2 3 0 0 1 0.5\n4 5 6 nan nan nan nan\n7 8 9 1 0 0 nan\n"
-                                   "1 1 1 nan nan nan nan\n");
   ReadNotes notes;
-  const PointCloud cloud = read_with_notes(folder / "s.pcd", notes);
+  const PointCloud cloud = write_and_read(folder, "s.pcd",
+                                          header + "1 2 3 0 0 1 0.5\n4 5 6 nan nan nan nan\n7 8 9 1 0 0 nan\n"
+                                                   "1 1 1 nan nan nan nan\n",
+                                          notes);
   ASSERT_EQ(cloud.size(), 4U);
   EXPECT_FALSE(cloud.has_normals());
   EXPECT_EQ(notes.skipped_points, 0U);
@@ -528,8 +527,9 @@ TEST(PcdReader, AFieldNamedTwiceIsRefused) {
       });
   // Padding "_" may repeat, as PCL writes it.
   TempFolder folder;
-  write_file(folder / "ok.pcd", "FIELDS x _ y _ z\nSIZE 4 4 4 4 4\nTYPE F F F F F\nPOINTS 1\nDATA ascii\n1 9 2 9 3\n");
-  const PointCloud cloud = read_points(folder / "ok.pcd");
+  const PointCloud cloud = write_and_read(folder, "ok.pcd",
+                                          "FIELDS x _ y _ z\nSIZE 4 4 4 4 4\nTYPE F F F F F\nPOINTS 1\nDATA ascii\n"
+                                          "1 9 2 9 3\n");
   ASSERT_EQ(cloud.size(), 1U);
   EXPECT_EQ(cloud.positions[0], Vec3(1, 2, 3));
 }

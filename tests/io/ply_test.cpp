@@ -21,30 +21,29 @@ using namespace testing;  // io_test_helpers.h
 
 TEST(PlyReader, AsciiWithCommentsOtherPropertiesAndFacesFirst) {
   TempFolder folder;
-  write_file(folder / "a.ply",
-             "ply\r\n"
-             "format ascii 1.0\n"
-             "comment made by hand\n"
-             "obj_info nothing to say\n"
-             "element face 2\n"
-             "property list uchar int vertex_indices\n"
-             "property uchar flags\n"
-             "element vertex 3\n"
-             "property float x\n"
-             "property float confidence\n"
-             "property float y\n"
-             "property float z\n"
-             "element edge 1\n"
-             "property int vertex1\n"
-             "property int vertex2\n"
-             "end_header\n"
-             "3 0 1 2 7\n"
-             "4 0 1 2 0 1\n"
-             "1 0.5 2 3\n"
-             "-4 nan 5.5 6e2\n"  // a NaN in a skipped property is fine
-             "7 0 8 9\n"
-             "0 1\n");
-  const PointCloud cloud = read_points(folder / "a.ply");
+  const PointCloud cloud = write_and_read(folder, "a.ply",
+                                          "ply\r\n"
+                                          "format ascii 1.0\n"
+                                          "comment made by hand\n"
+                                          "obj_info nothing to say\n"
+                                          "element face 2\n"
+                                          "property list uchar int vertex_indices\n"
+                                          "property uchar flags\n"
+                                          "element vertex 3\n"
+                                          "property float x\n"
+                                          "property float confidence\n"
+                                          "property float y\n"
+                                          "property float z\n"
+                                          "element edge 1\n"
+                                          "property int vertex1\n"
+                                          "property int vertex2\n"
+                                          "end_header\n"
+                                          "3 0 1 2 7\n"
+                                          "4 0 1 2 0 1\n"
+                                          "1 0.5 2 3\n"
+                                          "-4 nan 5.5 6e2\n"  // a NaN in a skipped property is fine
+                                          "7 0 8 9\n"
+                                          "0 1\n");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
   EXPECT_EQ(cloud.positions[0], Vec3(1, 2, 3));
@@ -54,10 +53,10 @@ TEST(PlyReader, AsciiWithCommentsOtherPropertiesAndFacesFirst) {
 
 TEST(PlyReader, AsciiValuesMayWrapAcrossLines) {
   TempFolder folder;
-  write_file(folder / "w.ply",
-             "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\nproperty double z\n"
-             "end_header\n1 2\n3 4 5\n6\n");
-  const PointCloud cloud = read_points(folder / "w.ply");
+  const PointCloud cloud = write_and_read(folder, "w.ply",
+                                          "ply\nformat ascii 1.0\nelement vertex 2\n"
+                                          "property double x\nproperty double y\nproperty double z\n"
+                                          "end_header\n1 2\n3 4 5\n6\n");
   ASSERT_EQ(cloud.size(), 2U);
   EXPECT_EQ(cloud.positions[1], Vec3(4, 5, 6));
 }

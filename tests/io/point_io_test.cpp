@@ -115,8 +115,8 @@ TEST(PointIoErrors, NoPoints) {
 
 TEST(PointIoXyz, ReadsPositionsCommentsAndBlankLines) {
   TempFolder folder;
-  write_file(folder / "a.xyz", "# header comment\n\n1 2 3\n  4.5\t-5e-3  6  # trailing comment\r\n+7 8 9");
-  const PointCloud cloud = read_points(folder / "a.xyz");
+  const PointCloud cloud = write_and_read(folder, "a.xyz",
+                                          "# header comment\n\n1 2 3\n  4.5\t-5e-3  6  # trailing comment\r\n+7 8 9");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
   EXPECT_EQ(cloud.positions[1], Vec3(4.5, -5e-3, 6));
@@ -125,8 +125,7 @@ TEST(PointIoXyz, ReadsPositionsCommentsAndBlankLines) {
 
 TEST(PointIoXyz, SixColumnsAreNormals) {
   TempFolder folder;
-  write_file(folder / "a.pwn", "0 0 0 0 0 1\n1 0 0 1 0 0\n");
-  const PointCloud cloud = read_points(folder / "a.pwn");
+  const PointCloud cloud = write_and_read(folder, "a.pwn", "0 0 0 0 0 1\n1 0 0 1 0 0\n");
   ASSERT_EQ(cloud.size(), 2U);
   ASSERT_TRUE(cloud.has_normals());
   EXPECT_EQ(cloud.normals[1], Vec3(1, 0, 0));
@@ -134,8 +133,7 @@ TEST(PointIoXyz, SixColumnsAreNormals) {
 
 TEST(PointIoXyz, CommasSeparateToo) {
   TempFolder folder;
-  write_file(folder / "a.txt", "1,2,3\n4 , 5 ,6\n");
-  const PointCloud cloud = read_points(folder / "a.txt");
+  const PointCloud cloud = write_and_read(folder, "a.txt", "1,2,3\n4 , 5 ,6\n");
   ASSERT_EQ(cloud.size(), 2U);
   EXPECT_EQ(cloud.positions[1], Vec3(4, 5, 6));
 }
@@ -154,8 +152,7 @@ TEST(PointIoXyz, Errors) {
 
 TEST(PointIoXyz, TinyValuesBecomeZeroInsteadOfFailing) {
   TempFolder folder;
-  write_file(folder / "t.xyz", "1e-400 -1e-400 5e-324\n");
-  const PointCloud cloud = read_points(folder / "t.xyz");
+  const PointCloud cloud = write_and_read(folder, "t.xyz", "1e-400 -1e-400 5e-324\n");
   EXPECT_EQ(cloud.positions[0].x(), 0.0);
   EXPECT_EQ(cloud.positions[0].y(), 0.0);
   EXPECT_GT(cloud.positions[0].z(), 0.0);
@@ -166,17 +163,15 @@ TEST(PointIoXyz, TinyValuesBecomeZeroInsteadOfFailing) {
 
 TEST(PointIoPts, HoppeRecordsWithOtherLetters) {
   TempFolder folder;
-  write_file(folder / "h.pts",
-             "# Created by a scanner\n"
-             "d 0 0 0\n"
-             "s 0 0 0\n"
-             "g 1 0 0\n"
-             "p 0.5 0.25 1\n"
-             "n 0 0 1\n"
-             "p 1 2 3 # comment\n"
-             "\n"
-             "p -1 -2 -3\n");
-  const PointCloud cloud = read_points(folder / "h.pts");
+  const PointCloud cloud = write_and_read(folder, "h.pts", "# Created by a scanner\n"
+                                                           "d 0 0 0\n"
+                                                           "s 0 0 0\n"
+                                                           "g 1 0 0\n"
+                                                           "p 0.5 0.25 1\n"
+                                                           "n 0 0 1\n"
+                                                           "p 1 2 3 # comment\n"
+                                                           "\n"
+                                                           "p -1 -2 -3\n");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
   EXPECT_EQ(cloud.positions[0], Vec3(0.5, 0.25, 1));
@@ -185,8 +180,7 @@ TEST(PointIoPts, HoppeRecordsWithOtherLetters) {
 
 TEST(PointIoPts, PlainColumns) {
   TempFolder folder;
-  write_file(folder / "c.pts", " 0 0 0 \n-0.5 6.8 2.1 \n");
-  const PointCloud cloud = read_points(folder / "c.pts");
+  const PointCloud cloud = write_and_read(folder, "c.pts", " 0 0 0 \n-0.5 6.8 2.1 \n");
   ASSERT_EQ(cloud.size(), 2U);
   EXPECT_EQ(cloud.positions[1], Vec3(-0.5, 6.8, 2.1));
 }
@@ -204,12 +198,10 @@ TEST(PointIoPts, Errors) {
 
 TEST(PointIoObj, VerticesAndMatchingNormals) {
   TempFolder folder;
-  write_file(folder / "a.obj",
-             "# exported\nmtllib a.mtl\no thing\n"
-             "v 0 0 0\nv 1 0 0 1.0\nv 0 1 0 0.5 0.5 0.5\n"
-             "vt 0 0\nvn 0 0 1\nvn 0 0 1\nvn 0 0 -1\n"
-             "f 1/1/1 2/1/2 3/1/3\n");
-  const PointCloud cloud = read_points(folder / "a.obj");
+  const PointCloud cloud = write_and_read(folder, "a.obj", "# exported\nmtllib a.mtl\no thing\n"
+                                                           "v 0 0 0\nv 1 0 0 1.0\nv 0 1 0 0.5 0.5 0.5\n"
+                                                           "vt 0 0\nvn 0 0 1\nvn 0 0 1\nvn 0 0 -1\n"
+                                                           "f 1/1/1 2/1/2 3/1/3\n");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_EQ(cloud.positions[1], Vec3(1, 0, 0));  // w ignored
   EXPECT_EQ(cloud.positions[2], Vec3(0, 1, 0));  // colour ignored
@@ -220,8 +212,8 @@ TEST(PointIoObj, VerticesAndMatchingNormals) {
 TEST(PointIoObj, NormalsOfAnotherCountAreDropped) {
   // Dropped normals are not checked either: a NaN among them does not matter.
   TempFolder folder;
-  write_file(folder / "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan 0 0\nf 1//1 2//1 3//1\n");
-  const PointCloud cloud = read_points(folder / "a.obj");
+  const PointCloud cloud = write_and_read(folder, "a.obj",
+                                          "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan 0 0\nf 1//1 2//1 3//1\n");
   EXPECT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
 }
@@ -238,8 +230,8 @@ TEST(PointIoObj, Errors) {
 
 TEST(PointIoOff, CountsOnTheNextLineAndComments) {
   TempFolder folder;
-  write_file(folder / "a.off", "OFF\n# a comment\n3 1 0\n0 0 0\n1 0 0 # corner\n\n0 1 0\n3 0 1 2\n");
-  const PointCloud cloud = read_points(folder / "a.off");
+  const PointCloud cloud = write_and_read(folder, "a.off",
+                                          "OFF\n# a comment\n3 1 0\n0 0 0\n1 0 0 # corner\n\n0 1 0\n3 0 1 2\n");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
   EXPECT_EQ(cloud.positions[1], Vec3(1, 0, 0));
@@ -247,16 +239,14 @@ TEST(PointIoOff, CountsOnTheNextLineAndComments) {
 
 TEST(PointIoOff, CountsOnTheHeaderLine) {
   TempFolder folder;
-  write_file(folder / "a.off", "OFF 2 0 0\n1 2 3\n4 5 6\n");
-  const PointCloud cloud = read_points(folder / "a.off");
+  const PointCloud cloud = write_and_read(folder, "a.off", "OFF 2 0 0\n1 2 3\n4 5 6\n");
   ASSERT_EQ(cloud.size(), 2U);
   EXPECT_EQ(cloud.positions[1], Vec3(4, 5, 6));
 }
 
 TEST(PointIoOff, NoffHasNormalsAndColoursAreIgnored) {
   TempFolder folder;
-  write_file(folder / "a.off", "NOFF\n2 0 0\n1 2 3 0 0 1\n4 5 6 1 0 0\n");
-  PointCloud cloud = read_points(folder / "a.off");
+  PointCloud cloud = write_and_read(folder, "a.off", "NOFF\n2 0 0\n1 2 3 0 0 1\n4 5 6 1 0 0\n");
   ASSERT_TRUE(cloud.has_normals());
   EXPECT_EQ(cloud.normals[1], Vec3(1, 0, 0));
 

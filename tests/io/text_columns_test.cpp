@@ -440,9 +440,7 @@ TEST(PointIoTextColumns, EmptyFieldsAreErrors) {
 
 TEST(PointIoTextColumns, TwoDimensionalTextWithAHeader) {
   TempFolder folder;
-  write_file(folder / "c.csv", "X;Y\r0;0,5\r1;1,5\r");
-  ASSERT_TRUE(holds_2d_points(folder / "c.csv"));
-  const std::vector<Vec2> points = read_points_2d(folder / "c.csv");
+  const std::vector<Vec2> points = read_2d_text(folder, "c.csv", "X;Y\r0;0,5\r1;1,5\r");
   ASSERT_EQ(points.size(), 2U);
   EXPECT_EQ(points[1], Vec2(1.0, 1.5));
   write_file(folder / "d.csv", "a,b\n0,1\n");

@@ -31,29 +31,21 @@ OrientationCheck orient_and_compare(const PointCloud& cloud) {
   return check;
 }
 
-TEST(Orientation, SphereNormalsAllPointOutward) {
-  const auto c = orient_and_compare(make_sphere()->sample(20000, 11));
-  EXPECT_EQ(c.components, 1u);
+// A smooth shape's cloud: `components` trees, every normal facing out.
+void expect_all_outward(const PointCloud& cloud, std::size_t components) {
+  const auto c = orient_and_compare(cloud);
+  EXPECT_EQ(c.components, components);
   EXPECT_EQ(c.outward, c.total);
 }
 
-TEST(Orientation, TorusNormalsAllPointOutward) {
-  const auto c = orient_and_compare(make_torus()->sample(30000, 12));
-  EXPECT_EQ(c.components, 1u);
-  EXPECT_EQ(c.outward, c.total);
-}
+TEST(Orientation, SphereNormalsAllPointOutward) { expect_all_outward(make_sphere()->sample(20000, 11), 1); }
 
-TEST(Orientation, EllipsoidNormalsAllPointOutward) {
-  const auto c = orient_and_compare(make_ellipsoid()->sample(20000, 13));
-  EXPECT_EQ(c.components, 1u);
-  EXPECT_EQ(c.outward, c.total);
-}
+TEST(Orientation, TorusNormalsAllPointOutward) { expect_all_outward(make_torus()->sample(30000, 12), 1); }
+
+TEST(Orientation, EllipsoidNormalsAllPointOutward) { expect_all_outward(make_ellipsoid()->sample(20000, 13), 1); }
 
 TEST(Orientation, TwoSeparateShapesAreTwoComponentsAllOutward) {
-  const auto shape = make_sphere_and_torus(0.3);
-  const auto c = orient_and_compare(shape->sample(40000, 14));
-  EXPECT_EQ(c.components, 2u);
-  EXPECT_EQ(c.outward, c.total);
+  expect_all_outward(make_sphere_and_torus(0.3)->sample(40000, 14), 2);
 }
 
 TEST(Orientation, BoxNormalsPointOutwardExceptAtCorners) {

@@ -210,12 +210,17 @@ TEST(MarchingCubes, UndefinedCornersLeaveTheSurfaceOpenThere) {
   for (const Vec3& v : r.mesh.vertices) EXPECT_LE(v.z(), 0.6 + 1e-12);
 }
 
-TEST(MarchingCubes, SphereIsOutwardFacingAndAccurate) {
+// The unit sphere's signed distance contoured with cubes of side `cell`,
+// seeded at `seeds`.
+MarchingCubesResult contour_unit_sphere(const PointCloud& seeds, double cell) {
   const ScalarField f = [](const Vec3& p) { return std::optional<double>(p.norm() - 1.0); };
-  const PointCloud seeds = make_sphere()->sample(2000, 2);
   MarchingCubesOptions options;
-  options.cell = 0.05;
-  const MarchingCubesResult r = marching_cubes(f, seeds.positions, options);
+  options.cell = cell;
+  return marching_cubes(f, seeds.positions, options);
+}
+
+TEST(MarchingCubes, SphereIsOutwardFacingAndAccurate) {
+  const MarchingCubesResult r = contour_unit_sphere(make_sphere()->sample(2000, 2), 0.05);
   const MeshTopology t = analyze_topology(r.mesh);
   EXPECT_TRUE(t.watertight());
   EXPECT_EQ(t.components, 1u);
@@ -271,13 +276,9 @@ TEST(MarchingCubes, SortByCubeDoesNotDependOnTheWalk) {
 // Time and memory follow the surface: halving the cell visits about 4 times
 // the cubes (area), not 8 (volume).
 TEST(MarchingCubes, VisitedCubesGrowWithAreaNotVolume) {
-  const ScalarField f = [](const Vec3& p) { return std::optional<double>(p.norm() - 1.0); };
   const PointCloud seeds = make_sphere()->sample(20000, 3);
-  MarchingCubesOptions options;
-  options.cell = 0.04;
-  const auto coarse = marching_cubes(f, seeds.positions, options);
-  options.cell = 0.02;
-  const auto fine = marching_cubes(f, seeds.positions, options);
+  const auto coarse = contour_unit_sphere(seeds, 0.04);
+  const auto fine = contour_unit_sphere(seeds, 0.02);
   const double ratio = static_cast<double>(fine.visited_cubes) / static_cast<double>(coarse.visited_cubes);
   EXPECT_GT(ratio, 3.5);
   EXPECT_LT(ratio, 4.5);

@@ -8,6 +8,7 @@
 #include "recon/core/parallel.h"
 #include "recon/reconstruct.h"
 #include "recon/core/shapes.h"
+#include "mesh_compare.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -109,17 +110,24 @@ struct Features {
   std::size_t corners = 0;               // vertices on 1 or 3+ feature edges
 };
 
-Features features(const Mesh& m) {
-  std::map<std::uint64_t, std::vector<std::uint32_t>> faces;
-  for (std::uint32_t f = 0; f < m.triangles.size(); ++f)
+// Every edge (edge_key) with the triangles that have it.
+std::map<std::uint64_t, std::vector<std::size_t>> edge_faces(const Mesh& m) {
+  std::map<std::uint64_t, std::vector<std::size_t>> faces;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f)
     for (std::size_t e = 0; e < 3; ++e) faces[edge_key(m.triangles[f][e], m.triangles[f][(e + 1) % 3])].push_back(f);
-  const auto normal = [&](std::uint32_t f) {
-    const auto& t = m.triangles[f];
-    return (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).normalized();
-  };
+  return faces;
+}
+
+Vec3 unit_normal(const Mesh& m, std::size_t f) {
+  const auto& t = m.triangles[f];
+  return (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).normalized();
+}
+
+Features features(const Mesh& m) {
+  const auto normal = [&](std::size_t f) { return unit_normal(m, f); };
   Features out;
   out.on.assign(m.vertices.size(), 0);
-  for (const auto& [key, list] : faces) {
+  for (const auto& [key, list] : edge_faces(m)) {
     const bool feature =
         list.size() != 2 || normal(list[0]).dot(normal(list[1])) < std::cos(25.0 * std::numbers::pi / 180.0);
     if (!feature) continue;
@@ -146,13 +154,6 @@ SimplifyOptions as_far_as_it_goes() {
 SimplifyOptions in_blocks(SimplifyOptions o, std::size_t blocks) {
   o.block_vertices = blocks;
   return o;
-}
-
-double distance_to_mesh(const Mesh& m, const Vec3& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& t : m.triangles)
-    best = std::min(best, point_triangle_distance(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
-  return best;
 }
 
 double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
@@ -320,7 +321,7 @@ TEST(Simplification, ErrorBoundHolds) {
     const Simplification s = simplify(dome, o);
     EXPECT_LT(s.mesh.triangles.size(), dome.triangles.size() * 4 / 5) << bound;
     double worst = 0.0;
-    for (const Vec3& v : dome.vertices) worst = std::max(worst, distance_to_mesh(s.mesh, v));
+    for (const Vec3& v : dome.vertices) worst = std::max(worst, brute_force_distance(v, s.mesh));
     EXPECT_LE(worst, bound);
     EXPECT_LE(worst, s.vertex_error + 1e-15);
     EXPECT_LE(s.vertex_error, bound);
@@ -423,15 +424,9 @@ TEST(Simplification, PartKeepsItsCreasesForAnyThreadCount) {
   std::set<std::array<double, 3>> on_crease;
   for (std::size_t v = 0; v < before.vertices.size(); ++v)
     if (creases.on[v] > 0) on_crease.insert({before.vertices[v].x(), before.vertices[v].y(), before.vertices[v].z()});
-  std::map<std::uint64_t, std::vector<std::size_t>> faces;
-  for (std::size_t f = 0; f < after.triangles.size(); ++f)
-    for (std::size_t e = 0; e < 3; ++e) faces[edge_key(after.triangles[f][e], after.triangles[f][(e + 1) % 3])].push_back(f);
-  const auto normal = [&](std::size_t f) {
-    const auto& t = after.triangles[f];
-    return (after.vertices[t[1]] - after.vertices[t[0]]).cross(after.vertices[t[2]] - after.vertices[t[0]]).normalized();
-  };
+  const auto normal = [&](std::size_t f) { return unit_normal(after, f); };
   std::size_t sharp = 0, off = 0;
-  for (const auto& [key, list] : faces) {
+  for (const auto& [key, list] : edge_faces(after)) {
     if (list.size() != 2 || normal(list[0]).dot(normal(list[1])) > 0.5) continue;
     ++sharp;
     for (const std::uint64_t v : {key >> 32, key & 0xffffffffu}) {
@@ -578,8 +573,8 @@ TEST(Simplification, SeamsAreSimplifiedLikeTheRest) {
   EXPECT_LE(short_b, 1.5 * short_a + 0.01) << short_a;
   double far_a = 0.0, far_b = 0.0;
   for (std::size_t v = 0; v < torus.vertices.size(); v += 7) {
-    far_a = std::max(far_a, distance_to_mesh(a.mesh, torus.vertices[v]));
-    far_b = std::max(far_b, distance_to_mesh(b.mesh, torus.vertices[v]));
+    far_a = std::max(far_a, brute_force_distance(torus.vertices[v], a.mesh));
+    far_b = std::max(far_b, brute_force_distance(torus.vertices[v], b.mesh));
   }
   EXPECT_LE(far_b, 1.5 * far_a) << far_a;
 }

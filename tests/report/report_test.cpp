@@ -1,6 +1,7 @@
 #include "recon/report/report.h"
 
 #include "hand_made_lab.h"
+#include "mesh_compare.h"
 #include "recon/core/errors.h"
 #include "recon/structures/mesh.h"
 #include "recon/reconstruct.h"
@@ -296,14 +297,6 @@ const Reconstruction& small_sphere(Method method) {
   };
   static const Reconstruction refined = make(Method::refined), hoppe92 = make(Method::hoppe92);
   return method == Method::refined ? refined : hoppe92;
-}
-
-// The oracle: the distance to the nearest of all the mesh's triangles.
-double brute_force_distance(const Vec3& p, const Mesh& mesh) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& t : mesh.triangles)
-    best = std::min(best, point_triangle_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
-  return best;
 }
 
 void expect_distances_to(const ReportLayers& layers, const Mesh& refined, const Mesh& contoured) {

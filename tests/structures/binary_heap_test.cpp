@@ -50,17 +50,5 @@ TEST(BinaryHeap, MatchesOrderedSetOracle) {
   }
 }
 
-TEST(BinaryHeap, PushOrDecreaseOnlyLowers) {
-  IndexedBinaryHeap<double> heap(4);
-  EXPECT_TRUE(heap.push_or_decrease(2, 5.0));
-  EXPECT_FALSE(heap.push_or_decrease(2, 7.0));
-  EXPECT_EQ(heap.key(2), 5.0);
-  EXPECT_TRUE(heap.push_or_decrease(2, 1.0));
-  EXPECT_EQ(heap.key(2), 1.0);
-  heap.clear();
-  EXPECT_TRUE(heap.empty());
-  EXPECT_FALSE(heap.contains(2));
-}
-
 }  // namespace
 }  // namespace recon

@@ -4,9 +4,9 @@
 // pushes, pops, decrease-keys and key comparisons each queue needed.
 //
 // CountingQueue<Heap> wraps Heap<CountedKey> (Heap is IndexedBinaryHeap,
-// FibonacciHeap, PairingHeap or ListHeap) and has the interface of those
-// queues with double keys, so Prim can be instantiated with it in place of
-// IndexedBinaryHeap<double>. The heaps themselves are not touched: counting
+// FibonacciHeap, PairingHeap or ListHeap: any IndexedMinHeap, indexed_heap.h)
+// and is an IndexedMinHeap with double keys itself, so Prim can be
+// instantiated with it in place of IndexedBinaryHeap<double>. The heaps themselves are not touched: counting
 // happens only here, and the default path (a plain heap of doubles) counts
 // nothing.
 //
@@ -23,6 +23,7 @@
 // that of Heap<CountedKey> (a CountedKey is a double) plus the counts.
 
 #include "recon/core/operation_counts.h"
+#include "recon/structures/indexed_heap.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -43,6 +44,7 @@ struct CountedKey {
 };
 
 template <template <class> class Heap>
+  requires IndexedMinHeap<Heap<CountedKey>, CountedKey>
 class CountingQueue {
  public:
   static constexpr std::uint32_t absent = Heap<CountedKey>::absent;
@@ -52,42 +54,43 @@ class CountingQueue {
   [[nodiscard]] bool empty() const { return heap_.empty(); }
   [[nodiscard]] std::size_t size() const { return heap_.size(); }
   [[nodiscard]] std::size_t capacity() const { return heap_.capacity(); }
+  /// indexed_heap.h's operations, passed on to Heap; push, pop and decrease_key also count
+  /// themselves and the comparisons they make.
+  /// Cost: Heap's, plus two reads of a thread-local per counted call.
+  /// Throws: nothing.
+  /// Pre: those of indexed_heap.h.
   [[nodiscard]] bool contains(std::uint32_t item) const { return heap_.contains(item); }
-  /// Precondition: contains(item).
   [[nodiscard]] double key(std::uint32_t item) const { return heap_.key(item).value; }
-  /// The item with the smallest key. Precondition: !empty().
   [[nodiscard]] std::uint32_t top() const { return heap_.top(); }
   [[nodiscard]] double top_key() const { return heap_.top_key().value; }
 
-  /// Precondition: !contains(item) and item < capacity().
   void push(std::uint32_t item, double key) {
     const ComparisonTally tally{counts_.comparisons};
     heap_.push(item, CountedKey{key});
     ++counts_.pushes;
   }
 
-  /// Removes and returns the item with the smallest key.
   std::uint32_t pop() {
     const ComparisonTally tally{counts_.comparisons};
     ++counts_.pops;
     return heap_.pop();
   }
 
-  /// Lowers an item's key. Precondition: contains(item), key <= key(item).
   void decrease_key(std::uint32_t item, double key) {
     const ComparisonTally tally{counts_.comparisons};
     heap_.decrease_key(item, CountedKey{key});
     ++counts_.decrease_keys;
   }
 
-  /// Push when absent, decrease_key when present with a larger key; returns
-  /// whether the key changed. Counted as the push or the decrease_key it
-  /// turned out to be (nothing when the key was not lower), plus its
-  /// comparisons.
+  /// indexed_heap.h's push_or_decrease on the wrapped heap, counted as the push or the decrease_key it
+  /// turned out to be (nothing when the key was not lower), plus its comparisons.
+  /// Cost: that of push_or_decrease on Heap.
+  /// Throws: nothing.
+  /// Pre: item < capacity().
   bool push_or_decrease(std::uint32_t item, const double& key) {
     const ComparisonTally tally{counts_.comparisons};
     const bool was_queued = heap_.contains(item);
-    if (!heap_.push_or_decrease(item, CountedKey{key})) return false;
+    if (!recon::push_or_decrease(heap_, item, CountedKey{key})) return false;
     ++(was_queued ? counts_.decrease_keys : counts_.pushes);
     return true;
   }

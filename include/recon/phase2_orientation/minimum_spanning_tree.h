@@ -19,8 +19,9 @@
 //
 // The queue is a template parameter, so that the alternatives lab can run
 // this very loop on another heap, or on one that counts its work. A queue
-// has IndexedBinaryHeap<double>'s interface as Prim uses it: Queue(capacity),
-// empty(), top_key(), pop(), push(item, key), decrease_key(item, key). When
+// is any DecreaseKeyQueue<double> (indexed_heap.h): Queue(capacity), empty(),
+// top_key(), pop(), push(item, key), decrease_key(item, key); every
+// IndexedMinHeap is one. When
 // it also has a `counts()` member returning OperationCounts (as
 // counting_queue.h's CountingQueue does), the forest's `counts` is a copy of
 // them after the run; with any other queue, the default one included,
@@ -36,6 +37,7 @@
 // They return MinimumSpanningEdges (below).
 
 #include "recon/structures/binary_heap.h"
+#include "recon/structures/indexed_heap.h"
 #include "recon/core/errors.h"
 #include "recon/structures/graph.h"
 #include "recon/core/interruption.h"
@@ -110,7 +112,7 @@ concept counts_operations = requires(const Queue& queue) {
 /// Cost: O(E log V) with a binary heap (O(E + V log V) with a Fibonacci heap), E calls of `weight`.
 /// Throws: what `weight`, the queue or an interruption check (every 65536 vertices) throws; nothing else.
 /// Pre: no weight is NaN; every root < V.
-template <class Queue = IndexedBinaryHeap<double>, class Weight>
+template <DecreaseKeyQueue<double> Queue = IndexedBinaryHeap<double>, class Weight>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph, std::span<const std::uint32_t> roots,
                                                           Weight&& weight) {
   const std::size_t n = graph.vertex_count();
@@ -184,7 +186,7 @@ template <class Queue = IndexedBinaryHeap<double>, class Weight>
 
 /// The same on another queue: prim_minimum_spanning_forest<MyQueue>(graph).
 /// Cost, throws and preconditions as the stored-weight form above, with MyQueue's costs.
-template <class Queue>
+template <DecreaseKeyQueue<double> Queue>
 [[nodiscard]] SpanningForest prim_minimum_spanning_forest(const Graph& graph,
                                                           std::span<const std::uint32_t> roots = {}) {
   return prim_minimum_spanning_forest<Queue>(graph, roots, stored_weights(graph, "Prim"));

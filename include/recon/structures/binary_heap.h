@@ -1,14 +1,11 @@
 #pragma once
-// An indexed binary min-heap: the priority queue behind Prim's algorithm.
+// An indexed binary min-heap: the priority queue behind Prim's algorithm, and
+// the default IndexedMinHeap (indexed_heap.h states the interface, the items
+// and their order: by key, then by item, so every run is deterministic).
 //
-// Items are the integers 0..capacity-1, each in the heap at most once, with a
-// key. Besides push and pop it supports decrease_key(item, key), which is what
-// Prim needs when it finds a cheaper edge to a vertex already waiting: the
-// heap keeps, for every item, its slot in the array (`slot_`), so the item can
-// be found in O(1) and sifted up in O(log n).
-//
-// Order: by key, then by item, so that equal keys leave in a fixed order and
-// every run is deterministic.
+// Decrease-key is what Prim needs when it finds a cheaper edge to a vertex
+// already waiting: the heap keeps, for every item, its slot in the array
+// (`slot_`), so the item can be found in O(1) and sifted up in O(log n).
 //
 // Mesh simplification (simplification.h) also needs the other direction: a
 // collapse raises the costs of the vertices around it, and a vertex that can
@@ -17,6 +14,8 @@
 //
 // Costs: push, pop, decrease_key, update_key, erase O(log n); top, contains, key O(1);
 // memory 2 ints per possible item plus a key per queued item.
+
+#include "recon/structures/indexed_heap.h"
 
 #include <cstdint>
 #include <utility>
@@ -34,21 +33,29 @@ class IndexedBinaryHeap {
   [[nodiscard]] bool empty() const { return heap_.empty(); }
   [[nodiscard]] std::size_t size() const { return heap_.size(); }
   [[nodiscard]] std::size_t capacity() const { return slot_.size(); }
+  /// The queries of indexed_heap.h: slot_ finds an item, the smallest is at the front of the array.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: contains(item) for key; !empty() for top and top_key.
   [[nodiscard]] bool contains(std::uint32_t item) const { return slot_[item] != absent; }
-  /// Precondition: contains(item).
   [[nodiscard]] const Key& key(std::uint32_t item) const { return heap_[slot_[item]].key; }
-  /// The item with the smallest key. Precondition: !empty().
   [[nodiscard]] std::uint32_t top() const { return heap_.front().item; }
   [[nodiscard]] const Key& top_key() const { return heap_.front().key; }
 
-  /// Precondition: !contains(item) and item < capacity().
+  /// Queues item (indexed_heap.h): a new last leaf, sifted up.
+  /// Cost: O(log n).
+  /// Throws: nothing.
+  /// Pre: !contains(item) and item < capacity().
   void push(std::uint32_t item, Key key) {
     slot_[item] = static_cast<std::uint32_t>(heap_.size());
     heap_.push_back({std::move(key), item});
     sift_up(heap_.size() - 1);
   }
 
-  /// Removes and returns the item with the smallest key.
+  /// Removes and returns the smallest item: the last leaf takes the root's place and is sifted down.
+  /// Cost: O(log n).
+  /// Throws: nothing.
+  /// Pre: !empty().
   std::uint32_t pop() {
     const std::uint32_t item = heap_.front().item;
     move_to(0, heap_.back());
@@ -58,26 +65,20 @@ class IndexedBinaryHeap {
     return item;
   }
 
-  /// Lowers an item's key. Precondition: contains(item), key <= key(item).
+  /// Lowers an item's key and sifts it up from its slot.
+  /// Cost: O(log n).
+  /// Throws: nothing.
+  /// Pre: contains(item) and key <= key(item).
   void decrease_key(std::uint32_t item, Key key) {
     const std::size_t s = slot_[item];
     heap_[s].key = std::move(key);
     sift_up(s);
   }
 
-  /// Push when absent, decrease_key when present with a larger key; returns
-  /// whether the key changed. Prim's relaxation step in one call.
-  bool push_or_decrease(std::uint32_t item, const Key& key) {
-    if (!contains(item)) {
-      push(item, key);
-      return true;
-    }
-    if (!less(key, item, this->key(item), item)) return false;
-    decrease_key(item, key);
-    return true;
-  }
-
-  /// Gives an item a new key, larger or smaller. Precondition: contains(item).
+  /// Gives an item a new key, larger or smaller: sifted up, then down.
+  /// Cost: O(log n).
+  /// Throws: nothing.
+  /// Pre: contains(item).
   void update_key(std::uint32_t item, Key key) {
     const std::size_t s = slot_[item];
     heap_[s].key = std::move(key);
@@ -85,7 +86,10 @@ class IndexedBinaryHeap {
     sift_down(slot_[item]);
   }
 
-  /// Removes an item wherever it is. Precondition: contains(item).
+  /// Removes an item wherever it is: the last entry fills its slot and is sifted.
+  /// Cost: O(log n).
+  /// Throws: nothing.
+  /// Pre: contains(item).
   void erase(std::uint32_t item) {
     const std::size_t s = slot_[item];
     slot_[item] = absent;
@@ -98,6 +102,10 @@ class IndexedBinaryHeap {
     sift_down(slot_[moved]);
   }
 
+  /// Empties the heap, freeing the slots of the queued items only.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: none.
   void clear() {
     for (const auto& e : heap_) slot_[e.item] = absent;
     heap_.clear();
@@ -149,5 +157,7 @@ class IndexedBinaryHeap {
   std::vector<Entry> heap_;
   std::vector<std::uint32_t> slot_;  // item -> position in heap_, or absent
 };
+
+static_assert(IndexedMinHeap<IndexedBinaryHeap<double>, double>);
 
 }  // namespace recon

@@ -15,15 +15,15 @@
 //   the smaller, until all roots differ in degree, then the new minimum is
 //   found among the O(log n) roots left.
 //
-// Items are the integers 0..capacity-1, each in the heap at most once, with a
-// key. Order: by key, then by item, exactly as IndexedBinaryHeap, so that
-// both give the same sequence of pops and Prim the same tree. Keys are
-// compared with operator< alone.
+// The interface, the items and their order (by key, then by item, as every
+// heap here, so that Prim grows the same tree): IndexedMinHeap, indexed_heap.h.
 //
 // Costs: push, decrease_key O(1) amortized; pop O(log n) amortized; top,
 // contains, key O(1); clear O(n). Memory: a node per possible item (its key,
 // four links, its degree and two flags) and up to n ints of scratch; Key must
 // be default-constructible.
+
+#include "recon/structures/indexed_heap.h"
 
 #include <cstdint>
 #include <utility>
@@ -41,14 +41,19 @@ class FibonacciHeap {
   [[nodiscard]] bool empty() const { return size_ == 0; }
   [[nodiscard]] std::size_t size() const { return size_; }
   [[nodiscard]] std::size_t capacity() const { return nodes_.size(); }
+  /// The queries of indexed_heap.h: an item's node holds its key and flag, min_ the smallest root.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: contains(item) for key; !empty() for top and top_key.
   [[nodiscard]] bool contains(std::uint32_t item) const { return nodes_[item].queued; }
-  /// Precondition: contains(item).
   [[nodiscard]] const Key& key(std::uint32_t item) const { return nodes_[item].key; }
-  /// The item with the smallest key. Precondition: !empty().
   [[nodiscard]] std::uint32_t top() const { return min_; }
   [[nodiscard]] const Key& top_key() const { return nodes_[min_].key; }
 
-  /// Precondition: !contains(item) and item < capacity().
+  /// Queues item (indexed_heap.h): a tree of its own on the root ring.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: !contains(item) and item < capacity().
   void push(std::uint32_t item, Key key) {
     Node& node = nodes_[item];
     node = Node{};
@@ -58,7 +63,10 @@ class FibonacciHeap {
     add_root(item);
   }
 
-  /// Removes and returns the item with the smallest key.
+  /// Removes and returns the smallest item; its children become roots, then the roots are consolidated.
+  /// Cost: O(log n) amortized; O(n) for one pop after n pushes.
+  /// Throws: nothing.
+  /// Pre: !empty().
   std::uint32_t pop() {
     const std::uint32_t popped = min_;
     // The other roots and the popped node's children are the trees left.
@@ -75,7 +83,10 @@ class FibonacciHeap {
     return popped;
   }
 
-  /// Lowers an item's key. Precondition: contains(item), key <= key(item).
+  /// Lowers an item's key; an item now smaller than its parent is cut to the roots (cascading cut).
+  /// Cost: O(1) amortized.
+  /// Throws: nothing.
+  /// Pre: contains(item) and key <= key(item).
   void decrease_key(std::uint32_t item, Key key) {
     nodes_[item].key = std::move(key);
     const std::uint32_t parent = nodes_[item].parent;
@@ -88,18 +99,10 @@ class FibonacciHeap {
     cascading_cut(parent);
   }
 
-  /// Push when absent, decrease_key when present with a larger key; returns
-  /// whether the key changed. Prim's relaxation step in one call.
-  bool push_or_decrease(std::uint32_t item, const Key& key) {
-    if (!contains(item)) {
-      push(item, key);
-      return true;
-    }
-    if (!less(key, item, this->key(item), item)) return false;
-    decrease_key(item, key);
-    return true;
-  }
-
+  /// Empties the heap, visiting the queued nodes only.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: none.
   void clear() {
     // Walk the forest ring by ring: pending_ holds one node of each ring
     // still to visit.
@@ -237,5 +240,7 @@ class FibonacciHeap {
   std::vector<std::uint32_t> pending_;         // scratch: trees to consolidate, rings to clear
   std::vector<std::uint32_t> root_of_degree_;  // scratch of consolidate: absent between calls
 };
+
+static_assert(IndexedMinHeap<FibonacciHeap<double>, double>);
 
 }  // namespace recon

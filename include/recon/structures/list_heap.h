@@ -9,15 +9,16 @@
 // the last item into the popped one's place and scans all the items left for
 // the new smallest.
 //
-// Items are the integers 0..capacity-1, each in the queue at most once, with a
-// key. Order: by key, then by item, exactly as IndexedBinaryHeap, so that
-// both give the same sequence of pops and Prim the same tree. Keys are
-// compared with operator< alone.
+// The interface, the items and their order (by key, then by item, as every
+// heap here, so that Prim grows the same tree): IndexedMinHeap, indexed_heap.h.
 //
 // Costs: push, decrease_key O(1) (one comparison with the cached smallest);
 // pop O(n) (the scan compares the n - 1 items left: n - 2 comparisons); top,
-// contains, key O(1) (the smallest is cached, not searched); clear O(n). Memory: an int per possible
-// item plus a key and an int per queued item, as the binary heap.
+// contains, key O(1) (the smallest is cached, not searched); clear O(n).
+// Memory: an int per possible item plus a key and an int per queued item, as
+// the binary heap.
+
+#include "recon/structures/indexed_heap.h"
 
 #include <cstdint>
 #include <utility>
@@ -35,14 +36,19 @@ class ListHeap {
   [[nodiscard]] bool empty() const { return list_.empty(); }
   [[nodiscard]] std::size_t size() const { return list_.size(); }
   [[nodiscard]] std::size_t capacity() const { return slot_.size(); }
+  /// The queries of indexed_heap.h: slot_ finds an item, min_ is where the smallest is.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: contains(item) for key; !empty() for top and top_key.
   [[nodiscard]] bool contains(std::uint32_t item) const { return slot_[item] != absent; }
-  /// Precondition: contains(item).
   [[nodiscard]] const Key& key(std::uint32_t item) const { return list_[slot_[item]].key; }
-  /// The item with the smallest key. Precondition: !empty().
   [[nodiscard]] std::uint32_t top() const { return list_[min_].item; }
   [[nodiscard]] const Key& top_key() const { return list_[min_].key; }
 
-  /// Precondition: !contains(item) and item < capacity().
+  /// Queues item (indexed_heap.h): appended, and compared with the smallest.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: !contains(item) and item < capacity().
   void push(std::uint32_t item, Key key) {
     const std::size_t s = list_.size();
     slot_[item] = static_cast<std::uint32_t>(s);
@@ -50,7 +56,10 @@ class ListHeap {
     if (s == 0 || less(list_[s], list_[min_])) min_ = s;
   }
 
-  /// Removes and returns the item with the smallest key.
+  /// Removes and returns the smallest item: the last takes its place, then a scan finds the new smallest.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: !empty().
   std::uint32_t pop() {
     const std::uint32_t item = list_[min_].item;
     move_to(min_, std::move(list_.back()));
@@ -60,25 +69,20 @@ class ListHeap {
     return item;
   }
 
-  /// Lowers an item's key. Precondition: contains(item), key <= key(item).
+  /// Lowers an item's key in place, and compares it with the smallest.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: contains(item) and key <= key(item).
   void decrease_key(std::uint32_t item, Key key) {
     const std::size_t s = slot_[item];
     list_[s].key = std::move(key);
     if (s != min_ && less(list_[s], list_[min_])) min_ = s;
   }
 
-  /// Push when absent, decrease_key when present with a larger key; returns
-  /// whether the key changed. Prim's relaxation step in one call.
-  bool push_or_decrease(std::uint32_t item, const Key& key) {
-    if (!contains(item)) {
-      push(item, key);
-      return true;
-    }
-    if (!less(key, item, this->key(item), item)) return false;
-    decrease_key(item, key);
-    return true;
-  }
-
+  /// Empties the queue, freeing the slots of the queued items only.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: none.
   void clear() {
     for (const auto& e : list_) slot_[e.item] = absent;
     list_.clear();
@@ -114,5 +118,7 @@ class ListHeap {
   std::vector<std::uint32_t> slot_;  // item -> position in list_, or absent
   std::size_t min_ = 0;              // position of the smallest in list_; 0 when empty
 };
+
+static_assert(IndexedMinHeap<ListHeap<double>, double>);
 
 }  // namespace recon

@@ -14,22 +14,22 @@
 //   pairs from left to right, then the pairs from right to left into one
 //   tree. The two passes are what keep the tree shallow.
 //
-// Items are the integers 0..capacity-1, each in the heap at most once, with a
-// key. Order: by key, then by item, exactly as IndexedBinaryHeap, so that
-// both give the same sequence of pops and Prim the same tree. Keys are
-// compared with operator< alone.
+// The interface, the items and their order (by key, then by item, as every
+// heap here, so that Prim grows the same tree): IndexedMinHeap, indexed_heap.h.
 //
 // Mesh simplification (simplification.h) also raises keys and removes
 // items: erase cuts the item out, melds its children into one tree (pop's
 // two passes) and melds that with the root; update_key is decrease_key when
 // the key falls, erase and push when it rises.
 //
-// Costs: push O(1); erase and a rising update_key O(log n) amortized, as pop; pop O(log n) amortized; decrease_key O(1) work, but its
-// amortized cost is only known to lie between Omega(log log n) (Fredman
-// 1999) and O(2^(2 sqrt(log log n))) (Pettie 2005), in practice close to
-// O(1); top, contains, key O(1); clear O(n). Memory: a node per possible item
-// (its key, three links and a flag) and up to n ints of scratch; Key must be
-// default-constructible.
+// Costs: push O(1); pop O(log n) amortized, and so erase and a rising
+// update_key; decrease_key O(1) work, but its amortized cost is only known
+// to lie between Omega(log log n) (Fredman 1999) and O(2^(2 sqrt(log log
+// n))) (Pettie 2005), in practice close to O(1); top, contains, key O(1);
+// clear O(n). Memory: a node per possible item (its key, three links and a
+// flag) and up to n ints of scratch; Key must be default-constructible.
+
+#include "recon/structures/indexed_heap.h"
 
 #include <cstdint>
 #include <utility>
@@ -47,14 +47,19 @@ class PairingHeap {
   [[nodiscard]] bool empty() const { return size_ == 0; }
   [[nodiscard]] std::size_t size() const { return size_; }
   [[nodiscard]] std::size_t capacity() const { return nodes_.size(); }
+  /// The queries of indexed_heap.h: an item's node holds its key and flag, the smallest is the root.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: contains(item) for key; !empty() for top and top_key.
   [[nodiscard]] bool contains(std::uint32_t item) const { return nodes_[item].queued; }
-  /// Precondition: contains(item).
   [[nodiscard]] const Key& key(std::uint32_t item) const { return nodes_[item].key; }
-  /// The item with the smallest key. Precondition: !empty().
   [[nodiscard]] std::uint32_t top() const { return root_; }
   [[nodiscard]] const Key& top_key() const { return nodes_[root_].key; }
 
-  /// Precondition: !contains(item) and item < capacity().
+  /// Queues item (indexed_heap.h): a tree of one node, melded with the root.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: !contains(item) and item < capacity().
   void push(std::uint32_t item, Key key) {
     Node& node = nodes_[item];
     node = Node{};
@@ -64,7 +69,10 @@ class PairingHeap {
     root_ = root_ == absent ? item : meld(root_, item);
   }
 
-  /// Removes and returns the item with the smallest key.
+  /// Removes and returns the smallest item, the root; its children are melded in two passes.
+  /// Cost: O(log n) amortized.
+  /// Throws: nothing.
+  /// Pre: !empty().
   std::uint32_t pop() {
     const std::uint32_t popped = root_;
     root_ = merge_children(popped);
@@ -73,7 +81,10 @@ class PairingHeap {
     return popped;
   }
 
-  /// Lowers an item's key. Precondition: contains(item), key <= key(item).
+  /// Lowers an item's key: its subtree is cut from its parent and melded with the root.
+  /// Cost: O(1) work; amortized between Omega(log log n) and O(2^(2 sqrt(log log n))) (header comment).
+  /// Throws: nothing.
+  /// Pre: contains(item) and key <= key(item).
   void decrease_key(std::uint32_t item, Key key) {
     nodes_[item].key = std::move(key);
     if (item == root_) return;
@@ -81,19 +92,10 @@ class PairingHeap {
     root_ = meld(root_, item);
   }
 
-  /// Push when absent, decrease_key when present with a larger key; returns
-  /// whether the key changed. Prim's relaxation step in one call.
-  bool push_or_decrease(std::uint32_t item, const Key& key) {
-    if (!contains(item)) {
-      push(item, key);
-      return true;
-    }
-    if (!less(key, item, this->key(item), item)) return false;
-    decrease_key(item, key);
-    return true;
-  }
-
-  /// Removes an item wherever it is. Precondition: contains(item).
+  /// Removes an item wherever it is: cut out, its children melded into one tree, that melded with the root.
+  /// Cost: O(log n) amortized, as pop.
+  /// Throws: nothing.
+  /// Pre: contains(item).
   void erase(std::uint32_t item) {
     if (item == root_) {
       pop();
@@ -107,7 +109,10 @@ class PairingHeap {
     if (children != absent) root_ = meld(root_, children);
   }
 
-  /// Gives an item a new key, larger or smaller. Precondition: contains(item).
+  /// Gives an item a new key: decrease_key when it falls, erase and push when it rises.
+  /// Cost: that of decrease_key, or O(log n) amortized when it rises.
+  /// Throws: nothing.
+  /// Pre: contains(item).
   void update_key(std::uint32_t item, Key key) {
     if (!less(nodes_[item].key, item, key, item)) {
       decrease_key(item, std::move(key));
@@ -117,6 +122,10 @@ class PairingHeap {
     push(item, std::move(key));
   }
 
+  /// Empties the heap, visiting the queued nodes only.
+  /// Cost: O(n).
+  /// Throws: nothing.
+  /// Pre: none.
   void clear() {
     // Every node but the root is reached as a first child or as a next
     // sibling; pending_ holds the nodes still to visit.
@@ -203,5 +212,7 @@ class PairingHeap {
   std::size_t size_ = 0;
   std::vector<std::uint32_t> pending_;  // scratch: pairs of pop, nodes to clear
 };
+
+static_assert(IndexedMinHeap<PairingHeap<double>, double>);
 
 }  // namespace recon
