@@ -5,11 +5,11 @@
 #include "run_reports.h"
 #include "summary.h"
 
-#include "recon/io/point_io.h"
 #include "recon/core/point_cloud.h"
-#include "recon/report/report.h"
 #include "recon/core/resource_usage.h"
+#include "recon/io/point_io.h"
 #include "recon/phase1_planes/tangent_planes.h"
+#include "recon/report/report.h"
 
 #include <CLI/CLI.hpp>
 
@@ -24,7 +24,7 @@ namespace recon::cli {
 struct InputOptions {
   std::filesystem::path path;
   std::string format;
-  std::string columns;       ///< --columns x,y,z,_,r,g,b (text without a header)
+  std::string columns;        ///< --columns x,y,z,_,r,g,b (text without a header)
   bool skip_invalid = false;  ///< --skip-invalid
   bool no_colors = false;     ///< --no-colors: drop the input's colours
 };
@@ -64,7 +64,6 @@ void add_simplify_options(CLI::App& app, const std::string& target_flag, std::st
 void add_mesh_output_options(CLI::App& app, bool& ascii, bool& normals, const std::string& source,
                              std::filesystem::path& stats);
 
-
 // Options of phases I and II, and the memory limit.
 struct PhaseOptions {
   int k = TangentPlaneOptions{}.k;
@@ -84,13 +83,12 @@ struct ReconstructCommandOptions {
   std::optional<double> delta, cell;
   std::optional<int> resolution;
   bool ascii = false, use_normals = false, keep_fragments = false;
-  bool normals = false;             ///< --normals: vertex normals in the mesh (always in a .glb)
+  bool normals = false;  ///< --normals: vertex normals in the mesh (always in a .glb)
   std::string method = "refined";
   double tile_size = 0.0;           ///< --tile-size: work in tiles (tiled.h)
   std::filesystem::path tmpdir;     ///< --tmpdir: where the tiles go (default: the output's folder)
   std::string simplify;             ///< --simplify: a triangle count, a ratio below 1, or a percentage (empty: off)
   std::optional<double> max_error;  ///< --max-error: multiple of rho
 };
-
 
 }  // namespace recon::cli

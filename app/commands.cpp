@@ -4,24 +4,24 @@
 #include "curves.h"
 #include "number_options.h"
 #include "progress.h"
-#include "tiled.h"
 #include "run_reports.h"
 #include "summary.h"
+#include "tiled.h"
 
 #include "recon/core/errors.h"
+#include "recon/core/parallel.h"
+#include "recon/core/resource_usage.h"
+#include "recon/core/shapes.h"
+#include "recon/core/timer.h"
 #include "recon/estimate_normals.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
-#include "recon/structures/mesh.h"
+#include "recon/phase1_planes/tangent_planes.h"
+#include "recon/phase2_orientation/orientation.h"
 #include "recon/reconstruct.h"
 #include "recon/report/report.h"
-#include "recon/core/resource_usage.h"
-#include "recon/phase2_orientation/orientation.h"
-#include "recon/core/parallel.h"
-#include "recon/core/shapes.h"
+#include "recon/structures/mesh.h"
 #include "recon/structures/spatial_order.h"  // permuted
-#include "recon/phase1_planes/tangent_planes.h"
-#include "recon/core/timer.h"
 
 #include <algorithm>
 #include <cctype>
@@ -101,8 +101,7 @@ void check_outputs(const std::filesystem::path& input, const std::vector<std::fi
     std::error_code ec;
     if (!std::filesystem::is_directory(folder, ec))
       throw IoError(out.string() + ": cannot write: folder '" + folder.string() + "' does not exist");
-    if (std::filesystem::is_directory(out, ec))
-      throw IoError(out.string() + ": cannot write: it is a folder");
+    if (std::filesystem::is_directory(out, ec)) throw IoError(out.string() + ": cannot write: it is a folder");
   }
 }
 
@@ -116,8 +115,9 @@ void add_simplify_options(CLI::App& app, const std::string& target_flag, std::st
                           const std::string& subject, const std::string& bound_flag, std::optional<double>& bound,
                           const std::string& reference, const std::string& measure) {
   app.add_option(target_flag, target,
-                 "Simplify " + subject + "to this many triangles, or this ratio or percentage of them (5000, 0.1, "
-                 "10%), keeping creases, corners, open boundaries and separate objects")
+                 "Simplify " + subject +
+                     "to this many triangles, or this ratio or percentage of them (5000, 0.1, "
+                     "10%), keeping creases, corners, open boundaries and separate objects")
       ->check(simplify_target());
   app.add_option(bound_flag, bound,
                  "Simplify keeping every vertex of the " + reference + " within this " + measure +
@@ -148,10 +148,11 @@ io::PointFormat writable_point_format(const std::filesystem::path& path) {
 }  // namespace
 
 void add_phase_options(CLI::App& app, PhaseOptions& p) {
-  p.k_option = app.add_option("-k,--k", p.k,
-                              "Neighbours per tangent plane, the point itself included (default 20, 8 for curves; raised "
-                              "automatically for noisy data unless given)")
-                   ->check(CLI::Range(3, 256));
+  p.k_option =
+      app.add_option("-k,--k", p.k,
+                     "Neighbours per tangent plane, the point itself included (default 20, 8 for curves; raised "
+                     "automatically for noisy data unless given)")
+          ->check(CLI::Range(3, 256));
   app.add_option("--rho", p.rho,
                  "Sampling density: every point of the surface is within this distance of a sample (default: "
                  "estimated per point)")
@@ -211,7 +212,8 @@ ReconstructionOptions reconstruction_options(const ReconstructCommandOptions& o)
   options.max_memory = o.phases.max_memory;
   // GLB always has them (viewers shade with them); other formats when asked.
   options.vertex_normals = o.normals || writes_glb(o.output);
-  if (!o.simplify.empty()) std::tie(options.simplify.triangles, options.simplify.ratio) = simplify_target_of(o.simplify);
+  if (!o.simplify.empty())
+    std::tie(options.simplify.triangles, options.simplify.ratio) = simplify_target_of(o.simplify);
   options.simplify.max_error = o.max_error.value_or(0.0);
   // Without a report only the counts are reported; the report draws the
   // graph and the evaluated corners.
@@ -288,8 +290,8 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   add_phase_options(app, o->phases);
   app.add_option("--delta", o->delta, "Noise level, a length (default: estimated from the tangent-plane fits)")
       ->check(non_negative_length());
-  auto* cell = app.add_option("--cell", o->cell, "Lattice cube side, a length (default: rho)")
-                   ->check(positive_length());
+  auto* cell =
+      app.add_option("--cell", o->cell, "Lattice cube side, a length (default: rho)")->check(positive_length());
   app.add_option("--resolution", o->resolution, "Lattice cubes along the longest side of the bounding box")
       ->check(CLI::Range(1, 1 << 20))
       ->excludes(cell);
@@ -351,7 +353,9 @@ std::string describe_cloud(const PointCloud& cloud, int k) {
 Command add_info(CLI::App& app, const GlobalOptions& global) {
   auto o = std::make_shared<InfoCommandOptions>();
   add_input(app, o->in);
-  app.add_option("-k,--k", o->k, "Neighbourhood size used to estimate rho")->default_val(o->k)->check(CLI::Range(3, 256));
+  app.add_option("-k,--k", o->k, "Neighbourhood size used to estimate rho")
+      ->default_val(o->k)
+      ->check(CLI::Range(3, 256));
   return [o, &global] {
     Summary summary(global.quiet);
     const PointCloud cloud = read_input(o->in, summary);
@@ -368,8 +372,8 @@ struct NormalsCommandOptions {
   bool ascii = false;
 };
 
-void write_normals_report(const std::filesystem::path& path, const NormalEstimation& estimated,
-                          const PointCloud& cloud, const std::filesystem::path& source, Summary& summary) {
+void write_normals_report(const std::filesystem::path& path, const NormalEstimation& estimated, const PointCloud& cloud,
+                          const std::filesystem::path& source, Summary& summary) {
   ReportInput input;
   input.points = estimated.points();
   input.offset = estimated.offset;

@@ -4,11 +4,11 @@
 #include "summary.h"
 
 #include "recon/core/errors.h"
-#include "recon/io/curve_io.h"
-#include "recon/core/parallel.h"
 #include "recon/core/memory_budget.h"
-#include "recon/curves/reconstruct_curve.h"
+#include "recon/core/parallel.h"
 #include "recon/core/timer.h"
+#include "recon/curves/reconstruct_curve.h"
+#include "recon/io/curve_io.h"
 
 #include <algorithm>
 #include <cctype>
@@ -29,9 +29,12 @@ StepReport phase_4_report(const MarchingSquaresResult& c) {
        << " squares visited of " << static_cast<double>(c.size[0]) * c.size[1] << " in the lattice (" << c.size[0]
        << " x " << c.size[1] << "), " << plural(c.saddle_squares, "saddle") << " ("
        << format_seconds(c.seconds - c.seconds_field) << ")";
-  return step_report(line.str(), {{"cell", c.cell}, {"lattice_size", lattice_size_json(c.size)},
-                                  {"visited_squares", c.visited_squares}, {"undefined_squares", c.undefined_squares},
-                                  {"saddle_squares", c.saddle_squares}, {"seconds", c.seconds - c.seconds_field}});
+  return step_report(line.str(), {{"cell", c.cell},
+                                  {"lattice_size", lattice_size_json(c.size)},
+                                  {"visited_squares", c.visited_squares},
+                                  {"undefined_squares", c.undefined_squares},
+                                  {"saddle_squares", c.saddle_squares},
+                                  {"seconds", c.seconds - c.seconds_field}});
 }
 
 StepReport curves_report(const PolylineSet& curves) {
@@ -41,8 +44,10 @@ StepReport curves_report(const PolylineSet& curves) {
   line << "curves    " << plural(curves.polylines.size(), "curve") << ": " << curves.closed_count() << " closed, "
        << curves.open_count() << " open; " << plural(curves.vertices.size(), "vertex") << ", length "
        << format_length(total_length);
-  return step_report(line.str(), {{"count", curves.polylines.size()}, {"closed", curves.closed_count()},
-                                  {"open", curves.open_count()}, {"vertices", curves.vertices.size()},
+  return step_report(line.str(), {{"count", curves.polylines.size()},
+                                  {"closed", curves.closed_count()},
+                                  {"open", curves.open_count()},
+                                  {"vertices", curves.vertices.size()},
                                   {"length", total_length}});
 }
 
@@ -102,8 +107,9 @@ bool wants_curves(const std::filesystem::path& input, const std::string& format,
 
 void reconstruct_curves(const ReconstructCommandOptions& o, bool quiet, std::optional<io::PointSource>& opened) {
   if (!o.report.empty())
-    throw InvalidInputError("--report draws 3D reconstructions; for curves, the SVG output shows the points, "
-                            "their normals and the curves (and the playground, web/playground, every phase)");
+    throw InvalidInputError(
+        "--report draws 3D reconstructions; for curves, the SVG output shows the points, "
+        "their normals and the curves (and the playground, web/playground, every phase)");
   check_outputs(o.in.path, {o.output, o.stats});
   Timer total;
   Summary summary(quiet);

@@ -1,8 +1,8 @@
 #include "run_reports.h"
 
-#include "recon/structures/mesh.h"
 #include "recon/core/parallel.h"  // thread_count
 #include "recon/core/timer.h"
+#include "recon/structures/mesh.h"
 
 #include <algorithm>
 #include <limits>
@@ -26,13 +26,18 @@ StepReport phase_1_report(const TangentPlanes<D>& planes, std::size_t points) {
        << plural(planes.degenerate, "degenerate neighbourhood");
   if (planes.isolated > 0) line << ", " << plural(planes.isolated, "isolated point") << " (outliers: no surface)";
   line << " (" << format_seconds(seconds) << ")";
-  return step_report(line.str(), {{"k", planes.k}, {"k_requested", planes.k_requested}, {"noise", planes.noise},
-                                  {"rho", planes.rho}, {"rho_estimated", !planes.rho_given},
+  return step_report(line.str(), {{"k", planes.k},
+                                  {"k_requested", planes.k_requested},
+                                  {"noise", planes.noise},
+                                  {"rho", planes.rho},
+                                  {"rho_estimated", !planes.rho_given},
                                   {"distinct_points", planes.distinct_points},
                                   {"degenerate_neighbourhoods", planes.degenerate},
-                                  {"isolated_points", planes.isolated}, {"seconds_tree", planes.seconds_tree},
+                                  {"isolated_points", planes.isolated},
+                                  {"seconds_tree", planes.seconds_tree},
                                   {"seconds_knn_pca", planes.seconds_knn_pca},
-                                  {"seconds_spacing", planes.seconds_spacing}, {"seconds", seconds}});
+                                  {"seconds_spacing", planes.seconds_spacing},
+                                  {"seconds", seconds}});
 }
 
 StepReport quadrics_report(const LocalQuadrics& q) {
@@ -40,8 +45,8 @@ StepReport quadrics_report(const LocalQuadrics& q) {
   line << "          second-order fits: " << plural(q.borrowed, "sample") << " near creases took a neighbour's, "
        << plural(q.split, "neighbourhood") << " split between two sheets, " << plural(q.flat, "flat fit") << " ("
        << format_seconds(q.seconds) << ")";
-  return step_report(line.str(), {{"borrowed", q.borrowed}, {"split_sheets", q.split}, {"flat", q.flat},
-                                  {"seconds", q.seconds}});
+  return step_report(line.str(),
+                     {{"borrowed", q.borrowed}, {"split_sheets", q.split}, {"flat", q.flat}, {"seconds", q.seconds}});
 }
 
 template <int D>
@@ -61,40 +66,51 @@ StepReport phase_2_report(const OrientedNormals<D>& oriented) {
   line << " (" << format_seconds(seconds) << ")";
   Json::Array size_list;
   for (std::uint32_t v : g.components.sizes) size_list.emplace_back(static_cast<std::size_t>(v));
-  return step_report(line.str(), {{"components", oriented.component_count()}, {"component_sizes", Json(size_list)},
-                                  {"graph_edges", g.edge_count}, {"gap_edges", g.gap_emst_edges},
-                                  {"rejoined_pieces", g.rejoined}, {"flips", oriented.flip_count},
-                                  {"seconds_emst", g.seconds_emst}, {"seconds_graph", g.seconds_graph},
-                                  {"seconds_mst", oriented.seconds_mst}, {"vote_flips", oriented.vote_flips},
+  return step_report(line.str(), {{"components", oriented.component_count()},
+                                  {"component_sizes", Json(size_list)},
+                                  {"graph_edges", g.edge_count},
+                                  {"gap_edges", g.gap_emst_edges},
+                                  {"rejoined_pieces", g.rejoined},
+                                  {"flips", oriented.flip_count},
+                                  {"seconds_emst", g.seconds_emst},
+                                  {"seconds_graph", g.seconds_graph},
+                                  {"seconds_mst", oriented.seconds_mst},
+                                  {"vote_flips", oriented.vote_flips},
                                   {"sheet_edges", oriented.sheet_edges},
                                   {"crease_patches_turned", oriented.crease_patches_turned},
-                                  {"components_turned", oriented.components_turned}, {"seconds", seconds}});
+                                  {"components_turned", oriented.components_turned},
+                                  {"seconds", seconds}});
 }
 
-StepReport input_report(const std::string& file, const PointCloud& cloud, const io::ReadNotes& notes,
-                        double seconds) {
+StepReport input_report(const std::string& file, const PointCloud& cloud, const io::ReadNotes& notes, double seconds) {
   StepReport report;
   const char* extras = cloud.has_normals() ? (cloud.has_colors() ? " with normals and colours" : " with normals")
                                            : (cloud.has_colors() ? " with colours" : "");
   report.lines.push_back("read      " + file + ": " + plural(cloud.size(), "point") + extras + " (" +
                          format_seconds(seconds) + ")");
   for (const std::string& line : notes.lines) report.lines.push_back("          " + line);
-  put(report.stats, {{"file", file}, {"points", cloud.size()}, {"has_normals", cloud.has_normals()},
-                     {"has_colors", cloud.has_colors()}, {"skipped_points", notes.skipped_points},
+  put(report.stats, {{"file", file},
+                     {"points", cloud.size()},
+                     {"has_normals", cloud.has_normals()},
+                     {"has_colors", cloud.has_colors()},
+                     {"skipped_points", notes.skipped_points},
                      {"seconds", seconds}});
   return report;
 }
 
 StepReport phase_3_report(const SignedDistanceFigures& f) {
   std::ostringstream line;
-  line << "phase III signed distance: delta = " << format_length(f.delta) << (f.delta_given ? " (given)" : " (estimated)")
-       << ", " << f.evaluated << " lattice corners evaluated, " << f.undefined << " undefined ("
-       << format_seconds(f.seconds);
+  line << "phase III signed distance: delta = " << format_length(f.delta)
+       << (f.delta_given ? " (given)" : " (estimated)") << ", " << f.evaluated << " lattice corners evaluated, "
+       << f.undefined << " undefined (" << format_seconds(f.seconds);
   if (f.seconds_beside > 0.0) line << ", and " << format_seconds(f.seconds_beside) << " beside phase II";
   line << ")";
-  return step_report(line.str(), {{"delta", f.delta}, {"delta_estimated", !f.delta_given},
-                                  {"corners_evaluated", f.evaluated}, {"corners_undefined", f.undefined},
-                                  {"seconds", f.seconds}, {"seconds_beside_orientation", f.seconds_beside}});
+  return step_report(line.str(), {{"delta", f.delta},
+                                  {"delta_estimated", !f.delta_given},
+                                  {"corners_evaluated", f.evaluated},
+                                  {"corners_undefined", f.undefined},
+                                  {"seconds", f.seconds},
+                                  {"seconds_beside_orientation", f.seconds_beside}});
 }
 
 Json lattice_size_json(std::span<const std::int32_t> size) {
@@ -119,7 +135,8 @@ StepReport phase_4_report(const MarchingCubesResult& c, std::span<const ClusterL
     for (const ClusterLattice& l : clusters) cubes += static_cast<double>(l.size[0]) * l.size[1] * l.size[2];
     line << cubes << " in " << clusters.size() << " lattices, one per far-apart cluster (";
     for (std::size_t i = 0; i < clusters.size(); ++i)
-      line << (i > 0 ? ", " : "") << clusters[i].size[0] << " x " << clusters[i].size[1] << " x " << clusters[i].size[2];
+      line << (i > 0 ? ", " : "") << clusters[i].size[0] << " x " << clusters[i].size[1] << " x "
+           << clusters[i].size[2];
     line << "), ";
   }
   line << format_seconds(c.seconds - c.seconds_field);
@@ -135,7 +152,9 @@ StepReport phase_4_report(const MarchingCubesResult& c, std::span<const ClusterL
     }
     m["clusters"] = Json(std::move(list));
   }
-  put(m, {{"seed_cubes", c.seed_cubes}, {"visited_cubes", c.visited_cubes}, {"undefined_cubes", c.undefined_cubes},
+  put(m, {{"seed_cubes", c.seed_cubes},
+          {"visited_cubes", c.visited_cubes},
+          {"undefined_cubes", c.undefined_cubes},
           {"seconds", c.seconds - c.seconds_field}});
   return report;
 }
@@ -146,17 +165,22 @@ StepReport refinement_report(const Refinement& r) {
   moved /= static_cast<double>(std::max<std::size_t>(1, r.displacement.size()));
   std::ostringstream line;
   line << "phase V   refinement: vertices moved " << format_length(moved) << " on average, "
-       << plural(r.crease_vertices, "crease vertex") << " added, " << r.brought_back
-       << " brought back onto a crease, " << plural(r.corner_vertices, "corner") << ", "
-       << plural(r.trimmed, "triangle") << " past open boundaries cut off, ";
+       << plural(r.crease_vertices, "crease vertex") << " added, " << r.brought_back << " brought back onto a crease, "
+       << plural(r.corner_vertices, "corner") << ", " << plural(r.trimmed, "triangle")
+       << " past open boundaries cut off, ";
   if (r.stray_triangles > 0) line << plural(r.stray_triangles, "triangle") << " beyond the data's reach dropped, ";
   line << plural(r.fragments, "fragment") << " dropped (" << plural(r.fragment_triangles, "triangle") << ") ("
        << format_seconds(r.seconds) << ")";
-  return step_report(line.str(), {{"mean_displacement", moved}, {"crease_vertices", r.crease_vertices},
-                                  {"brought_back", r.brought_back}, {"corner_vertices", r.corner_vertices},
-                                  {"unmoved_vertices", r.unmoved}, {"trimmed_triangles", r.trimmed},
-                                  {"stray_triangles", r.stray_triangles}, {"fragments", r.fragments},
-                                  {"fragment_triangles", r.fragment_triangles}, {"seconds", r.seconds}});
+  return step_report(line.str(), {{"mean_displacement", moved},
+                                  {"crease_vertices", r.crease_vertices},
+                                  {"brought_back", r.brought_back},
+                                  {"corner_vertices", r.corner_vertices},
+                                  {"unmoved_vertices", r.unmoved},
+                                  {"trimmed_triangles", r.trimmed},
+                                  {"stray_triangles", r.stray_triangles},
+                                  {"fragments", r.fragments},
+                                  {"fragment_triangles", r.fragment_triangles},
+                                  {"seconds", r.seconds}});
 }
 
 // The mesh's colours (when the input had some).
@@ -174,11 +198,15 @@ StepReport mesh_report(const Mesh& mesh) {
        << plural(t.components, "component") << ", "
        << (t.boundary_loops == 0 ? std::string("closed") : plural(t.boundary_loops, "boundary loop"))
        << ", Euler characteristic " << t.euler_characteristic;
-  return step_report(line.str(), {{"vertices", t.vertices}, {"faces", t.triangles}, {"components", t.components},
-                                  {"boundary_edges", t.boundary_edges}, {"boundary_loops", t.boundary_loops},
+  return step_report(line.str(), {{"vertices", t.vertices},
+                                  {"faces", t.triangles},
+                                  {"components", t.components},
+                                  {"boundary_edges", t.boundary_edges},
+                                  {"boundary_loops", t.boundary_loops},
                                   {"non_manifold_edges", t.non_manifold_edges},
                                   {"euler_characteristic", static_cast<double>(t.euler_characteristic)},
-                                  {"area", t.area}, {"signed_volume", t.signed_volume},
+                                  {"area", t.area},
+                                  {"signed_volume", t.signed_volume},
                                   {"has_colors", mesh.has_colors()}});
 }
 
@@ -222,14 +250,17 @@ StepReport simplification_report(const Simplification& s, std::optional<double> 
        << plural(s.collapses, "collapse") << ", " << plural(s.corner_vertices, "fixed vertex") << ", "
        << plural(s.crease_vertices, "crease or boundary vertex") << " moved along their lines only";
   if (s.vertex_error > 0.0)
-    line << "; vertices within " << (rho ? format_length(s.vertex_error / *rho) + " rho" : format_length(s.vertex_error));
+    line << "; vertices within "
+         << (rho ? format_length(s.vertex_error / *rho) + " rho" : format_length(s.vertex_error));
   line << ") (" << format_seconds(s.seconds) << ")";
-  return step_report(line.str(), {{"triangles_before", s.triangles_before}, {"triangles_after", s.triangles_after},
-                                  {"collapses", s.collapses}, {"fixed_vertices", s.corner_vertices},
-                                  {"line_vertices", s.crease_vertices},
-                                  {rho ? "vertex_error_rho" : "vertex_error",
-                                   rho ? s.vertex_error / *rho : s.vertex_error},
-                                  {"seconds", s.seconds}});
+  return step_report(line.str(),
+                     {{"triangles_before", s.triangles_before},
+                      {"triangles_after", s.triangles_after},
+                      {"collapses", s.collapses},
+                      {"fixed_vertices", s.corner_vertices},
+                      {"line_vertices", s.crease_vertices},
+                      {rho ? "vertex_error_rho" : "vertex_error", rho ? s.vertex_error / *rho : s.vertex_error},
+                      {"seconds", s.seconds}});
 }
 
 template StepReport phase_1_report<2>(const TangentPlanes<2>&, std::size_t);

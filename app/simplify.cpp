@@ -11,10 +11,10 @@
 #include "summary.h"
 
 #include "recon/core/errors.h"
-#include "recon/io/mesh_io.h"
-#include "recon/phase6_simplify/simplification.h"
 #include "recon/core/timer.h"
+#include "recon/io/mesh_io.h"
 #include "recon/phase5_refine/vertex_normals.h"
+#include "recon/phase6_simplify/simplification.h"
 
 #include <memory>
 #include <optional>
@@ -38,8 +38,10 @@ StepReport read_report(const std::filesystem::path& path, const Mesh& mesh, doub
   std::ostringstream line;
   line << "read      " << path.string() << ": " << plural(mesh.vertices.size(), "vertex") << ", "
        << plural(mesh.triangles.size(), "triangle") << " (" << format_seconds(seconds) << ")";
-  return step_report(line.str(), {{"path", path.string()}, {"vertices", mesh.vertices.size()},
-                                  {"triangles", mesh.triangles.size()}, {"seconds", seconds}});
+  return step_report(line.str(), {{"path", path.string()},
+                                  {"vertices", mesh.vertices.size()},
+                                  {"triangles", mesh.triangles.size()},
+                                  {"seconds", seconds}});
 }
 
 SimplifyOptions simplify_options(const SimplifyCommandOptions& o) {

@@ -1,12 +1,12 @@
 #include "summary.h"
 
-#include "recon/io/atomic_file.h"
 #include "recon/core/detail/float_chars.h"
 #include "recon/core/version.h"
+#include "recon/io/atomic_file.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -27,10 +27,18 @@ void append_string(std::string& out, const std::string& s) {
   out += '"';
   for (const char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           char buffer[8];
@@ -69,8 +77,8 @@ void Json::dump(std::string& out, int indent, int depth) const {
     append_string(out, *s);
   } else if (const auto* a = std::get_if<Array>(&value_)) {
     // Numbers and strings on one line; objects (the lab's runs) one a line.
-    const bool objects = std::any_of(a->begin(), a->end(),
-                                     [](const Json& j) { return std::holds_alternative<Object>(j.value_); });
+    const bool objects =
+        std::any_of(a->begin(), a->end(), [](const Json& j) { return std::holds_alternative<Object>(j.value_); });
     out += '[';
     for (std::size_t i = 0; i < a->size(); ++i) {
       if (i) out += objects && indent > 0 ? "," : ", ";
@@ -163,10 +171,20 @@ std::string parse_size(const std::string& text, std::size_t& bytes) {
   std::string unit = text.substr(used);
   unit.erase(std::remove(unit.begin(), unit.end(), ' '), unit.end());
   for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  static const std::pair<const char*, double> units[] = {
-      {"", 1.0},      {"B", 1.0},      {"K", 1e3},        {"KB", 1e3},       {"KIB", 1024.0},
-      {"M", 1e6},     {"MB", 1e6},     {"MIB", 1048576.0}, {"G", 1e9},        {"GB", 1e9},
-      {"GIB", 1073741824.0}, {"T", 1e12}, {"TB", 1e12},    {"TIB", 1099511627776.0}};
+  static const std::pair<const char*, double> units[] = {{"", 1.0},
+                                                         {"B", 1.0},
+                                                         {"K", 1e3},
+                                                         {"KB", 1e3},
+                                                         {"KIB", 1024.0},
+                                                         {"M", 1e6},
+                                                         {"MB", 1e6},
+                                                         {"MIB", 1048576.0},
+                                                         {"G", 1e9},
+                                                         {"GB", 1e9},
+                                                         {"GIB", 1073741824.0},
+                                                         {"T", 1e12},
+                                                         {"TB", 1e12},
+                                                         {"TIB", 1099511627776.0}};
   for (const auto& [name, factor] : units) {
     if (unit != name) continue;
     const double b = value * factor;

@@ -4,11 +4,11 @@
 #include "run_reports.h"
 
 #include "recon/core/errors.h"
-#include "recon/io/mesh_io.h"
 #include "recon/core/memory_budget.h"
 #include "recon/core/resource_usage.h"
-#include "recon/tiles/tiles.h"
 #include "recon/core/timer.h"
+#include "recon/io/mesh_io.h"
+#include "recon/tiles/tiles.h"
 
 #include <atomic>
 #include <cmath>
@@ -62,7 +62,10 @@ void refuse_what_tiles_do_not_do(const ReconstructCommandOptions& o) {
   if (o.use_normals) refuse("estimate and orient the normals: drop --use-normals");
   if (!o.report.empty()) refuse("write no report: drop --report");
   // The stitched mesh goes straight to the file, never whole in memory.
-  if (!o.simplify.empty() || o.max_error) refuse("do not simplify (the mesh is never whole in memory): drop --simplify and --max-error, and simplify the tiled mesh afterwards with `recon simplify MESH -o OUT --to T`");
+  if (!o.simplify.empty() || o.max_error)
+    refuse(
+        "do not simplify (the mesh is never whole in memory): drop --simplify and --max-error, and simplify the tiled "
+        "mesh afterwards with `recon simplify MESH -o OUT --to T`");
 }
 
 StepReport plan_report(const TilePlan& plan, const std::string& why) {
@@ -74,19 +77,25 @@ StepReport plan_report(const TilePlan& plan, const std::string& why) {
                     format_length(edge) + " and a halo of " + format_length(plan.halo) + "; " +
                     plural(plan.input_points, "point") + " binned as " + std::to_string(binned) + " (" +
                     format_seconds(plan.seconds_bounds + plan.seconds_binning) + ")");
-  r.lines.push_back("          cloud-wide: k = " + std::to_string(plan.k) + ", rho = " + format_length(plan.spacing.rho) +
-                    ", cell " + format_length(plan.lattice.cell) + ", from phase I on " +
-                    plural(plan.statistics_points, "point") + (plan.statistics_over_tiles ? " measured over the tiles" : "") +
-                    " (" + format_seconds(plan.seconds_statistics) + ")");
+  r.lines.push_back("          cloud-wide: k = " + std::to_string(plan.k) +
+                    ", rho = " + format_length(plan.spacing.rho) + ", cell " + format_length(plan.lattice.cell) +
+                    ", from phase I on " + plural(plan.statistics_points, "point") +
+                    (plan.statistics_over_tiles ? " measured over the tiles" : "") + " (" +
+                    format_seconds(plan.seconds_statistics) + ")");
   if (plan.statistics_inexact > 0)
     r.lines.push_back("          " + plural(plan.statistics_inexact, "sample") +
                       " measured with a neighbourhood that may reach past its tile (halo too narrow)");
-  put(r.stats, {{"reason", why}, {"tiles", plan.tiles.size()}, {"core_edge", edge}, {"halo", plan.halo},
+  put(r.stats, {{"reason", why},
+                {"tiles", plan.tiles.size()},
+                {"core_edge", edge},
+                {"halo", plan.halo},
                 {"points_binned", static_cast<double>(binned)},
                 {"statistics_points", static_cast<double>(plan.statistics_points)},
                 {"statistics_over_tiles", plan.statistics_over_tiles},
-                {"statistics_inexact", static_cast<double>(plan.statistics_inexact)}, {"k", plan.k},
-                {"rho", plan.spacing.rho}, {"cell", plan.lattice.cell},
+                {"statistics_inexact", static_cast<double>(plan.statistics_inexact)},
+                {"k", plan.k},
+                {"rho", plan.spacing.rho},
+                {"cell", plan.lattice.cell},
                 {"seconds_plan", plan.seconds_bounds + plan.seconds_statistics + plan.seconds_binning}});
   return r;
 }
@@ -102,35 +111,49 @@ StepReport run_report(const TiledRun& run) {
     contour += run.contours[t].seconds;
     inexact += o.inexact_samples;
     Json tile;
-    put(tile, {{"points", o.points}, {"pieces", o.pieces}, {"inexact_samples", o.inexact_samples},
-               {"triangles", run.contours[t].triangles}, {"seconds_orient", o.seconds},
+    put(tile, {{"points", o.points},
+               {"pieces", o.pieces},
+               {"inexact_samples", o.inexact_samples},
+               {"triangles", run.contours[t].triangles},
+               {"seconds_orient", o.seconds},
                {"seconds_contour", run.contours[t].seconds}});
     per_tile.push_back(tile);
   }
   StepReport r;
   r.lines.push_back("orient    " + plural(c.nodes, "piece") + " in the tiles, " + plural(c.objects, "object") + "; " +
                     std::to_string(c.turned) + " turned round to agree (" + std::to_string(c.disagreeing) + " of " +
-                    std::to_string(c.shared_samples) + " shared samples still disagree) (" + format_seconds(orient) + ")");
+                    std::to_string(c.shared_samples) + " shared samples still disagree) (" + format_seconds(orient) +
+                    ")");
   if (inexact > 0)
-    r.lines.push_back("          " + plural(inexact, "sample") + " near a core may see less than the whole cloud (halo too narrow)");
+    r.lines.push_back("          " + plural(inexact, "sample") +
+                      " near a core may see less than the whole cloud (halo too narrow)");
   r.lines.push_back("contour   " + plural(run.mesh.triangles, "triangle") + " (" + format_seconds(contour) +
                     "); stitched with " + std::to_string(run.mesh.welded) + " vertices welded at tile borders (" +
                     format_seconds(run.mesh.seconds) + ")");
-  put(r.stats, {{"objects", c.objects}, {"pieces", c.nodes}, {"pieces_turned", c.turned},
-                {"shared_samples", c.shared_samples}, {"disagreeing_samples", c.disagreeing},
-                {"inexact_samples", inexact}, {"welded_vertices", run.mesh.welded}});
+  put(r.stats, {{"objects", c.objects},
+                {"pieces", c.nodes},
+                {"pieces_turned", c.turned},
+                {"shared_samples", c.shared_samples},
+                {"disagreeing_samples", c.disagreeing},
+                {"inexact_samples", inexact},
+                {"welded_vertices", run.mesh.welded}});
   if (run.plan.method == Method::refined) {
     const StitchedMesh& m = run.mesh;
     r.lines.push_back("refine    " + plural(m.crease_vertices, "vertex") + " added on creases; " +
                       plural(m.trimmed, "triangle") + " trimmed past open boundaries, " +
                       plural(m.stray_triangles, "stray triangle") + ", " + plural(m.fragments, "fragment") + " (" +
                       plural(m.fragment_triangles, "triangle") + ") dropped, over the whole mesh");
-    put(r.stats, {{"crease_vertices", m.crease_vertices}, {"trimmed_triangles", m.trimmed},
-                  {"stray_triangles", m.stray_triangles}, {"fragments", m.fragments},
+    put(r.stats, {{"crease_vertices", m.crease_vertices},
+                  {"trimmed_triangles", m.trimmed},
+                  {"stray_triangles", m.stray_triangles},
+                  {"fragments", m.fragments},
                   {"fragment_triangles", m.fragment_triangles}});
   }
-  put(r.stats, {{"seconds_orient", orient}, {"seconds_reconcile", c.seconds}, {"seconds_contour", contour},
-                {"seconds_stitch", run.mesh.seconds}, {"per_tile", Json(per_tile)}});
+  put(r.stats, {{"seconds_orient", orient},
+                {"seconds_reconcile", c.seconds},
+                {"seconds_contour", contour},
+                {"seconds_stitch", run.mesh.seconds},
+                {"per_tile", Json(per_tile)}});
   return r;
 }
 
@@ -145,8 +168,7 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
   tiling.reconstruction = options;
   if (o.in.no_colors) tiling.reconstruction.mesh_colors = false;  // (the tiles then hold none)
   tiling.tile_size = o.tile_size;
-  const std::filesystem::path parent =
-      !o.tmpdir.empty() ? o.tmpdir : std::filesystem::absolute(o.output).parent_path();
+  const std::filesystem::path parent = !o.tmpdir.empty() ? o.tmpdir : std::filesystem::absolute(o.output).parent_path();
   TileWorkspace workspace(parent);
   // The line follows the step, counting its tiles when there are several:
   // "recon: orienting [####....]  40%  (8 / 20 tiles)  ~3 min left".
@@ -154,19 +176,19 @@ void run_tiled(const ReconstructCommandOptions& o, const ReconstructionOptions& 
   tiling.progress = &points_done;
   std::string step_now;
   Progress progress(!global.quiet);
-  const TiledRun run = reconstruct_tiled(
-      pass_over_file(o.in.path, read_options(o.in)), tiling, workspace.path(), o.output,
-      [&](const char* step, std::size_t done, std::size_t total_tiles) {
-        if (step != step_now) {
-          step_now = step;
-          tiles_done.start(total_tiles > 1 ? total_tiles : 0);
-          if (step_now == "planning")  // the passes over the input count their points
-            progress.phase("planning", &points_done, "points");
-          else
-            progress.phase(step_now, &tiles_done, "tiles");
-        }
-        tiles_done.done.store(done, std::memory_order_relaxed);
-      });
+  const TiledRun run =
+      reconstruct_tiled(pass_over_file(o.in.path, read_options(o.in)), tiling, workspace.path(), o.output,
+                        [&](const char* step, std::size_t done, std::size_t total_tiles) {
+                          if (step != step_now) {
+                            step_now = step;
+                            tiles_done.start(total_tiles > 1 ? total_tiles : 0);
+                            if (step_now == "planning")  // the passes over the input count their points
+                              progress.phase("planning", &points_done, "points");
+                            else
+                              progress.phase(step_now, &tiles_done, "tiles");
+                          }
+                          tiles_done.done.store(done, std::memory_order_relaxed);
+                        });
   progress.stop();
   summary.stats()["input"]["file"] = o.in.path.string();
   summary.stats()["input"]["points"] = static_cast<double>(run.plan.input_points);

@@ -12,11 +12,11 @@
 #include "mesh_compare.h"
 #include "test_data.h"
 
+#include "recon/core/shapes.h"
+#include "recon/core/version.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 #include "recon/structures/mesh.h"
-#include "recon/core/shapes.h"
-#include "recon/core/version.h"
 
 #include <gtest/gtest.h>
 
@@ -290,8 +290,8 @@ TEST_F(CliHelp, EachSubcommandListsItsOptions) {
       {"generate",
        {"shape", "--output", "--points", "--seed", "--noise", "--with-normals", "--truth", "--truth-points", "sphere",
         "torus", "two", "part", "handle", "conics"}},
-      {"lab", {"input", "--format", "--k", "--stats", "--report", "--max-complete", "--max-brute-force",
-               "--max-list-heap"}},
+      {"lab",
+       {"input", "--format", "--k", "--stats", "--report", "--max-complete", "--max-brute-force", "--max-list-heap"}},
   };
   for (const auto& [command, options] : expected) {
     const RunResult run = recon({command, "--help"});
@@ -377,15 +377,19 @@ TEST_F(CliErrors, BadFilesOfEveryKindAreOneLineAndExitOne) {
   // line naming the file and the place, and exits with status 1.
   const std::vector<std::pair<std::string, std::string>> files = {
       {"empty.ply", ""},
-      {"header.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                     "property float z\nend_header\n"},
+      {"header.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+       "property float z\nend_header\n"},
       {"long.xyz", "0 0 0\n" + std::string((std::size_t{1} << 20) + 1, '1') + "\n"},
-      {"binary.obj", std::string("v 0 0 0\n\x7f" "ELF\x02\x01\x01\0\0\0\0", 19)},
+      {"binary.obj", std::string("v 0 0 0\n\x7f"
+                                 "ELF\x02\x01\x01\0\0\0\0",
+                                 19)},
       {"huge.off", "OFF\n3 0 0\n0 0 0\n1e16 0 0\n0 1 0\n"},
       {"type.pcd", "FIELDS x y z\nSIZE 1 1 1\nTYPE U U U\nPOINTS 1\nDATA ascii\n1 2 300\n"},
   };
-  const std::vector<std::string> where = {"empty.ply: the file is empty", "header.ply:7: ", "long.xyz:2: ",
-                                          "binary.obj:2: ", "huge.off: 1 point has", "type.pcd:6: "};
+  const std::vector<std::string> where = {
+      "empty.ply: the file is empty", "header.ply:7: ", "long.xyz:2: ", "binary.obj:2: ",
+      "huge.off: 1 point has",        "type.pcd:6: "};
   for (std::size_t i = 0; i < files.size(); ++i) {
     write_file(at(files[i].first), files[i].second);
     const RunResult run = recon({"reconstruct", files[i].first, "-o", "out.ply"});
@@ -417,7 +421,8 @@ TEST_F(CliErrors, AnInputShortenedWhileReadIsNamed) {
   const std::string message = read_bytes(err);
   fs::remove(err);
   EXPECT_EQ(WEXITSTATUS(status), 1) << message;
-  EXPECT_EQ(message, "recon: error: big.xyz: the file was shortened, or could not be read, while recon was reading it\n");
+  EXPECT_EQ(message,
+            "recon: error: big.xyz: the file was shortened, or could not be read, while recon was reading it\n");
   EXPECT_EQ(entries(), (std::vector<std::string>{"big.xyz"}));
 }
 
@@ -437,8 +442,9 @@ TEST_F(CliErrors, NanCoordinateNamesTheLine) {
   write_file(at("nan.xyz"), "# a comment\n0 0 0\n\n1 0 0\n1 nan 2\n0 1 0\n");
   const RunResult run = recon({"reconstruct", "nan.xyz", "-o", "out.ply"});
   EXPECT_TRUE(refused(run));
-  EXPECT_TRUE(run.err.starts_with("recon: error: nan.xyz: 1 point has a coordinate that is not finite or beyond "
-                                  "+-1e+15; the first at line 5 (y = nan)"))
+  EXPECT_TRUE(
+      run.err.starts_with("recon: error: nan.xyz: 1 point has a coordinate that is not finite or beyond "
+                          "+-1e+15; the first at line 5 (y = nan)"))
       << describe(run);
   EXPECT_EQ(entries(), std::vector<std::string>{"nan.xyz"});
 }
@@ -558,8 +564,7 @@ TEST_F(CliAtomicOutput, SuccessReplacesTheOutputAndLeavesNoTemporaryFile) {
   ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "s.xyz", "-o", "oriented.ply", "--stats", "normals.json"})));
   EXPECT_NE(read_bytes(at("mesh.ply")), previous);
   EXPECT_GT(io::read_mesh(at("mesh.ply")).triangles.size(), 100U);
-  EXPECT_EQ(entries(),
-            (std::vector<std::string>{"mesh.ply", "normals.json", "oriented.ply", "s.xyz", "stats.json"}));
+  EXPECT_EQ(entries(), (std::vector<std::string>{"mesh.ply", "normals.json", "oriented.ply", "s.xyz", "stats.json"}));
   EXPECT_TRUE(hidden_entries().empty());
 }
 
@@ -674,15 +679,15 @@ TEST_F(CliReconstruct, TorusIsClosedGenusOneAndStatsMatchTheFile) {
   const std::optional<double> total = stat(json, "", "seconds_total");
   ASSERT_TRUE(total.has_value()) << json;
   const std::vector<std::pair<const char*, const char*>> timings = {
-      {"input", "seconds"},              // reading
-      {"tangent_planes", "seconds_tree"},    // phase I
+      {"input", "seconds"},                // reading
+      {"tangent_planes", "seconds_tree"},  // phase I
       {"tangent_planes", "seconds_knn_pca"},
       {"tangent_planes", "seconds_spacing"},
-      {"orientation", "seconds_emst"},       // phase II
+      {"orientation", "seconds_emst"},  // phase II
       {"orientation", "seconds_graph"},
       {"orientation", "seconds_mst"},
-      {"contouring", "seconds"},         // phases III and IV together
-      {"output", "seconds"},             // writing
+      {"contouring", "seconds"},  // phases III and IV together
+      {"output", "seconds"},      // writing
   };
   for (const auto& [section, key] : timings) {
     const std::optional<double> seconds = stat(json, section, key);
@@ -796,7 +801,8 @@ TEST_F(CliMeshFormat, NormalsOnlyWhenAskedAndAlwaysInGlb) {
   EXPECT_NE(glb.find("\"NORMAL\":1"), std::string::npos);
   EXPECT_NE(glb.find("\"count\":" + std::to_string(3 * plain.faces) + ","), std::string::npos) << "the indices";
   // Tiled: the same normals (tests/tiles/tiles_test.cpp compares them); GLB is refused there.
-  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "tiled.ply", "--normals", "--tile-size", "0.5"})));
+  ASSERT_TRUE(
+      succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "tiled.ply", "--normals", "--tile-size", "0.5"})));
   EXPECT_EQ(io::read_mesh(at("tiled.ply")).normals.size(), n.normals.size());
   const RunResult tiled_glb = recon({"reconstruct", "t.ply", "-o", "tiled.glb", "--tile-size", "0.5"});
   EXPECT_EQ(tiled_glb.exit_code, 1) << describe(tiled_glb);
@@ -1002,8 +1008,8 @@ TEST_F(CliTextColumns, ColumnsOptionNamesWhatTheValuesLeaveInDoubt) {
   EXPECT_NE(run.out.find("4 points with colours"), std::string::npos) << describe(run);
   EXPECT_NE(run.out.find("columns: x y z _ r g b (from --columns; colours: integers 0-255)"), std::string::npos)
       << describe(run);
-  EXPECT_TRUE(refused(recon({"info", "seven.txt", "--columns", "x,y,z,q,r,g,b"}),
-                      {"--columns names an unknown column 'q'"}));
+  EXPECT_TRUE(
+      refused(recon({"info", "seven.txt", "--columns", "x,y,z,q,r,g,b"}), {"--columns names an unknown column 'q'"}));
   EXPECT_TRUE(refused(recon({"info", "seven.txt", "--columns", "x,y,z"}),
                       {"seven.txt:1: --columns names 3 columns, but this line has 7"}));
   EXPECT_EQ(entries(), std::vector<std::string>{"seven.txt"});
@@ -1087,7 +1093,8 @@ TEST_F(CliReport, BadReportPathIsRefusedBeforeAnyWork) {
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 3000, "s.xyz"));
   RunResult run = recon({"reconstruct", "s.xyz", "-o", "m.ply", "--report", "missing/r.html"});
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.err.find("missing/r.html: cannot write: folder 'missing' does not exist"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("missing/r.html: cannot write: folder 'missing' does not exist"), std::string::npos)
+      << run.err;
   EXPECT_EQ(run.out, "");  // refused before reading
   run = recon({"reconstruct", "s.xyz", "-o", "m.ply", "--report", "m.ply"});
   EXPECT_EQ(run.exit_code, 1);
@@ -1149,8 +1156,9 @@ TEST_F(CliCurves, TwoColumnsMakeOneClosedCurveInObjWithStats) {
   write_file(at("circle.txt"), circle_xy_text(Vec2(1.0, -2.0), 1.5, 200, 1));
   const RunResult run = recon({"reconstruct", "circle.txt", "-o", "circle.obj", "--stats", "st.json"});
   ASSERT_TRUE(succeeded(run));
-  for (const char* phase : {"phase I   tangent lines", "phase II  orientation: 1 component", "phase III signed distance",
-                            "phase IV  marching squares", "curves    1 curve: 1 closed, 0 open"})
+  for (const char* phase :
+       {"phase I   tangent lines", "phase II  orientation: 1 component", "phase III signed distance",
+        "phase IV  marching squares", "curves    1 curve: 1 closed, 0 open"})
     EXPECT_NE(run.out.find(phase), std::string::npos) << phase << describe(run);
   const ObjCurves obj = read_obj_curves(at("circle.obj"));
   ASSERT_EQ(obj.lines.size(), 1U);
@@ -1180,7 +1188,7 @@ TEST_F(CliCurves, SvgShowsPointsNormalsAndCurves) {
     for (std::size_t at = svg.find(what); at != std::string::npos; at = svg.find(what, at + 1)) ++n;
     return n;
   };
-  EXPECT_EQ(count("<circle "), 250U);  // the points
+  EXPECT_EQ(count("<circle "), 250U);     // the points
   EXPECT_EQ(count("<path d=\"M"), 250U);  // a normal each
   EXPECT_EQ(count("<path class=\"closed\""), 2U);
   EXPECT_EQ(count("<path class=\"open\""), 0U);
@@ -1213,7 +1221,8 @@ TEST_F(CliCurves, BadInputsAreOneLineErrors) {
   write_file(at("few.txt"), "0 0\n1 0\n0 1\n1 1\n2 2\n");
   EXPECT_TRUE(refused(recon({"reconstruct", "few.txt", "-o", "out.svg"}), {"only 5 points", "lower --k"}));
   write_file(at("ok.txt"), circle_xy_text(Vec2::Zero(), 1.0, 50, 5));
-  EXPECT_TRUE(refused(recon({"reconstruct", "ok.txt", "-o", "out.ply"}), {"out.ply", "known curve formats: .svg, .obj, .txt"}));
+  EXPECT_TRUE(
+      refused(recon({"reconstruct", "ok.txt", "-o", "out.ply"}), {"out.ply", "known curve formats: .svg, .obj, .txt"}));
   EXPECT_TRUE(refused(recon({"reconstruct", "ok.txt", "-o", "out.svg", "--use-normals"}), {"no normals"}));
   // The 3D commands say what two columns are.
   EXPECT_TRUE(refused(recon({"normals", "ok.txt", "-o", "n.ply"}), {"ok.txt:1:", "2D points"}));
@@ -1294,20 +1303,20 @@ TEST_F(CliGenerate, TruthIsADenseSampleOfTheSurfaceWithNormals) {
 }
 
 TEST_F(CliGenerate, BadTruthOptionsAreRefusedBeforeWriting) {
-  const RunResult zero = recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "gt.ply",
-                                "--truth-points", "0"});
+  const RunResult zero =
+      recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "gt.ply", "--truth-points", "0"});
   EXPECT_EQ(zero.exit_code, 2) << describe(zero);  // a usage error, like every option out of range
   EXPECT_TRUE(zero.err.starts_with("recon: error: --truth-points: Value 0 not in range")) << describe(zero);
   EXPECT_EQ(count_lines(zero.err), 1U) << describe(zero);
   const RunResult alone = recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth-points", "10"});
   EXPECT_EQ(alone.exit_code, 2) << describe(alone);
   EXPECT_NE(alone.err.find("--truth-points requires --truth"), std::string::npos) << describe(alone);
-  EXPECT_TRUE(refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "gt.xyz"}),
-                      {"gt.xyz", ".ply"}));
+  EXPECT_TRUE(
+      refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "gt.xyz"}), {"gt.xyz", ".ply"}));
   EXPECT_TRUE(refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "h.ply"}),
                       {"h.ply is named for two outputs"}));
-  EXPECT_TRUE(refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "nowhere/gt.ply"}),
-                      {"nowhere"}));
+  EXPECT_TRUE(
+      refused(recon({"generate", "handle", "-n", "100", "-o", "h.ply", "--truth", "nowhere/gt.ply"}), {"nowhere"}));
   EXPECT_TRUE(entries().empty());
 }
 
@@ -1343,7 +1352,8 @@ TEST_F(CliLab, PrintsTheTableAndWritesEveryRunAsJson) {
   EXPECT_NE(json.find("\"runs\": ["), std::string::npos) << json;
   for (const char* part : {"\"kind\": \"queue\"", "\"kind\": \"mst\"", "\"kind\": \"graph\"", "\"kind\": \"search\"",
                            "\"graph\": \"riemannian\"", "\"tree_weight\": ", "\"seconds\": ", "\"decrease_keys\": ",
-                           "\"distance_evaluations\": ", "\"agree_truth\": ", "\"seconds\": null,\n      \"skipped\": \"2500 points is more than 1000 for the list heap"})
+                           "\"distance_evaluations\": ", "\"agree_truth\": ",
+                           "\"seconds\": null,\n      \"skipped\": \"2500 points is more than 1000 for the list heap"})
     EXPECT_NE(json.find(part), std::string::npos) << part << json;
   EXPECT_EQ(stat_count(json, "input", "points"), 2500);
 }
@@ -1380,7 +1390,6 @@ TEST_F(CliRealData, PclLamppost) {
   EXPECT_GE(io::read_mesh(at("lamppost.ply")).triangles.size(), 100U);
 }
 
-
 // ---------------------------------------------------------------- tiles
 
 // --tile-size: the same triangles as the run in memory (phase IV's mesh,
@@ -1405,7 +1414,8 @@ TEST_F(CliTiles, TileSizeGivesTheSameMeshAsInMemory) {
 TEST_F(CliTiles, RefinedMeshInTilesIsTheInMemoryOne) {
   ASSERT_NO_FATAL_FAILURE(generate("terrain", 15000, "t.ply"));
   ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "t.ply", "-o", "whole.ply", "--stats", "whole.json"})));
-  const RunResult tiled = recon({"reconstruct", "t.ply", "-o", "tiled.ply", "--tile-size", "0.5", "--stats", "tiled.json"});
+  const RunResult tiled =
+      recon({"reconstruct", "t.ply", "-o", "tiled.ply", "--tile-size", "0.5", "--stats", "tiled.json"});
   ASSERT_TRUE(succeeded(tiled)) << describe(tiled);
   EXPECT_NE(tiled.out.find("refine    "), std::string::npos) << tiled.out;
   EXPECT_NE(tiled.out.find("(refined, phase V included)"), std::string::npos) << tiled.out;
@@ -1431,7 +1441,8 @@ TEST_F(CliTiles, ColoursComeThroughTilesUnlessNoColors) {
   const KdTree<3> tree(whole.vertices);
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
     ASSERT_EQ(mesh.colors[v], whole.colors[tree.nearest(mesh.vertices[v]).index]) << "vertex " << v;
-  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "c.ply", "-o", "plain.ply", "--tile-size", "0.7", "--no-colors"})));
+  ASSERT_TRUE(
+      succeeded(recon({"--quiet", "reconstruct", "c.ply", "-o", "plain.ply", "--tile-size", "0.7", "--no-colors"})));
   EXPECT_FALSE(io::read_mesh(at("plain.ply")).has_colors());
 }
 
@@ -1462,8 +1473,7 @@ TEST_F(CliTiles, WhatTilesDoNotDoIsRefusedBeforeAnyWork) {
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.obj", "--tile-size", "1"}), {"name the output .ply"}));
   EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--tile-size", "1", "--use-normals"}),
                       {"drop --use-normals"}));
-  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--tile-size", "1", "--ascii"}),
-                      {"drop --ascii"}));
+  EXPECT_TRUE(refused(recon({"reconstruct", "s.ply", "-o", "m.ply", "--tile-size", "1", "--ascii"}), {"drop --ascii"}));
   EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
 }
 
@@ -1582,8 +1592,8 @@ TEST_F(CliLimits, HugeAndTinyLengthsAreRefusedWithoutOverflow) {
 TEST_F(CliLimits, HugeTileSizeIsOneTile) {
   ASSERT_NO_FATAL_FAILURE(generate("terrain", 8000, "s.ply"));
   for (const std::string size : {"1e10", "1e30", "1e300"}) {
-    const RunResult run = recon({"--quiet", "reconstruct", "s.ply", "-o", "m.ply", "--tile-size", size, "--stats",
-                                 "m.json"});
+    const RunResult run =
+        recon({"--quiet", "reconstruct", "s.ply", "-o", "m.ply", "--tile-size", size, "--stats", "m.json"});
     ASSERT_TRUE(succeeded(run)) << describe(run);
     EXPECT_EQ(stat_count(read_bytes(at("m.json")), "tiled", "tiles"), 1) << "--tile-size " << size;
   }
@@ -1733,10 +1743,12 @@ TEST_F(CliErrors, SimplifyRefusesBadValues) {
   generate("box", 3000, "box.ply");
   for (const char* bad : {"0", "-5", "1.5", "100%", "0%", "nan", "inf", "many"})
     EXPECT_TRUE(option_refused(recon({"reconstruct", "box.ply", "-o", "out.ply", "--simplify", bad}), "--simplify",
-                               "expected a triangle count")) << bad;
+                               "expected a triangle count"))
+        << bad;
   for (const char* bad : {"0", "-1", "nan"})
     EXPECT_TRUE(option_refused(recon({"reconstruct", "box.ply", "-o", "out.ply", "--max-error", bad}), "--max-error",
-                               "greater than 0")) << bad;
+                               "greater than 0"))
+        << bad;
   EXPECT_TRUE(refused(recon({"reconstruct", "box.ply", "-o", "out.ply", "--simplify", "99999999"}),
                       {"simplify to 99999999 triangles", "the mesh has only"}));
   EXPECT_TRUE(refused(recon({"reconstruct", "box.ply", "-o", "out.ply", "--simplify", "0.1", "--tile-size", "0.5"}),
@@ -1799,12 +1811,13 @@ TEST_F(CliSimplify, BadRequestsAreOneLineErrorsAndWriteNothing) {
   EXPECT_TRUE(refused(recon({"simplify", "m.ply", "-o", "out.ply"}), {"give --to", "--max-distance"}));
   EXPECT_TRUE(refused(recon({"simplify", "m.ply", "-o", "out.ply", "--to", "99999999"}),
                       {"m.ply", "cannot simplify to 99999999 triangles", "the mesh has only"}));
-  EXPECT_TRUE(option_refused(recon({"simplify", "m.ply", "-o", "out.ply", "--to", "0"}), "--to", "expected a triangle count"));
+  EXPECT_TRUE(
+      option_refused(recon({"simplify", "m.ply", "-o", "out.ply", "--to", "0"}), "--to", "expected a triangle count"));
   EXPECT_TRUE(option_refused(recon({"simplify", "m.ply", "-o", "out.ply", "--max-distance", "-1"}), "--max-distance",
                              "greater than 0"));
   EXPECT_TRUE(refused(recon({"simplify", "missing.ply", "-o", "out.ply", "--to", "10"}), {"missing.ply"}));
   EXPECT_TRUE(refused(recon({"simplify", "box.ply", "-o", "out.ply", "--to", "10"}), {"box.ply"}));  // points, no faces
-  EXPECT_TRUE(refused(recon({"simplify", "m.ply", "-o", "m.ply", "--to", "10"}), {"m.ply"}));         // the input
+  EXPECT_TRUE(refused(recon({"simplify", "m.ply", "-o", "m.ply", "--to", "10"}), {"m.ply"}));        // the input
   EXPECT_FALSE(fs::exists(at("out.ply")));
   EXPECT_TRUE(refused(recon({"reconstruct", "box.ply", "-o", "t.ply", "--simplify", "10", "--tile-size", "0.5"}),
                       {"recon simplify"}));

@@ -20,7 +20,7 @@ namespace recon {
 // Triangles as index triples of b's vertices, rotated to start at the
 // smallest index (which keeps their orientation).
 inline std::multiset<std::array<std::uint32_t, 3>> canonical(const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                                      const std::vector<std::uint32_t>& to_b = {}) {
+                                                             const std::vector<std::uint32_t>& to_b = {}) {
   std::multiset<std::array<std::uint32_t, 3>> out;
   for (auto t : triangles) {
     if (!to_b.empty())

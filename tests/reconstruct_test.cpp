@@ -1,11 +1,11 @@
 #include "recon/reconstruct_parts.h"
 
 #include "recon/core/errors.h"
+#include "recon/core/parallel.h"
+#include "recon/core/shapes.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 #include "recon/structures/mesh.h"
-#include "recon/core/parallel.h"
-#include "recon/core/shapes.h"
 #include "test_data.h"
 
 #include <gtest/gtest.h>
@@ -142,7 +142,7 @@ TEST(Reconstruct, PlanePatchWithHoleStaysOpen) {
   const Reconstruction r = reconstruct(cloud);
   const MeshTopology t = analyze_topology(r.mesh());
   EXPECT_EQ(t.components, 1u);
-  EXPECT_EQ(t.boundary_loops, 2u);  // the rim and the hole
+  EXPECT_EQ(t.boundary_loops, 2u);       // the rim and the hole
   EXPECT_EQ(t.euler_characteristic, 0);  // an annulus
   EXPECT_EQ(t.non_manifold_edges, 0u);
   // f is defined up to 1.5 rho_i + delta beyond the last samples (see
@@ -152,8 +152,8 @@ TEST(Reconstruct, PlanePatchWithHoleStaysOpen) {
   const double reach = 1.5 * largest_rho + r.delta;
   EXPECT_LT(reach, 0.5 * hole);
   for (const Vec3& v : r.mesh().vertices) {
-    EXPECT_NEAR(v.z(), 0.0, 1e-9);                   // a flat patch reconstructs flat
-    EXPECT_GT(v.head<2>().norm(), hole - reach);     // no cap over the hole
+    EXPECT_NEAR(v.z(), 0.0, 1e-9);                // a flat patch reconstructs flat
+    EXPECT_GT(v.head<2>().norm(), hole - reach);  // no cap over the hole
     EXPECT_LT(v.head<2>().lpNorm<Eigen::Infinity>(), 1.0 + reach);
   }
 }
@@ -429,27 +429,29 @@ TEST(Reconstruct, FirstWaveBesideOrientationGivesTheWalksOwnValues) {
   cases.push_back({make_box(), "box"});
   cases.push_back({make_terrain(), "terrain"});
   for (const Method method : {Method::hoppe92, Method::refined})
-  for (const Case& c : cases)
-    for (const int t : {1, 2}) {
-      set_thread_count(t);
-      ReconstructionOptions options;
-      options.method = method;
-      const Reconstruction r = reconstruct(c.shape->sample(20000, 41), options);
-      ASSERT_TRUE(r.oriented.has_value());
-      const SignedDistance<3> f = signed_distance_of(r);
-      MarchingCubesOptions mc;
-      mc.cell = r.contour.cell;
-      MarchingCubesResult walk = marching_cubes(std::cref(f), r.points(), mc);
-      if (method == Method::refined) sort_by_cube(walk);  // (as reconstruct() does before phase V)
-      for (Vec3& v : walk.mesh.vertices) v += r.offset;
-      EXPECT_TRUE(walk.mesh.vertices == r.contour.mesh.vertices) << c.name << ", " << t << " threads, " << method_name(method);
-      EXPECT_TRUE(walk.mesh.triangles == r.contour.mesh.triangles) << c.name << ", " << t << " threads, " << method_name(method);
-      EXPECT_EQ(walk.undefined_corners, r.contour.undefined_corners);
-      // (PCA turns a height field's normals one way already: the terrain needs no flip.)
-      if (c.name != "terrain") {
-        EXPECT_GT(r.oriented->flip_count, r.planes.origins.size() / 5) << c.name;
+    for (const Case& c : cases)
+      for (const int t : {1, 2}) {
+        set_thread_count(t);
+        ReconstructionOptions options;
+        options.method = method;
+        const Reconstruction r = reconstruct(c.shape->sample(20000, 41), options);
+        ASSERT_TRUE(r.oriented.has_value());
+        const SignedDistance<3> f = signed_distance_of(r);
+        MarchingCubesOptions mc;
+        mc.cell = r.contour.cell;
+        MarchingCubesResult walk = marching_cubes(std::cref(f), r.points(), mc);
+        if (method == Method::refined) sort_by_cube(walk);  // (as reconstruct() does before phase V)
+        for (Vec3& v : walk.mesh.vertices) v += r.offset;
+        EXPECT_TRUE(walk.mesh.vertices == r.contour.mesh.vertices)
+            << c.name << ", " << t << " threads, " << method_name(method);
+        EXPECT_TRUE(walk.mesh.triangles == r.contour.mesh.triangles)
+            << c.name << ", " << t << " threads, " << method_name(method);
+        EXPECT_EQ(walk.undefined_corners, r.contour.undefined_corners);
+        // (PCA turns a height field's normals one way already: the terrain needs no flip.)
+        if (c.name != "terrain") {
+          EXPECT_GT(r.oriented->flip_count, r.planes.origins.size() / 5) << c.name;
+        }
       }
-    }
   set_thread_count(threads);
 }
 
@@ -469,8 +471,8 @@ MeshTopology reconstruct_file(const std::string& relative, Reconstruction* out =
 TEST(ReconstructRealData, EveryDataSetReconstructs) {
   RECON_REQUIRE_DATA(testing::shared_data("README.md"));
   for (const char* file : {"hoppe_cactus/cactus.pts", "hoppe_distcap/distcap.pts", "stanford_bunny/bun_zipper.ply",
-                           "stanford_armadillo_points/Armadillo.ply", "powercrust_knot/knot.pts",
-                           "cgal_oni/oni.xyz", "pcl_lamppost/lamppost.pcd", "pcl_bun0/bun0.pcd"})
+                           "stanford_armadillo_points/Armadillo.ply", "powercrust_knot/knot.pts", "cgal_oni/oni.xyz",
+                           "pcl_lamppost/lamppost.pcd", "pcl_bun0/bun0.pcd"})
     (void)reconstruct_file(file);
 }
 

@@ -4,17 +4,17 @@
 #include "recon/alternatives/brute_force_search.h"
 #include "recon/alternatives/complete_graph_mst.h"
 #include "recon/alternatives/counting_queue.h"
+#include "recon/alternatives/kruskal.h"
+#include "recon/alternatives/uniform_grid.h"
+#include "recon/core/timer.h"
+#include "recon/phase1_planes/local_quadrics.h"
 #include "recon/phase2_orientation/emst.h"
+#include "recon/phase6_simplify/simplification.h"
+#include "recon/reconstruct.h"
 #include "recon/structures/fibonacci_heap.h"
 #include "recon/structures/indexed_heap.h"
-#include "recon/alternatives/kruskal.h"
 #include "recon/structures/list_heap.h"
-#include "recon/phase1_planes/local_quadrics.h"
 #include "recon/structures/pairing_heap.h"
-#include "recon/reconstruct.h"
-#include "recon/phase6_simplify/simplification.h"
-#include "recon/core/timer.h"
-#include "recon/alternatives/uniform_grid.h"
 
 #include <algorithm>
 #include <array>
@@ -106,15 +106,16 @@ void run_searches(std::span<const Vec3> points, int k, const LabOptions& options
   if (options.spoil == tree_run.name && !reference.entries.empty()) reference.entries.back().distance2 *= 1.5;
   result.runs.push_back(std::move(tree_run));
   result.runs.push_back(search_run(
-      "grid",
-      [&](OperationCounts& counts) { return UniformGrid<3>(points).all_knn(k, &counts); }, &reference, options));
+      "grid", [&](OperationCounts& counts) { return UniformGrid<3>(points).all_knn(k, &counts); }, &reference,
+      options));
   if (points.size() > options.max_points_brute_force) {
-    result.runs.push_back(skipped_run("brute-force", LabKind::search, "",
-                                      too_many(points.size(), options.max_points_brute_force, "brute force (n^2 distances)")));
+    result.runs.push_back(
+        skipped_run("brute-force", LabKind::search, "",
+                    too_many(points.size(), options.max_points_brute_force, "brute force (n^2 distances)")));
   } else {
     result.runs.push_back(search_run(
-        "brute-force", [&](OperationCounts& counts) { return brute_force_all_knn<3>(points, k, &counts); },
-        &reference, options));
+        "brute-force", [&](OperationCounts& counts) { return brute_force_all_knn<3>(points, k, &counts); }, &reference,
+        options));
   }
 }
 
@@ -123,27 +124,29 @@ void run_searches(std::span<const Vec3> points, int k, const LabOptions& options
 // Prim on the queue Heap over the graph's stored costs: timed plain (the
 // tree grown is left in `forest`), counted in a second run.
 template <template <class> class Heap>
-  requires IndexedMinHeap<Heap<double>, double>
-LabRun queue_run(std::string name, const Graph& g, const LabOptions& options, SpanningForest& forest) {
+requires IndexedMinHeap < Heap<double>,
+double > LabRun queue_run(std::string name, const Graph& g, const LabOptions& options, SpanningForest& forest) {
   LabRun run = make_run("prim/" + std::move(name), LabKind::queue, "riemannian");
   Timer timer;
   forest = prim_minimum_spanning_forest<Heap<double>>(g);
   run.seconds = timer.lap();
   run.counts = prim_minimum_spanning_forest<CountingQueue<Heap>>(g).counts;
-  if (options.spoil == run.name && !forest.order.empty()) forest.parent[forest.order.back()] = SpanningForest::no_parent;
+  if (options.spoil == run.name && !forest.order.empty())
+    forest.parent[forest.order.back()] = SpanningForest::no_parent;
   run.tree_weight = forest.total_weight;
   return run;
 }
 
 // The queues order equal keys alike, so Prim must grow the same tree on each.
 template <template <class> class Heap>
-  requires IndexedMinHeap<Heap<double>, double>
-LabRun checked_queue_run(std::string name, const Graph& g, const LabOptions& options,
-                         const SpanningForest& binary_heap_tree) {
+requires IndexedMinHeap < Heap<double>,
+double > LabRun checked_queue_run(std::string name, const Graph& g, const LabOptions& options,
+                                  const SpanningForest& binary_heap_tree) {
   SpanningForest forest;
   LabRun run = queue_run<Heap>(std::move(name), g, options, forest);
   if (forest.parent != binary_heap_tree.parent)
-    throw LabDisagreementError("lab: " + run.name + " and prim/binary-heap disagree: Prim grew different trees on "
+    throw LabDisagreementError("lab: " + run.name +
+                               " and prim/binary-heap disagree: Prim grew different trees on "
                                "them, but the queues order equal keys alike, so the trees must be the same");
   return run;
 }
@@ -205,8 +208,9 @@ void run_euclidean_msts(std::span<const Vec3> points, const LabOptions& options,
   for (const Edge& e : emst) boruvka.total_weight += e.weight;
   result.runs.push_back(edges_run("boruvka-kdtree", graph, std::move(boruvka), timer.lap(), options));
   if (points.size() > options.max_points_complete) {
-    result.runs.push_back(skipped_run("prim-array", LabKind::mst, graph,
-                                      too_many(points.size(), options.max_points_complete, "the complete graph (n^2 / 2 distances)")));
+    result.runs.push_back(
+        skipped_run("prim-array", LabKind::mst, graph,
+                    too_many(points.size(), options.max_points_complete, "the complete graph (n^2 / 2 distances)")));
     return;
   }
   timer.lap();
@@ -279,8 +283,9 @@ void run_graphs(const TangentPlanes<3>& planes, std::span<const Vec3> truth, con
       continue;
     }
     if (kind == OrientationGraph::complete && n > options.max_points_complete) {
-      result.runs.push_back(skipped_run(std::string(name_of(kind)), LabKind::graph, std::string(name_of(kind)),
-                                        too_many(n, options.max_points_complete, "the complete graph (n^2 / 2 distances)")));
+      result.runs.push_back(
+          skipped_run(std::string(name_of(kind)), LabKind::graph, std::string(name_of(kind)),
+                      too_many(n, options.max_points_complete, "the complete graph (n^2 / 2 distances)")));
       continue;
     }
     OrientedNormals<3> oriented;
@@ -303,13 +308,14 @@ void run_simplify_queues(std::span<const Vec3> points, const LabOptions& options
   SimplifyOptions simplify_options;
   simplify_options.ratio = 0.1;
   std::optional<Mesh> reference;
-  for (const auto& [name, queue] : {std::pair{"binary-heap", SimplifyQueue::binary_heap},
-                                    std::pair{"pairing-heap", SimplifyQueue::pairing_heap},
-                                    std::pair{"lazy-queue", SimplifyQueue::lazy}}) {
+  for (const auto& [name, queue] :
+       {std::pair{"binary-heap", SimplifyQueue::binary_heap}, std::pair{"pairing-heap", SimplifyQueue::pairing_heap},
+        std::pair{"lazy-queue", SimplifyQueue::lazy}}) {
     LabRun run = make_run(std::string("simplify/") + name, LabKind::simplify, "mesh");
     simplify_options.queue = queue;
     Simplification s = simplify(mesh, simplify_options);
-    if (options.spoil == run.name && !s.mesh.triangles.empty()) std::swap(s.mesh.triangles[0][0], s.mesh.triangles[0][1]);
+    if (options.spoil == run.name && !s.mesh.triangles.empty())
+      std::swap(s.mesh.triangles[0][0], s.mesh.triangles[0][1]);
     run.seconds = s.seconds;
     run.counts = s.counts;
     run.triangles = s.mesh.triangles.size();

@@ -3,10 +3,10 @@
 #include "recon/core/detail/float_chars.h"
 
 #include "recon/core/errors.h"
-#include "recon/io/atomic_file.h"
-#include "recon/structures/mesh.h"
-#include "recon/reconstruct.h"
 #include "recon/core/version.h"
+#include "recon/io/atomic_file.h"
+#include "recon/reconstruct.h"
+#include "recon/structures/mesh.h"
 
 #include <algorithm>
 #include <bit>
@@ -18,7 +18,8 @@
 namespace recon {
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "the report stores little-endian arrays as they lie in memory");
+static_assert(std::endian::native == std::endian::little,
+              "the report stores little-endian arrays as they lie in memory");
 
 // Every stride-th element of n so that at most `budget` are taken.
 std::size_t stride_for(std::size_t n, std::size_t budget) {
@@ -89,7 +90,8 @@ void draw_edges(const Graph& g, std::span<const Vec3> points, const Vec3& shift,
   // At stride 1 every edge is drawn once; beyond, a drawn vertex brings
   // about its whole row.
   std::size_t sv = g.edge_count() <= max_edges ? ps : multiple(std::max(ps, stride_for(n, max_edges / row)));
-  while (sv <= n && drawn(sv, [](std::size_t, std::size_t) {}) > max_edges) sv = multiple(sv + std::max<std::size_t>(1, sv / 8));
+  while (sv <= n && drawn(sv, [](std::size_t, std::size_t) {}) > max_edges)
+    sv = multiple(sv + std::max<std::size_t>(1, sv / 8));
   out.vertex_stride = sv;
   drawn(sv, [&](std::size_t i, std::size_t j) { push_segment(out.segments, points[i] + shift, points[j] + shift); });
 }
@@ -231,7 +233,8 @@ class MeshDistance {
       const std::uint32_t v = used_id_[n.index];
       for (std::uint32_t i = first_[v]; i < first_[v + 1]; ++i) {
         const auto& t = mesh_.triangles[around_[i]];
-        best = std::min(best, point_triangle_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]));
+        best = std::min(best,
+                        point_triangle_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]));
       }
     }
     return best;
@@ -240,7 +243,7 @@ class MeshDistance {
  private:
   const Mesh& mesh_;
   double longest_ = 0.0;
-  std::vector<std::uint32_t> used_id_;        // the mesh's index of each tree point
+  std::vector<std::uint32_t> used_id_;         // the mesh's index of each tree point
   std::vector<std::uint32_t> first_, around_;  // the triangles around vertex v: around_[first_[v] .. first_[v + 1])
   KdTree<3> tree_;
 };
@@ -440,8 +443,8 @@ void check_lab_graph(const LabGraph& g, std::size_t n) {
                           " component labels; the report has " + std::to_string(n) + " points");
 }
 
-ReportLabGraph lab_graph(const LabGraph& g, std::span<const Vec3> points, const Vec3& shift,
-                         const ReportLayers& layers, const ReportOptions& options) {
+ReportLabGraph lab_graph(const LabGraph& g, std::span<const Vec3> points, const Vec3& shift, const ReportLayers& layers,
+                         const ReportOptions& options) {
   const OrientedNormals<3>& o = g.oriented;
   ReportLabGraph out;
   out.name = name_of(g.kind);
@@ -501,9 +504,9 @@ ReportLayers make_report_layers(const ReportInput& in, const ReportOptions& opti
 
   layers.points_total = n;
   layers.point_stride = stride_for(n, options.max_points);
-  const Components* components =
-      in.oriented != nullptr && in.oriented->graph.components.label.size() == n ? &in.oriented->graph.components
-                                                                                  : nullptr;
+  const Components* components = in.oriented != nullptr && in.oriented->graph.components.label.size() == n
+                                     ? &in.oriented->graph.components
+                                     : nullptr;
   layers.component_count = components != nullptr ? std::max<std::size_t>(1, components->sizes.size()) : 1;
   for (std::size_t i = 0; i < n; i += layers.point_stride) {
     push(layers.points, p(in.points[i]));

@@ -1,8 +1,8 @@
 #include "recon/alternatives/boruvka.h"
 
-#include "recon/core/errors.h"
-#include "recon/alternatives/kruskal.h"
 #include "random_graphs.h"
+#include "recon/alternatives/kruskal.h"
+#include "recon/core/errors.h"
 
 #include <gtest/gtest.h>
 

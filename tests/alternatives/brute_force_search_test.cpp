@@ -1,8 +1,8 @@
 #include "recon/alternatives/brute_force_search.h"
 
 #include "recon/core/errors.h"
-#include "recon/structures/kdtree.h"
 #include "recon/core/parallel.h"
+#include "recon/structures/kdtree.h"
 #include "search_clouds.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 #include "recon/alternatives/kruskal.h"
 
-#include "recon/core/errors.h"
 #include "random_graphs.h"
+#include "recon/core/errors.h"
 
 #include <gtest/gtest.h>
 
@@ -92,7 +92,8 @@ TEST(Kruskal, IsASpanningForestOnRandomGraphs) {
               forest.edges);
     // Two finds per edge that may be taken (repeats too: self-loops not), a
     // union per edge kept.
-    const auto loops = static_cast<std::size_t>(std::count_if(edges.begin(), edges.end(), [](const Edge& e) { return e.u == e.v; }));
+    const auto loops =
+        static_cast<std::size_t>(std::count_if(edges.begin(), edges.end(), [](const Edge& e) { return e.u == e.v; }));
     EXPECT_EQ(forest.counts.finds, 2 * (edges.size() - loops));
     EXPECT_EQ(forest.counts.unions, forest.edges.size());
     if (edges.size() - loops > 1) {

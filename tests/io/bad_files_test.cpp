@@ -239,8 +239,9 @@ TEST(BadCoordinates, BinaryFormatsNameTheByte) {
   TempFolder folder;
   for (const bool big : {false, true}) {
     Bytes bytes(big);
-    bytes.ply_header("element vertex 4\nproperty double x\nproperty float y\nproperty double z\n"
-                     "property float nx\nproperty float ny\nproperty float nz\n");
+    bytes.ply_header(
+        "element vertex 4\nproperty double x\nproperty float y\nproperty double z\n"
+        "property float nx\nproperty float ny\nproperty float nz\n");
     const std::size_t body = bytes.size();  // records of 32 bytes: x at 0, y at 8, z at 12, normal at 20
     bytes.put(1.0).put(2.0F).put(3.0).put(0.0F).put(0.0F).put(1.0F);
     bytes.put(1.0).put(std::numeric_limits<float>::signaling_NaN()).put(3.0).put(0.0F).put(0.0F).put(1.0F);
@@ -307,8 +308,8 @@ TEST(BadFiles, UnreadableFile) {
     // As root, permissions do not stop reading; a file whose read() fails does: /proc/self/mem at
     // offset 0, an address no process maps. It opens, then the first read fails with EIO.
     std::cout << "[ NOTE     ] running as root: chmod 000 would not stop reading; /proc/self/mem stands in\n";
-    const std::string message =
-        message_of<IoError>([&] { static_cast<void>(read_points("/proc/self/mem", testing::as_format(PointFormat::xyz))); });
+    const std::string message = message_of<IoError>(
+        [&] { static_cast<void>(read_points("/proc/self/mem", testing::as_format(PointFormat::xyz))); });
     EXPECT_TRUE(message.starts_with("/proc/self/mem: cannot read: ")) << message;
   }
 }
@@ -327,9 +328,8 @@ TEST(BadFiles, PipeIsReadWithoutAMap) {
 TEST(BadFiles, AStreamBeyondItsLimitIsRefused) {
   // /dev/zero never ends: a stream is held whole in memory, so it must stop
   // at the limit (by default half the machine's memory) with a message.
-  const std::string message = message_of<IoError>([&] {
-    static_cast<void>(read_points("/dev/zero", testing::as_format(PointFormat::xyz, 3 << 20)));
-  });
+  const std::string message = message_of<IoError>(
+      [&] { static_cast<void>(read_points("/dev/zero", testing::as_format(PointFormat::xyz, 3 << 20))); });
   EXPECT_TRUE(message.starts_with("/dev/zero: more than 3145728 bytes from a stream")) << message;
   EXPECT_CONTAINS(message, "save it to a file first");
   // Within the limit, a pipe reads as before.

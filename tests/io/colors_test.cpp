@@ -101,8 +101,9 @@ TEST(ColorRead, BinaryUcharUshortAndFloatInEitherByteOrder) {
   TempFolder folder;
   for (const bool big : {false, true}) {
     Bytes bytes(big);
-    bytes.ply_header("element vertex 2\nproperty ushort blue\nproperty double x\nproperty uchar red\n"
-                     "property double y\nproperty float green\nproperty double z\nproperty uchar alpha\n");
+    bytes.ply_header(
+        "element vertex 2\nproperty ushort blue\nproperty double x\nproperty uchar red\n"
+        "property double y\nproperty float green\nproperty double z\nproperty uchar alpha\n");
     bytes.put<std::uint16_t>(65535).put(1.0).put<std::uint8_t>(10).put(2.0).put(0.5F).put(3.0).put<std::uint8_t>(9);
     bytes.put<std::uint16_t>(0).put(4.0).put<std::uint8_t>(255).put(5.0).put(1.0F).put(6.0).put<std::uint8_t>(9);
     write_file(folder / "b.ply", bytes.str());

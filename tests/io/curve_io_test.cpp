@@ -92,7 +92,8 @@ TEST(CurveIo, TextRepeatsTheFirstVertexOfClosedCurves) {
   TempFolder folder;
   write_curves(folder / "c.txt", square_and_hook());
   const std::string text = read_bytes(folder / "c.txt");
-  EXPECT_CONTAINS(text, "# curve 1: closed, 4 vertices\n0 0\n1 0\n1 1\n0 1\n0 0\n\n# curve 2: open, 2 vertices\n3 0\n3 2.5\n");
+  EXPECT_CONTAINS(
+      text, "# curve 1: closed, 4 vertices\n0 0\n1 0\n1 1\n0 1\n0 0\n\n# curve 2: open, 2 vertices\n3 0\n3 2.5\n");
 }
 
 TEST(CurveIo, SvgDrawsPointsNormalsAndCurvesWithYUp) {

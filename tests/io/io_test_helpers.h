@@ -5,11 +5,11 @@
 // messages (one bad file, or a table of them).
 
 #include "recon/core/errors.h"
+#include "recon/core/point_cloud.h"
 #include "recon/io/curve_io.h"
 #include "recon/io/mesh_io.h"
 #include "recon/io/point_io.h"
 #include "recon/structures/mesh.h"
-#include "recon/core/point_cloud.h"
 
 #include <gtest/gtest.h>
 

@@ -126,8 +126,9 @@ TEST(MeshIo, PlyFacesFirstWithOtherIndexTypes) {
   TempFolder folder;
   for (const bool big : {false, true}) {
     Bytes bytes(big);
-    bytes.ply_header("element face 2\nproperty uchar flags\nproperty list ushort uchar vertex_index\n"
-                     "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n");
+    bytes.ply_header(
+        "element face 2\nproperty uchar flags\nproperty list ushort uchar vertex_index\n"
+        "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n");
     bytes.put<std::uint8_t>(1).put<std::uint16_t>(3).put<std::uint8_t>(0).put<std::uint8_t>(1).put<std::uint8_t>(2);
     bytes.put<std::uint8_t>(1).put<std::uint16_t>(4).put<std::uint8_t>(3).put<std::uint8_t>(2).put<std::uint8_t>(1);
     bytes.put<std::uint8_t>(0);
@@ -206,8 +207,7 @@ TEST(MeshIo, NonFiniteCoordinatesAreCountedAsVertices) {
     write_file(folder / name, content);
     EXPECT_CONTAINS(mesh_read_error(folder / name),
                     ": 2 vertices have a coordinate that is not finite or beyond +-1e+15");
-    const std::string as_points =
-        message_of<ParseError>([&] { static_cast<void>(read_points(folder / name)); });
+    const std::string as_points = message_of<ParseError>([&] { static_cast<void>(read_points(folder / name)); });
     EXPECT_CONTAINS(as_points, ": 2 points have a coordinate that is not finite or beyond +-1e+15");
   }
   write_file(folder / "one.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n");

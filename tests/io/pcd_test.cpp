@@ -494,8 +494,9 @@ TEST(PcdNaN, NaNNormalsAreDroppedNotRefused) {
       "COUNT 1 1 1 1 1 1 1\nWIDTH 4\nHEIGHT 1\nPOINTS 4\nDATA ascii\n";
   ReadNotes notes;
   const PointCloud cloud = write_and_read(folder, "s.pcd",
-                                          header + "1 2 3 0 0 1 0.5\n4 5 6 nan nan nan nan\n7 8 9 1 0 0 nan\n"
-                                                   "1 1 1 nan nan nan nan\n",
+                                          header +
+                                              "1 2 3 0 0 1 0.5\n4 5 6 nan nan nan nan\n7 8 9 1 0 0 nan\n"
+                                              "1 1 1 nan nan nan nan\n",
                                           notes);
   ASSERT_EQ(cloud.size(), 4U);
   EXPECT_FALSE(cloud.has_normals());

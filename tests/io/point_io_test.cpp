@@ -115,8 +115,8 @@ TEST(PointIoErrors, NoPoints) {
 
 TEST(PointIoXyz, ReadsPositionsCommentsAndBlankLines) {
   TempFolder folder;
-  const PointCloud cloud = write_and_read(folder, "a.xyz",
-                                          "# header comment\n\n1 2 3\n  4.5\t-5e-3  6  # trailing comment\r\n+7 8 9");
+  const PointCloud cloud =
+      write_and_read(folder, "a.xyz", "# header comment\n\n1 2 3\n  4.5\t-5e-3  6  # trailing comment\r\n+7 8 9");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
   EXPECT_EQ(cloud.positions[1], Vec3(4.5, -5e-3, 6));
@@ -163,15 +163,16 @@ TEST(PointIoXyz, TinyValuesBecomeZeroInsteadOfFailing) {
 
 TEST(PointIoPts, HoppeRecordsWithOtherLetters) {
   TempFolder folder;
-  const PointCloud cloud = write_and_read(folder, "h.pts", "# Created by a scanner\n"
-                                                           "d 0 0 0\n"
-                                                           "s 0 0 0\n"
-                                                           "g 1 0 0\n"
-                                                           "p 0.5 0.25 1\n"
-                                                           "n 0 0 1\n"
-                                                           "p 1 2 3 # comment\n"
-                                                           "\n"
-                                                           "p -1 -2 -3\n");
+  const PointCloud cloud = write_and_read(folder, "h.pts",
+                                          "# Created by a scanner\n"
+                                          "d 0 0 0\n"
+                                          "s 0 0 0\n"
+                                          "g 1 0 0\n"
+                                          "p 0.5 0.25 1\n"
+                                          "n 0 0 1\n"
+                                          "p 1 2 3 # comment\n"
+                                          "\n"
+                                          "p -1 -2 -3\n");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
   EXPECT_EQ(cloud.positions[0], Vec3(0.5, 0.25, 1));
@@ -198,10 +199,11 @@ TEST(PointIoPts, Errors) {
 
 TEST(PointIoObj, VerticesAndMatchingNormals) {
   TempFolder folder;
-  const PointCloud cloud = write_and_read(folder, "a.obj", "# exported\nmtllib a.mtl\no thing\n"
-                                                           "v 0 0 0\nv 1 0 0 1.0\nv 0 1 0 0.5 0.5 0.5\n"
-                                                           "vt 0 0\nvn 0 0 1\nvn 0 0 1\nvn 0 0 -1\n"
-                                                           "f 1/1/1 2/1/2 3/1/3\n");
+  const PointCloud cloud = write_and_read(folder, "a.obj",
+                                          "# exported\nmtllib a.mtl\no thing\n"
+                                          "v 0 0 0\nv 1 0 0 1.0\nv 0 1 0 0.5 0.5 0.5\n"
+                                          "vt 0 0\nvn 0 0 1\nvn 0 0 1\nvn 0 0 -1\n"
+                                          "f 1/1/1 2/1/2 3/1/3\n");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_EQ(cloud.positions[1], Vec3(1, 0, 0));  // w ignored
   EXPECT_EQ(cloud.positions[2], Vec3(0, 1, 0));  // colour ignored
@@ -212,8 +214,8 @@ TEST(PointIoObj, VerticesAndMatchingNormals) {
 TEST(PointIoObj, NormalsOfAnotherCountAreDropped) {
   // Dropped normals are not checked either: a NaN among them does not matter.
   TempFolder folder;
-  const PointCloud cloud = write_and_read(folder, "a.obj",
-                                          "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan 0 0\nf 1//1 2//1 3//1\n");
+  const PointCloud cloud =
+      write_and_read(folder, "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan 0 0\nf 1//1 2//1 3//1\n");
   EXPECT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
 }
@@ -230,8 +232,8 @@ TEST(PointIoObj, Errors) {
 
 TEST(PointIoOff, CountsOnTheNextLineAndComments) {
   TempFolder folder;
-  const PointCloud cloud = write_and_read(folder, "a.off",
-                                          "OFF\n# a comment\n3 1 0\n0 0 0\n1 0 0 # corner\n\n0 1 0\n3 0 1 2\n");
+  const PointCloud cloud =
+      write_and_read(folder, "a.off", "OFF\n# a comment\n3 1 0\n0 0 0\n1 0 0 # corner\n\n0 1 0\n3 0 1 2\n");
   ASSERT_EQ(cloud.size(), 3U);
   EXPECT_FALSE(cloud.has_normals());
   EXPECT_EQ(cloud.positions[1], Vec3(1, 0, 0));

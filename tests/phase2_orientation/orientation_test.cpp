@@ -1,7 +1,7 @@
 #include "recon/phase2_orientation/orientation.h"
 
-#include "recon/io/point_io.h"
 #include "recon/core/shapes.h"
+#include "recon/io/point_io.h"
 #include "test_data.h"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
 #include "recon/phase4_contour/marching_cubes.h"
 
-#include "recon/phase4_contour/detail/seed_wave.h"
 #include "recon/core/errors.h"
+#include "recon/core/shapes.h"
+#include "recon/phase4_contour/detail/seed_wave.h"
 #include "recon/phase4_contour/marching_cubes_table.h"
 #include "recon/structures/mesh.h"
-#include "recon/core/shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -282,7 +282,8 @@ TEST(MarchingCubes, VisitedCubesGrowWithAreaNotVolume) {
   const double ratio = static_cast<double>(fine.visited_cubes) / static_cast<double>(coarse.visited_cubes);
   EXPECT_GT(ratio, 3.5);
   EXPECT_LT(ratio, 4.5);
-  const double corner_ratio = static_cast<double>(fine.evaluated_corners) / static_cast<double>(coarse.evaluated_corners);
+  const double corner_ratio =
+      static_cast<double>(fine.evaluated_corners) / static_cast<double>(coarse.evaluated_corners);
   EXPECT_LT(corner_ratio, 4.5);
   // And a vanishing fraction of the lattice's volume.
   const double lattice = static_cast<double>(fine.size[0]) * fine.size[1] * fine.size[2];
@@ -302,7 +303,8 @@ TEST(MarchingCubes, SeedWaveHoldsTheCubesOfTheSeedsAndTheirCorners) {
   for (const Vec3& p : seeds.positions) {
     std::array<std::int32_t, 3> cube{};
     for (std::size_t a = 0; a < 3; ++a) {
-      cube[a] = static_cast<std::int32_t>(std::floor((p[static_cast<int>(a)] - lattice.origin[static_cast<int>(a)]) / 0.07));
+      cube[a] =
+          static_cast<std::int32_t>(std::floor((p[static_cast<int>(a)] - lattice.origin[static_cast<int>(a)]) / 0.07));
       ASSERT_GE(cube[a], 0);
       ASSERT_LT(cube[a], lattice.size[a]);
       // The seed lies in its cube.

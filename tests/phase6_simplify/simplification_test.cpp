@@ -2,16 +2,16 @@
 // boundary loops, separate objects), the error bound holds, the queues agree.
 #include "recon/phase6_simplify/simplification.h"
 
-#include "recon/phase6_simplify/detail/simplify_plain.h"
-#include "recon/core/errors.h"
-#include "recon/structures/mesh.h"
-#include "recon/core/parallel.h"
-#include "recon/reconstruct.h"
-#include "recon/core/shapes.h"
 #include "mesh_compare.h"
+#include "recon/core/errors.h"
+#include "recon/core/parallel.h"
+#include "recon/core/shapes.h"
+#include "recon/phase6_simplify/detail/simplify_plain.h"
+#include "recon/reconstruct.h"
+#include "recon/structures/mesh.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
@@ -645,7 +645,8 @@ void expect_wavy_rim_kept(const Mesh& disc, const Simplification& s) {
   for (const auto& e : rim_before) input_rim.insert({disc.vertices[e[0]].x(), disc.vertices[e[0]].y(), 0.0});
   for (const auto& e : rim_after) {
     const Vec3& p = s.mesh.vertices[e[0]];
-    EXPECT_EQ(input_rim.count({p.x(), p.y(), p.z()}), 1u) << "a rim vertex that was not on the input's rim: " << p.transpose();
+    EXPECT_EQ(input_rim.count({p.x(), p.y(), p.z()}), 1u)
+        << "a rim vertex that was not on the input's rim: " << p.transpose();
   }
   double farthest = 0.0;
   for (const auto& e : rim_before) {

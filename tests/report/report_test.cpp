@@ -3,9 +3,9 @@
 #include "hand_made_lab.h"
 #include "mesh_compare.h"
 #include "recon/core/errors.h"
-#include "recon/structures/mesh.h"
-#include "recon/reconstruct.h"
 #include "recon/core/shapes.h"
+#include "recon/reconstruct.h"
+#include "recon/structures/mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -150,13 +150,15 @@ TEST(Report, GraphAndSpanningTreeWithTheEdgesWhereTheOrientationTurns) {
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t parent = o.tree.parent[i];
     if (parent == SpanningForest::no_parent) continue;
-    const Vec3 a = at(layers.graph.tree_segments, 2 * e) + layers.centre, b = at(layers.graph.tree_segments, 2 * e + 1) + layers.centre;
+    const Vec3 a = at(layers.graph.tree_segments, 2 * e) + layers.centre,
+               b = at(layers.graph.tree_segments, 2 * e + 1) + layers.centre;
     EXPECT_LT((a - r.points()[i] - r.offset).norm(), 1e-5);
     EXPECT_LT((b - r.points()[parent] - r.offset).norm(), 1e-5);
     // Where the oriented normals agree across the edge (everywhere but a
     // few the vote turned), a flip is where the PCA normals disagree.
     if (r.normals()[i].dot(r.normals()[parent]) > 0.0) {
-      EXPECT_EQ(layers.graph.tree_flip[e] == 1, r.planes.normals[i].dot(r.planes.normals[parent]) < 0.0) << "edge " << e;
+      EXPECT_EQ(layers.graph.tree_flip[e] == 1, r.planes.normals[i].dot(r.planes.normals[parent]) < 0.0)
+          << "edge " << e;
     }
     flips += layers.graph.tree_flip[e];
     ++e;
@@ -273,12 +275,14 @@ TEST(Report, BoundaryEdgesWithinTheirBudget) {
   ReportOptions options;
   options.max_boundary_edges = 10;
   const ReportLayers layers = make_report_layers(report_input(r), options);
-  for (const auto& [drawn, mesh] : {std::pair{&layers.mesh, &r.contour.mesh}, std::pair{&layers.refined, &r.refinement->mesh}}) {
+  for (const auto& [drawn, mesh] :
+       {std::pair{&layers.mesh, &r.contour.mesh}, std::pair{&layers.refined, &r.refinement->mesh}}) {
     const auto boundary = boundary_edges(*mesh);
     ASSERT_GT(boundary.size(), 10u);
     EXPECT_EQ(drawn->boundary_edges_total, boundary.size());
     EXPECT_EQ(drawn->boundary_stride, (boundary.size() + 9) / 10);
-    ASSERT_EQ(drawn->boundary_segments.size(), 6 * ((boundary.size() + drawn->boundary_stride - 1) / drawn->boundary_stride));
+    ASSERT_EQ(drawn->boundary_segments.size(),
+              6 * ((boundary.size() + drawn->boundary_stride - 1) / drawn->boundary_stride));
     for (std::size_t e = 0; 6 * e < drawn->boundary_segments.size(); ++e) {
       const auto& [a, b] = boundary[e * drawn->boundary_stride];
       EXPECT_LT((at(drawn->boundary_segments, 2 * e) + layers.centre - mesh->vertices[a]).norm(), 1e-5);
@@ -525,8 +529,8 @@ int array_number(std::string_view json, std::string_view after, std::string_view
 
 TEST(Report, ColoursOfThePointsAndOfTheFinalMesh) {
   ReportOptions options;
-  options.max_points = 1000;     // every 4th point
-  options.max_triangles = 500;   // a subsample of each mesh
+  options.max_points = 1000;    // every 4th point
+  options.max_triangles = 500;  // a subsample of each mesh
   for (const Method method : {Method::refined, Method::hoppe92}) {
     const Reconstruction& r = colored_sphere(method);
     ASSERT_TRUE(r.mesh().has_colors());

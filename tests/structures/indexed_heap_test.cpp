@@ -1,8 +1,8 @@
 // The concepts of indexed_heap.h: every heap and CountingQueue are an
 // IndexedMinHeap, a type missing an operation or with a wrong signature is
-// not, and a queue with only what Prim calls is a DecreaseKeyQueue. All checked at compile time: this file compiles or the test fails.
-// (push_or_decrease, written once over the concept, is tested on every queue
-// in priority_queues_test.cpp.)
+// not, and a queue with only what Prim calls is a DecreaseKeyQueue. All checked at compile time: this file compiles or
+// the test fails. (push_or_decrease, written once over the concept, is tested on every queue in
+// priority_queues_test.cpp.)
 
 #include "recon/structures/indexed_heap.h"
 #include "recon/alternatives/counting_queue.h"
@@ -43,8 +43,7 @@ struct FakeHeap {
   static constexpr std::uint32_t absent = UINT32_MAX;
   explicit FakeHeap(std::size_t capacity);
   [[nodiscard]] bool empty() const;
-  [[nodiscard]] std::size_t size() const
-    requires(has.sized);
+  [[nodiscard]] std::size_t size() const requires(has.sized);
   [[nodiscard]] std::size_t capacity() const;
   [[nodiscard]] bool contains(std::uint32_t item) const;
   [[nodiscard]] const double& key(std::uint32_t item) const;
@@ -52,10 +51,8 @@ struct FakeHeap {
   [[nodiscard]] const double& top_key() const;
   void push(std::uint32_t item, double key);
   auto pop() -> std::conditional_t<has.pop_returns_item, std::uint32_t, void>;
-  void decrease_key(std::uint32_t item, double key)
-    requires(has.decrease_key);
-  void clear()
-    requires(has.clear);
+  void decrease_key(std::uint32_t item, double key) requires(has.decrease_key);
+  void clear() requires(has.clear);
 };
 
 static_assert(IndexedMinHeap<FakeHeap<Has{}>, double>, "the complete fake is a heap");

@@ -2,10 +2,10 @@
 // against one oracle, the same order everywhere (by key, then by item), and
 // the counts of CountingQueue.
 
-#include "recon/structures/binary_heap.h"
-#include "recon/structures/indexed_heap.h"
 #include "recon/alternatives/counting_queue.h"
+#include "recon/structures/binary_heap.h"
 #include "recon/structures/fibonacci_heap.h"
+#include "recon/structures/indexed_heap.h"
 #include "recon/structures/list_heap.h"
 #include "recon/structures/pairing_heap.h"
 
@@ -192,35 +192,35 @@ TYPED_TEST_SUITE(PriorityQueue, Queues, QueueNames);
 // Every operation against the oracle; decrease_key often leaves the key as
 // it was.
 TYPED_TEST(PriorityQueue, MatchesOrderedSetOracle) {
-  run_against_oracle<TypeParam>(61, 1000, [](TypeParam& queue, Oracle& oracle, std::mt19937& rng, auto op,
-                                             std::uint32_t item, int step) {
-    if (op < 300) {
-      if (!oracle.contains(item)) push_both(queue, oracle, item, small_key(rng));
-    } else if (op < 530) {
-      pop_both(queue, oracle, step);
-    } else if (op < 780) {
-      if (oracle.contains(item)) {
-        const double k = oracle.key(item) - static_cast<double>(rng() % 4);
-        queue.decrease_key(item, k);
-        oracle.decrease_key(item, k);
-      }
-    } else if (op < 999) {
-      const double k = small_key(rng);
-      const bool lowers = !oracle.contains(item) || k < oracle.key(item);
-      ASSERT_EQ(relax(queue, item, k), lowers) << "step " << step;
-      if (lowers && oracle.contains(item)) {
-        oracle.decrease_key(item, k);
-      } else if (lowers) {
-        oracle.push(item, k);
-      }
-    } else {
-      queue.clear();
-      oracle.clear();
-      ASSERT_TRUE(agrees_on_every_item(queue, oracle)) << "after clear at step " << step;
-    }
-    const std::uint32_t other = static_cast<std::uint32_t>(rng() % queue.capacity());
-    ASSERT_TRUE(agrees(queue, oracle, other)) << "step " << step;
-  });
+  run_against_oracle<TypeParam>(
+      61, 1000, [](TypeParam& queue, Oracle& oracle, std::mt19937& rng, auto op, std::uint32_t item, int step) {
+        if (op < 300) {
+          if (!oracle.contains(item)) push_both(queue, oracle, item, small_key(rng));
+        } else if (op < 530) {
+          pop_both(queue, oracle, step);
+        } else if (op < 780) {
+          if (oracle.contains(item)) {
+            const double k = oracle.key(item) - static_cast<double>(rng() % 4);
+            queue.decrease_key(item, k);
+            oracle.decrease_key(item, k);
+          }
+        } else if (op < 999) {
+          const double k = small_key(rng);
+          const bool lowers = !oracle.contains(item) || k < oracle.key(item);
+          ASSERT_EQ(relax(queue, item, k), lowers) << "step " << step;
+          if (lowers && oracle.contains(item)) {
+            oracle.decrease_key(item, k);
+          } else if (lowers) {
+            oracle.push(item, k);
+          }
+        } else {
+          queue.clear();
+          oracle.clear();
+          ASSERT_TRUE(agrees_on_every_item(queue, oracle)) << "after clear at step " << step;
+        }
+        const std::uint32_t other = static_cast<std::uint32_t>(rng() % queue.capacity());
+        ASSERT_TRUE(agrees(queue, oracle, other)) << "step " << step;
+      });
 }
 
 TYPED_TEST(PriorityQueue, SingleItem) {
@@ -479,23 +479,23 @@ using UpdatableQueues = ::testing::Types<IndexedBinaryHeap<double>, PairingHeap<
 TYPED_TEST_SUITE(UpdatableQueue, UpdatableQueues);
 
 TYPED_TEST(UpdatableQueue, UpdateAndEraseMatchTheOracle) {
-  run_against_oracle<TypeParam>(53, 100, [](TypeParam& queue, Oracle& oracle, std::mt19937& rng, auto op,
-                                            std::uint32_t item, int step) {
-    const double k = small_key(rng);
-    if (op < 30) {
-      if (!oracle.contains(item)) push_both(queue, oracle, item, k);
-    } else if (op < 50) {
-      pop_both(queue, oracle, step);
-    } else if (op < 80) {
-      if (oracle.contains(item)) {
-        queue.update_key(item, k);  // up or down
-        oracle.decrease_key(item, k);
-      }
-    } else if (oracle.contains(item)) {
-      queue.erase(item);
-      oracle.erase(item);
-    }
-  });
+  run_against_oracle<TypeParam>(
+      53, 100, [](TypeParam& queue, Oracle& oracle, std::mt19937& rng, auto op, std::uint32_t item, int step) {
+        const double k = small_key(rng);
+        if (op < 30) {
+          if (!oracle.contains(item)) push_both(queue, oracle, item, k);
+        } else if (op < 50) {
+          pop_both(queue, oracle, step);
+        } else if (op < 80) {
+          if (oracle.contains(item)) {
+            queue.update_key(item, k);  // up or down
+            oracle.decrease_key(item, k);
+          }
+        } else if (oracle.contains(item)) {
+          queue.erase(item);
+          oracle.erase(item);
+        }
+      });
 }
 
 TYPED_TEST(UpdatableQueue, EraseTheTopTheLastAndTheOnlyItem) {

@@ -44,7 +44,7 @@ struct CountedKey {
 };
 
 template <template <class> class Heap>
-  requires IndexedMinHeap<Heap<CountedKey>, CountedKey>
+requires IndexedMinHeap<Heap<CountedKey>, CountedKey>
 class CountingQueue {
  public:
   static constexpr std::uint32_t absent = Heap<CountedKey>::absent;

@@ -36,13 +36,13 @@
 //                        queries: the one phase II uses
 // They return MinimumSpanningEdges (below).
 
-#include "recon/structures/binary_heap.h"
-#include "recon/structures/indexed_heap.h"
 #include "recon/core/errors.h"
-#include "recon/structures/graph.h"
 #include "recon/core/interruption.h"
 #include "recon/core/operation_counts.h"
 #include "recon/core/progress.h"
+#include "recon/structures/binary_heap.h"
+#include "recon/structures/graph.h"
+#include "recon/structures/indexed_heap.h"
 
 #include <concepts>
 #include <cstdint>
@@ -60,7 +60,7 @@ struct SpanningForest {
   std::vector<std::uint32_t> order;   ///< every vertex, parents before children
   std::vector<std::uint32_t> roots;   ///< one per tree, in the order grown
   double total_weight = 0.0;
-  OperationCounts counts;             ///< the queue's, when it counts (see above); else all 0
+  OperationCounts counts;  ///< the queue's, when it counts (see above); else all 0
 };
 
 /// A minimum spanning forest as a list of edges: what Kruskal, Borůvka and

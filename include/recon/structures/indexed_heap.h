@@ -39,13 +39,13 @@ namespace recon {
 /// what Prim's loop asks of its queue (minimum_spanning_tree.h).
 template <class Q, class Key>
 concept DecreaseKeyQueue = std::constructible_from<Q, std::size_t> &&
-                           requires(Q& queue, const Q& queued, std::uint32_t item, const Key& key) {
-                             { queued.empty() } -> std::same_as<bool>;
-                             { queued.top_key() } -> std::convertible_to<const Key&>;
-                             queue.push(item, key);
-                             { queue.pop() } -> std::same_as<std::uint32_t>;
-                             queue.decrease_key(item, key);
-                           };
+    requires(Q& queue, const Q& queued, std::uint32_t item, const Key& key) {
+  { queued.empty() } -> std::same_as<bool>;
+  { queued.top_key() } -> std::convertible_to<const Key&>;
+  queue.push(item, key);
+  { queue.pop() } -> std::same_as<std::uint32_t>;
+  queue.decrease_key(item, key);
+};
 
 /// H is an indexed min-heap of items with keys of type Key (see the header
 /// comment). Only the forms are checked; the order and the costs are each
@@ -67,7 +67,7 @@ concept IndexedMinHeap = DecreaseKeyQueue<H, Key> && requires(H& heap, const H& 
 /// Throws: nothing.
 /// Pre: item < heap.capacity().
 template <class H, class Key>
-  requires IndexedMinHeap<H, Key>
+requires IndexedMinHeap<H, Key>
 bool push_or_decrease(H& heap, std::uint32_t item, const Key& key) {
   if (!heap.contains(item)) {
     heap.push(item, key);
