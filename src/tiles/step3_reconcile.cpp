@@ -6,7 +6,6 @@
 #include "recon/structures/union_find.h"
 #include "recon/tiles/tiles.h"
 #include "tiles/files.h"
-#include "tiles/tile_input.h"
 
 #include <algorithm>
 #include <map>
@@ -15,14 +14,8 @@
 namespace recon {
 
 using tile_files::BorderRecord;
-using tile_files::CoreBox;
-using tile_files::MeshVertex;
 using tile_files::Orientation;
-using tile_files::outside_core;
 using tile_files::PieceTop;
-using tile_files::PointRecord;
-using tile_files::TilePoints;
-using namespace tile_input;
 
 namespace {
 

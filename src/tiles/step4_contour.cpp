@@ -15,13 +15,9 @@
 
 namespace recon {
 
-using tile_files::BorderRecord;
 using tile_files::CoreBox;
 using tile_files::MeshVertex;
 using tile_files::Orientation;
-using tile_files::outside_core;
-using tile_files::PieceTop;
-using tile_files::PointRecord;
 using tile_files::TilePoints;
 using namespace tile_input;
 
