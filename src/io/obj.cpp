@@ -210,11 +210,8 @@ void append_triangles_with_normals(BlockWriter& writer, const std::vector<std::a
 void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += "# written by recon: ";
-  out += std::to_string(mesh.vertices.size());
-  out += " vertices, ";
-  out += std::to_string(mesh.triangles.size());
-  out += " triangles\n";
+  out += written_by_recon(std::to_string(mesh.vertices.size()) + " vertices, " + std::to_string(mesh.triangles.size()) +
+                          " triangles");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     out += "v ";
     append_vec3_text(out, mesh.vertices[i]);
@@ -241,13 +238,10 @@ void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
 void write_obj_curves(std::ostream& stream, const PolylineSet& curves) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += "# written by recon: ";
-  out += std::to_string(curves.polylines.size());
-  out += " curves (";
-  out += std::to_string(curves.closed_count());
-  out += " closed), ";
-  out += std::to_string(curves.vertices.size());
-  out += " vertices in the z = 0 plane; a closed curve's 'l' line ends at its first vertex\n";
+  out +=
+      written_by_recon(std::to_string(curves.polylines.size()) + " curves (" + std::to_string(curves.closed_count()) +
+                       " closed), " + std::to_string(curves.vertices.size()) +
+                       " vertices in the z = 0 plane; a closed curve's 'l' line ends at its first vertex");
   for (const Vec2& v : curves.vertices) {
     out += "v ";
     append_vec3_text(out, Vec3(v.x(), v.y(), 0.0));

@@ -400,9 +400,9 @@ void write_xyz_points(std::ostream& stream, const PointCloud& cloud) {
 void write_text_curves(std::ostream& stream, const PolylineSet& curves) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += "# written by recon: ";
-  out += std::to_string(curves.polylines.size());
-  out += " curves, \"x y\" a line, a blank line between curves; a closed curve repeats its first vertex at the end\n";
+  out += written_by_recon(std::to_string(curves.polylines.size()) +
+                          " curves, \"x y\" a line, a blank line between curves; a closed curve repeats its first "
+                          "vertex at the end");
   for (std::size_t c = 0; c < curves.polylines.size(); ++c) {
     const Polyline& line = curves.polylines[c];
     if (c > 0) out += '\n';
