@@ -132,14 +132,9 @@ void read_face(std::string_view file, std::size_t n, Fields& fields, ObjContent&
 ObjContent parse_obj(std::string_view file, std::string_view content, bool faces) {
   ObjContent obj;
   LineScanner lines(file, content);
-  std::string_view line;
   std::vector<std::uint32_t> corners;
   ForwardReference largest;
-  while (lines.next(line)) {
-    const std::size_t n = lines.line_number();
-    Fields fields(without_comment(line));
-    std::string_view keyword;
-    if (!fields.next(keyword)) continue;
+  for_each_statement(lines, [&](std::size_t n, std::string_view keyword, Fields& fields) {
     if (keyword == "v") {
       read_vertex(file, n, fields, keyword, obj);
     } else if (keyword == "vn") {
@@ -150,7 +145,7 @@ ObjContent parse_obj(std::string_view file, std::string_view content, bool faces
     } else if (keyword == "f" && faces) {
       read_face(file, n, fields, obj, corners, largest);
     }
-  }
+  });
   if (largest.line != 0 && largest.index >= obj.positions.size())
     fail_at_line(file, largest.line,
                  "a face uses vertex " + std::to_string(largest.index + 1) + ", but the file has " +
