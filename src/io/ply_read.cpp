@@ -386,8 +386,8 @@ double parse_value(std::string_view file, std::size_t line, std::string_view tok
 }
 
 /// What both body readers share: where the values go (the vertices, and the
-/// faces' triangles or nullptr for a point cloud), and the file's name and
-/// header for the messages.
+/// faces' triangles or nullptr for a point cloud), the file's name for the
+/// messages, and the header that says what comes.
 class BodyReader {
  protected:
   BodyReader(std::string_view file, const PlyHeader& header, const Wanted& wanted, PlyVertices& vertices,
