@@ -7,6 +7,7 @@
 #include "recon/io/point_io.h"          // file_being_read
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <charconv>
@@ -298,59 +299,45 @@ double parse_coordinate(std::string_view file, std::size_t line, std::string_vie
   return value;
 }
 
+namespace {
+
+/// The values a scalar type holds, as fits_type tests them and describe_range
+/// names them.
+struct TypeRange {
+  double lowest;
+  double highest;
+  bool highest_excluded;  ///< 2^63 and 2^64 are exactly representable; the largest 64-bit integers are not
+  std::string_view text;  ///< the type's name and its range, for messages
+};
+
+/// Indexed by ScalarType, in its order.
+constexpr std::array<TypeRange, 10> type_ranges = {{
+    {-128.0, 127.0, false, "int8 (-128 to 127)"},
+    {0.0, 255.0, false, "uint8 (0 to 255)"},
+    {-32768.0, 32767.0, false, "int16 (-32768 to 32767)"},
+    {0.0, 65535.0, false, "uint16 (0 to 65535)"},
+    {-2147483648.0, 2147483647.0, false, "int32 (-2^31 to 2^31 - 1)"},
+    {0.0, 4294967295.0, false, "uint32 (0 to 2^32 - 1)"},
+    {-0x1p63, 0x1p63, true, "int64 (-2^63 to 2^63 - 1)"},
+    {0.0, 0x1p64, true, "uint64 (0 to 2^64 - 1)"},
+    {-static_cast<double>(std::numeric_limits<float>::max()), static_cast<double>(std::numeric_limits<float>::max()),
+     false, "float32 (magnitude at most 3.4028235e+38)"},
+    {std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max(), false, "float64"},
+}};
+static_assert(type_ranges.size() == static_cast<std::size_t>(ScalarType::float64) + 1);
+
+const TypeRange& range_of(ScalarType type) { return type_ranges[static_cast<std::size_t>(type)]; }
+
+}  // namespace
+
 bool fits_type(double value, ScalarType type) {
-  if (std::isnan(value)) return !is_integer_type(type);
-  switch (type) {
-    case ScalarType::int8:
-      return value >= -128.0 && value <= 127.0;
-    case ScalarType::uint8:
-      return value >= 0.0 && value <= 255.0;
-    case ScalarType::int16:
-      return value >= -32768.0 && value <= 32767.0;
-    case ScalarType::uint16:
-      return value >= 0.0 && value <= 65535.0;
-    case ScalarType::int32:
-      return value >= -2147483648.0 && value <= 2147483647.0;
-    case ScalarType::uint32:
-      return value >= 0.0 && value <= 4294967295.0;
-    // 2^63 and 2^64 are exactly representable; the largest 64-bit integers are not.
-    case ScalarType::int64:
-      return value >= -0x1p63 && value < 0x1p63;
-    case ScalarType::uint64:
-      return value >= 0.0 && value < 0x1p64;
-    case ScalarType::float32:
-      return std::isinf(value) || std::abs(value) <= static_cast<double>(std::numeric_limits<float>::max());
-    case ScalarType::float64:
-      return true;
-  }
-  return false;
+  // No ordered comparison with NaN: it raises FE_INVALID (see coordinate_in_range).
+  if (!std::isfinite(value)) return !is_integer_type(type);
+  const TypeRange& range = range_of(type);
+  return value >= range.lowest && (range.highest_excluded ? value < range.highest : value <= range.highest);
 }
 
-std::string describe_range(ScalarType type) {
-  switch (type) {
-    case ScalarType::int8:
-      return "its type int8 (-128 to 127)";
-    case ScalarType::uint8:
-      return "its type uint8 (0 to 255)";
-    case ScalarType::int16:
-      return "its type int16 (-32768 to 32767)";
-    case ScalarType::uint16:
-      return "its type uint16 (0 to 65535)";
-    case ScalarType::int32:
-      return "its type int32 (-2^31 to 2^31 - 1)";
-    case ScalarType::uint32:
-      return "its type uint32 (0 to 2^32 - 1)";
-    case ScalarType::int64:
-      return "its type int64 (-2^63 to 2^63 - 1)";
-    case ScalarType::uint64:
-      return "its type uint64 (0 to 2^64 - 1)";
-    case ScalarType::float32:
-      return "its type float32 (magnitude at most 3.4028235e+38)";
-    case ScalarType::float64:
-      return "its type float64";
-  }
-  return "its type";
-}
+std::string describe_range(ScalarType type) { return "its type " + std::string(range_of(type).text); }
 
 std::string coordinate_bound() {
   std::string text = "+-";

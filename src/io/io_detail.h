@@ -501,6 +501,13 @@ class BlockWriter {
   std::string buffer_;
 };
 
+/// The comment line that opens the text files recon writes with a summary
+/// (OBJ, curve text): "# written by recon: ", then `summary` (what the file
+/// holds, with its counts).
+[[nodiscard]] inline std::string written_by_recon(std::string_view summary) {
+  return "# written by recon: " + std::string(summary) + '\n';
+}
+
 /// Writes each triangle as a text line: `keyword`, then its three vertex
 /// indices plus `first` ("f 1 2 3" in OBJ, counted from 1; "3 0 1 2" in OFF
 /// and ascii PLY, counted from 0).

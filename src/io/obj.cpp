@@ -132,14 +132,9 @@ void read_face(std::string_view file, std::size_t n, Fields& fields, ObjContent&
 ObjContent parse_obj(std::string_view file, std::string_view content, bool faces) {
   ObjContent obj;
   LineScanner lines(file, content);
-  std::string_view line;
   std::vector<std::uint32_t> corners;
   ForwardReference largest;
-  while (lines.next(line)) {
-    const std::size_t n = lines.line_number();
-    Fields fields(without_comment(line));
-    std::string_view keyword;
-    if (!fields.next(keyword)) continue;
+  for_each_statement(lines, [&](std::size_t n, std::string_view keyword, Fields& fields) {
     if (keyword == "v") {
       read_vertex(file, n, fields, keyword, obj);
     } else if (keyword == "vn") {
@@ -150,7 +145,7 @@ ObjContent parse_obj(std::string_view file, std::string_view content, bool faces
     } else if (keyword == "f" && faces) {
       read_face(file, n, fields, obj, corners, largest);
     }
-  }
+  });
   if (largest.line != 0 && largest.index >= obj.positions.size())
     fail_at_line(file, largest.line,
                  "a face uses vertex " + std::to_string(largest.index + 1) + ", but the file has " +
@@ -210,11 +205,8 @@ void append_triangles_with_normals(BlockWriter& writer, const std::vector<std::a
 void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += "# written by recon: ";
-  out += std::to_string(mesh.vertices.size());
-  out += " vertices, ";
-  out += std::to_string(mesh.triangles.size());
-  out += " triangles\n";
+  out += written_by_recon(std::to_string(mesh.vertices.size()) + " vertices, " + std::to_string(mesh.triangles.size()) +
+                          " triangles");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     out += "v ";
     append_vec3_text(out, mesh.vertices[i]);
@@ -241,13 +233,10 @@ void write_obj_mesh(std::ostream& stream, const Mesh& mesh) {
 void write_obj_curves(std::ostream& stream, const PolylineSet& curves) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += "# written by recon: ";
-  out += std::to_string(curves.polylines.size());
-  out += " curves (";
-  out += std::to_string(curves.closed_count());
-  out += " closed), ";
-  out += std::to_string(curves.vertices.size());
-  out += " vertices in the z = 0 plane; a closed curve's 'l' line ends at its first vertex\n";
+  out +=
+      written_by_recon(std::to_string(curves.polylines.size()) + " curves (" + std::to_string(curves.closed_count()) +
+                       " closed), " + std::to_string(curves.vertices.size()) +
+                       " vertices in the z = 0 plane; a closed curve's 'l' line ends at its first vertex");
   for (const Vec2& v : curves.vertices) {
     out += "v ";
     append_vec3_text(out, Vec3(v.x(), v.y(), 0.0));

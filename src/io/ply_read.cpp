@@ -385,19 +385,37 @@ double parse_value(std::string_view file, std::size_t line, std::string_view tok
   return value;
 }
 
-/// Reads an ascii body: the values of the elements in the declared order,
-/// separated by white space (a record may wrap across lines).
-class AsciiBody {
- public:
-  AsciiBody(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
-            PlyVertices& vertices, Triangles* triangles)
+/// What both body readers share: where the values go (the vertices, and the
+/// faces' triangles or nullptr for a point cloud), the file's name for the
+/// messages, and the header that says what comes.
+class BodyReader {
+ protected:
+  BodyReader(std::string_view file, const PlyHeader& header, const Wanted& wanted, PlyVertices& vertices,
+             Triangles* triangles)
       : file_(file),
         header_(header),
         wanted_(wanted),
         vertices_(vertices),
         triangles_(triangles),
-        tokens_(file, content, header.body_offset, header.end_header_line + 1),
         vertex_count_(header.elements[wanted.vertex_element].count) {}
+
+  std::string_view file_;
+  const PlyHeader& header_;
+  const Wanted& wanted_;
+  PlyVertices& vertices_;
+  Triangles* triangles_;  ///< the faces' triangles, or nullptr (a point cloud)
+  std::uint64_t vertex_count_;
+  std::vector<std::uint32_t> corners_;  ///< the current face's corners
+};
+
+/// Reads an ascii body: the values of the elements in the declared order,
+/// separated by white space (a record may wrap across lines).
+class AsciiBody : BodyReader {
+ public:
+  AsciiBody(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
+            PlyVertices& vertices, Triangles* triangles)
+      : BodyReader(file, header, wanted, vertices, triangles),
+        tokens_(file, content, header.body_offset, header.end_header_line + 1) {}
 
   void read() {
     for (std::size_t e = 0; e < header_.elements.size(); ++e) {
@@ -493,34 +511,23 @@ class AsciiBody {
     return static_cast<std::uint32_t>(index);
   }
 
-  std::string_view file_;
-  const PlyHeader& header_;
-  const Wanted& wanted_;
-  PlyVertices& vertices_;
-  Triangles* triangles_;  ///< the faces' triangles, or nullptr (a point cloud)
   TokenScanner tokens_;
-  std::uint64_t vertex_count_;
-  std::vector<std::uint32_t> corners_;
 };
 
 /// Reads a binary body: packed records in the file's byte order. Elements
 /// without lists are fixed-size blocks; records with lists are walked.
-class BinaryBody {
+class BinaryBody : BodyReader {
  public:
   BinaryBody(std::string_view file, std::string_view content, const PlyHeader& header, const Wanted& wanted,
              PlyVertices& vertices, Triangles* triangles)
-      : file_(file),
+      : BodyReader(file, header, wanted, vertices, triangles),
         content_(content),
-        wanted_(wanted),
-        vertices_(vertices),
-        triangles_(triangles),
         swap_(needs_swap(header.encoding == PlyEncoding::binary_big_endian)),
-        vertex_count_(header.elements[wanted.vertex_element].count),
         position_(header.body_offset) {}
 
-  void read(const PlyHeader& header) {
-    for (std::size_t e = 0; e < header.elements.size(); ++e) {
-      const PlyElement& element = header.elements[e];
+  void read() {
+    for (std::size_t e = 0; e < header_.elements.size(); ++e) {
+      const PlyElement& element = header_.elements[e];
       if (element.has_lists()) {
         read_list_records(element, e == wanted_.face_element);
       } else {
@@ -633,15 +640,9 @@ class BinaryBody {
     add_fan(corners_, *triangles_);
   }
 
-  std::string_view file_;
   std::string_view content_;
-  const Wanted& wanted_;
-  PlyVertices& vertices_;
-  Triangles* triangles_;  ///< the faces' triangles, or nullptr (a point cloud)
   bool swap_;
-  std::uint64_t vertex_count_;
   std::size_t position_;
-  std::vector<std::uint32_t> corners_;
 };
 
 /// The body after `header`: the vertices into `vertices`, the faces'
@@ -651,7 +652,7 @@ void read_body(std::string_view file, std::string_view content, const PlyHeader&
   if (header.encoding == PlyEncoding::ascii) {
     AsciiBody(file, content, header, wanted, vertices, triangles).read();
   } else {
-    BinaryBody(file, content, header, wanted, vertices, triangles).read(header);
+    BinaryBody(file, content, header, wanted, vertices, triangles).read();
   }
 }
 

@@ -193,6 +193,20 @@ class Fields {
   std::size_t position_ = 0;
 };
 
+/// Walks the rest of a keyword-led text (OBJ statements, Hoppe's .pts
+/// records): for each line that holds a field once its comment is removed,
+/// calls `statement(line_number, keyword, fields)` with its first field and
+/// the fields after it. Blank and comment-only lines are skipped.
+template <typename Statement>
+void for_each_statement(LineScanner& lines, Statement&& statement) {
+  std::string_view line;
+  while (lines.next(line)) {
+    Fields fields(without_comment(line));
+    std::string_view keyword;
+    if (fields.next(keyword)) statement(lines.line_number(), keyword, fields);
+  }
+}
+
 /// Whitespace-separated tokens of a text across line ends, remembering on
 /// which line each token stands.
 class TokenScanner {

@@ -349,12 +349,7 @@ PointCloud read_pts_points(std::string_view file, std::string_view content) {
   PointCloud cloud;
   PointChecker checker(false);
   LineScanner lines = pts_lines(file, content);
-  std::string_view line;
-  while (lines.next(line)) {
-    const std::size_t n = lines.line_number();
-    Fields fields(without_comment(line));
-    std::string_view record;
-    if (!fields.next(record)) continue;
+  for_each_statement(lines, [&](std::size_t n, std::string_view record, Fields& fields) {
     if (record == "p") {
       std::array<std::string_view, 3> xyz;
       std::size_t count = 0;
@@ -370,7 +365,7 @@ PointCloud read_pts_points(std::string_view file, std::string_view content) {
                        " (the file was read as Hoppe's .pts format because line " + std::to_string(first_line) +
                        " starts with a letter)");
     }
-  }
+  });
   if (cloud.positions.empty()) fail_in_file(file, "no points: the file has no 'p x y z' record");
   checker.report(file);
   return cloud;
@@ -400,9 +395,9 @@ void write_xyz_points(std::ostream& stream, const PointCloud& cloud) {
 void write_text_curves(std::ostream& stream, const PolylineSet& curves) {
   BlockWriter writer(stream);
   std::string& out = writer.buffer();
-  out += "# written by recon: ";
-  out += std::to_string(curves.polylines.size());
-  out += " curves, \"x y\" a line, a blank line between curves; a closed curve repeats its first vertex at the end\n";
+  out += written_by_recon(std::to_string(curves.polylines.size()) +
+                          " curves, \"x y\" a line, a blank line between curves; a closed curve repeats its first "
+                          "vertex at the end");
   for (std::size_t c = 0; c < curves.polylines.size(); ++c) {
     const Polyline& line = curves.polylines[c];
     if (c > 0) out += '\n';

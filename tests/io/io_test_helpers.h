@@ -21,9 +21,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <random>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -224,6 +226,28 @@ std::string message_of(F&& f) {
   }
   ADD_FAILURE() << "threw nothing";
   return {};
+}
+
+/// Checks that `f` throws an exception of type E whose message contains
+/// every one of `parts`.
+template <typename E, typename F>
+void expect_message(F&& f, std::initializer_list<std::string_view> parts) {
+  const std::string message = message_of<E>(std::forward<F>(f));
+  for (const std::string_view part : parts) EXPECT_CONTAINS(message, part);
+}
+
+/// Checks what `format_from` (a format_from_path or format_from_name) makes
+/// of each text of a table: the format it names.
+template <typename Format, typename FormatFrom>
+void expect_formats(FormatFrom&& format_from, std::initializer_list<std::pair<std::string_view, Format>> cases) {
+  for (const auto& [text, format] : cases) EXPECT_EQ(format_from(std::string(text)), format) << text;
+}
+
+/// Checks that the reader said exactly one thing, and that it contains every
+/// one of `parts`.
+inline void expect_one_note(const ReadNotes& notes, std::initializer_list<std::string_view> parts) {
+  ASSERT_EQ(notes.lines.size(), 1U);
+  for (const std::string_view part : parts) EXPECT_CONTAINS(notes.lines[0], part);
 }
 
 /// Reads a point cloud, with what the reader said in `notes`.

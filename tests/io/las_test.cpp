@@ -169,9 +169,7 @@ TEST(LasReader, ColoursOfEightBitsAreTakenAsTheyAre) {
     EXPECT_EQ(cloud.colors[i], (Color{static_cast<std::uint8_t>(rgb[0]), static_cast<std::uint8_t>(rgb[1]),
                                       static_cast<std::uint8_t>(rgb[2])}));
   }
-  ASSERT_EQ(notes.lines.size(), 1U);
-  EXPECT_CONTAINS(notes.lines[0], "all 0 to 255");
-  EXPECT_CONTAINS(notes.lines[0], "as they are");
+  expect_one_note(notes, {"all 0 to 255", "as they are"});
 }
 
 TEST(LasReader, ColoursOfSixteenBitsKeepTheirHighByte) {
@@ -189,9 +187,7 @@ TEST(LasReader, ColoursOfSixteenBitsKeepTheirHighByte) {
   EXPECT_EQ(cloud.colors[0], (Color{255, 1, 0}));
   EXPECT_EQ(cloud.colors[1], (Color{0, 128, 1}));
   EXPECT_EQ(cloud.colors[2], (Color{0, 0, 1}));
-  ASSERT_EQ(notes.lines.size(), 1U);
-  EXPECT_CONTAINS(notes.lines[0], "up to 65535");
-  EXPECT_CONTAINS(notes.lines[0], "high byte");
+  expect_one_note(notes, {"up to 65535", "high byte"});
 }
 
 TEST(LasReader, SkipInvalidLeavesOutPointsBeyondTheBound) {

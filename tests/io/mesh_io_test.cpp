@@ -23,13 +23,11 @@ namespace {
 using namespace testing;  // io_test_helpers.h
 
 TEST(MeshIo, FormatFromExtension) {
-  EXPECT_EQ(mesh_format_from_path("a.ply"), MeshFormat::ply);
-  EXPECT_EQ(mesh_format_from_path("a.OBJ"), MeshFormat::obj);
-  EXPECT_EQ(mesh_format_from_path("a.off"), MeshFormat::off);
-  EXPECT_EQ(mesh_format_from_path("a.stl"), MeshFormat::stl);
-  const std::string message = message_of<InvalidInputError>([] { static_cast<void>(mesh_format_from_path("a.vtk")); });
-  EXPECT_CONTAINS(message, "a.vtk");
-  EXPECT_CONTAINS(message, ".ply, .obj, .off, .stl");
+  expect_formats<MeshFormat>(
+      mesh_format_from_path,
+      {{"a.ply", MeshFormat::ply}, {"a.OBJ", MeshFormat::obj}, {"a.off", MeshFormat::off}, {"a.stl", MeshFormat::stl}});
+  expect_message<InvalidInputError>([] { static_cast<void>(mesh_format_from_path("a.vtk")); },
+                                    {"a.vtk", ".ply, .obj, .off, .stl"});
 }
 
 TEST(MeshIo, NamedFormatOverridesTheExtension) {

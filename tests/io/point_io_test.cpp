@@ -23,40 +23,35 @@ using namespace testing;  // io_test_helpers.h
 // Format names and extensions
 
 TEST(PointIoFormat, FromName) {
-  EXPECT_EQ(point_format_from_name("ply"), PointFormat::ply);
-  EXPECT_EQ(point_format_from_name("XYZ"), PointFormat::xyz);
-  EXPECT_EQ(point_format_from_name("pts"), PointFormat::pts);
-  EXPECT_EQ(point_format_from_name("obj"), PointFormat::obj);
-  EXPECT_EQ(point_format_from_name("off"), PointFormat::off);
-  EXPECT_EQ(point_format_from_name("pcd"), PointFormat::pcd);
-  EXPECT_EQ(point_format_from_name("LAS"), PointFormat::las);
-  const std::string message = message_of<InvalidInputError>([] { static_cast<void>(point_format_from_name("e57")); });
-  EXPECT_CONTAINS(message, "'e57'");
-  EXPECT_CONTAINS(message, "ply, xyz, pts, obj, off, pcd, las");
+  expect_formats<PointFormat>(point_format_from_name, {{"ply", PointFormat::ply},
+                                                       {"XYZ", PointFormat::xyz},
+                                                       {"pts", PointFormat::pts},
+                                                       {"obj", PointFormat::obj},
+                                                       {"off", PointFormat::off},
+                                                       {"pcd", PointFormat::pcd},
+                                                       {"LAS", PointFormat::las}});
+  expect_message<InvalidInputError>([] { static_cast<void>(point_format_from_name("e57")); },
+                                    {"'e57'", "ply, xyz, pts, obj, off, pcd, las"});
 }
 
 TEST(PointIoFormat, FromExtension) {
-  EXPECT_EQ(point_format_from_path("a/b.ply"), PointFormat::ply);
-  EXPECT_EQ(point_format_from_path("b.PLY"), PointFormat::ply);
-  EXPECT_EQ(point_format_from_path("b.xyz"), PointFormat::xyz);
-  EXPECT_EQ(point_format_from_path("b.txt"), PointFormat::xyz);
-  EXPECT_EQ(point_format_from_path("b.asc"), PointFormat::xyz);
-  EXPECT_EQ(point_format_from_path("b.pwn"), PointFormat::xyz);
-  EXPECT_EQ(point_format_from_path("b.pts"), PointFormat::pts);
-  EXPECT_EQ(point_format_from_path("b.obj"), PointFormat::obj);
-  EXPECT_EQ(point_format_from_path("b.Off"), PointFormat::off);
-  EXPECT_EQ(point_format_from_path("b.pcd"), PointFormat::pcd);
-  EXPECT_EQ(point_format_from_path("b.CSV"), PointFormat::xyz);
-  EXPECT_EQ(point_format_from_path("b.las"), PointFormat::las);
+  expect_formats<PointFormat>(point_format_from_path, {{"a/b.ply", PointFormat::ply},
+                                                       {"b.PLY", PointFormat::ply},
+                                                       {"b.xyz", PointFormat::xyz},
+                                                       {"b.txt", PointFormat::xyz},
+                                                       {"b.asc", PointFormat::xyz},
+                                                       {"b.pwn", PointFormat::xyz},
+                                                       {"b.pts", PointFormat::pts},
+                                                       {"b.obj", PointFormat::obj},
+                                                       {"b.Off", PointFormat::off},
+                                                       {"b.pcd", PointFormat::pcd},
+                                                       {"b.CSV", PointFormat::xyz},
+                                                       {"b.las", PointFormat::las}});
 }
 
 TEST(PointIoFormat, UnknownExtensionNamesTheFormatsAndTheOption) {
-  const std::string message = message_of<InvalidInputError>([] { static_cast<void>(read_points("scan.e57")); });
-  EXPECT_CONTAINS(message, "scan.e57");
-  EXPECT_CONTAINS(message, ".las");
-  EXPECT_CONTAINS(message, ".ply");
-  EXPECT_CONTAINS(message, ".pcd");
-  EXPECT_CONTAINS(message, "--format");
+  expect_message<InvalidInputError>([] { static_cast<void>(read_points("scan.e57")); },
+                                    {"scan.e57", ".las", ".ply", ".pcd", "--format"});
   EXPECT_CONTAINS(message_of<InvalidInputError>([] { static_cast<void>(point_format_from_path("noext")); }),
                   "no extension");
 }
