@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <numbers>
+#include <ostream>
 #include <random>
 
 namespace recon {
@@ -79,18 +81,38 @@ Mesh flipped(Mesh mesh) {
   return mesh;
 }
 
+// Every count analyze_topology() makes, as one value, so that a test states a
+// mesh's whole expected topology at once (a count left out is expected 0).
+struct Counts {
+  std::size_t vertices = 0;
+  std::size_t edges = 0;
+  std::size_t triangles = 0;
+  long euler_characteristic = 0;
+  std::size_t components = 0;
+  std::size_t boundary_edges = 0;
+  std::size_t boundary_loops = 0;
+  std::size_t non_manifold_edges = 0;
+  std::size_t inconsistent_edges = 0;
+  std::size_t degenerate_triangles = 0;
+  bool operator==(const Counts&) const = default;
+};
+
+Counts counts_of(const MeshTopology& t) {
+  return {t.vertices,       t.edges,          t.triangles,          t.euler_characteristic, t.components,
+          t.boundary_edges, t.boundary_loops, t.non_manifold_edges, t.inconsistent_edges,   t.degenerate_triangles};
+}
+
+void PrintTo(const Counts& c, std::ostream* os) {
+  *os << "V " << c.vertices << ", E " << c.edges << ", F " << c.triangles << ", chi " << c.euler_characteristic
+      << ", components " << c.components << ", boundary edges " << c.boundary_edges << " in " << c.boundary_loops
+      << " loops, non-manifold " << c.non_manifold_edges << ", inconsistent " << c.inconsistent_edges << ", degenerate "
+      << c.degenerate_triangles;
+}
+
 TEST(MeshTopology, TetrahedronIsClosedWithPositiveVolume) {
   const MeshTopology topology = analyze_topology(tetrahedron());
-  EXPECT_EQ(topology.vertices, 4U);
-  EXPECT_EQ(topology.edges, 6U);
-  EXPECT_EQ(topology.triangles, 4U);
-  EXPECT_EQ(topology.euler_characteristic, 2);
-  EXPECT_EQ(topology.components, 1U);
-  EXPECT_EQ(topology.boundary_edges, 0U);
-  EXPECT_EQ(topology.boundary_loops, 0U);
-  EXPECT_EQ(topology.non_manifold_edges, 0U);
-  EXPECT_EQ(topology.inconsistent_edges, 0U);
-  EXPECT_EQ(topology.degenerate_triangles, 0U);
+  EXPECT_EQ(counts_of(topology),
+            (Counts{.vertices = 4, .edges = 6, .triangles = 4, .euler_characteristic = 2, .components = 1}));
   EXPECT_TRUE(topology.watertight());
   EXPECT_NEAR(topology.signed_volume, 1.0 / 6.0, 1e-15);
   EXPECT_NEAR(topology.area, 1.5 + std::sqrt(3.0) / 2.0, 1e-14);
@@ -125,11 +147,8 @@ TEST(MeshTopology, VolumeDoesNotDependOnWhereTheMeshIs) {
 
 TEST(MeshTopology, TorusHasEulerCharacteristicZero) {
   const MeshTopology topology = analyze_topology(torus(24, 12));
-  EXPECT_EQ(topology.vertices, 24U * 12U);
-  EXPECT_EQ(topology.triangles, 2U * 24U * 12U);
-  EXPECT_EQ(topology.edges, 3U * 24U * 12U);
-  EXPECT_EQ(topology.euler_characteristic, 0);
-  EXPECT_EQ(topology.components, 1U);
+  EXPECT_EQ(counts_of(topology),
+            (Counts{.vertices = 24 * 12, .edges = 3 * 24 * 12, .triangles = 2 * 24 * 12, .components = 1}));
   EXPECT_TRUE(topology.watertight());
   // The polyhedron is a little smaller than the smooth torus 2 pi^2 R r^2.
   const double smooth = 2.0 * std::numbers::pi * std::numbers::pi * 2.0 * 0.25;
@@ -140,12 +159,13 @@ TEST(MeshTopology, TorusHasEulerCharacteristicZero) {
 
 TEST(MeshTopology, SquareHasOneBoundaryLoop) {
   const MeshTopology topology = analyze_topology(unit_square());
-  EXPECT_EQ(topology.vertices, 4U);
-  EXPECT_EQ(topology.edges, 5U);
-  EXPECT_EQ(topology.euler_characteristic, 1);
-  EXPECT_EQ(topology.boundary_edges, 4U);
-  EXPECT_EQ(topology.boundary_loops, 1U);
-  EXPECT_EQ(topology.inconsistent_edges, 0U);
+  EXPECT_EQ(counts_of(topology), (Counts{.vertices = 4,
+                                         .edges = 5,
+                                         .triangles = 2,
+                                         .euler_characteristic = 1,
+                                         .components = 1,
+                                         .boundary_edges = 4,
+                                         .boundary_loops = 1}));
   EXPECT_FALSE(topology.watertight());
   EXPECT_NEAR(topology.area, 1.0, 1e-15);
   EXPECT_EQ(topology.component_list[0].boundary_edges, 4U);

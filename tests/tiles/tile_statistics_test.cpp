@@ -10,6 +10,7 @@
 #include "mesh_compare.h"
 #include "recon/core/shapes.h"
 #include "recon/io/mesh_io.h"
+#include "tile_cases.h"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,8 @@
 
 namespace recon {
 namespace {
+
+using namespace tile_testing;
 
 struct Case {
   const char* shape;
@@ -31,10 +34,7 @@ struct Case {
 void PrintTo(const Case& c, std::ostream* os) { *os << c.shape << " " << c.points << " " << method_name(c.method); }
 
 PointCloud cloud_of(const Case& c) {
-  const auto shape = make_shape(c.shape);
-  PointCloud cloud = shape->sample(c.points, 23);
-  const double spacing = std::sqrt(shape->area() / static_cast<double>(c.points));
-  if (c.noise > 0.0) add_noise(cloud, c.noise * spacing / bounding_box<3>(cloud.positions).diagonal(), 7);
+  PointCloud cloud = noisy_sample(c.shape, c.points, c.noise, 23, 7);
   for (std::size_t i = 0; i < c.copies; ++i) cloud.positions.push_back(cloud.positions[c.points / 3]);
   return cloud;
 }
@@ -53,9 +53,7 @@ TEST_P(MeasuredOverTiles, MeasuresAndMeshAreTheInMemoryOnes) {
   tiling.reconstruction = options;
   tiling.statistics_points = cloud.size() / 5;  // patches only: the measures come from the tiles
   tiling.tile_size = 0.3 * bounding_box<3>(cloud.positions).extent().maxCoeff();
-  const auto dir = std::filesystem::path(::testing::TempDir()) / ("recon-tile-statistics-" + std::string(c.shape));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const auto dir = scratch_folder("recon-tile-statistics-" + std::string(c.shape));
   const TiledRun run = reconstruct_tiled(pass_over(cloud, 4096), tiling, dir / "work", dir / "mesh.ply");
   const Mesh mesh = io::read_mesh(dir / "mesh.ply");
   std::filesystem::remove_all(dir);

@@ -10,6 +10,7 @@
 #include "recon/core/shapes.h"
 #include "recon/io/mesh_io.h"
 #include "test_data.h"
+#include "tile_cases.h"
 #include "tiles/files.h"  // (the tiles' files, made by hand below)
 
 #include <gtest/gtest.h>
@@ -24,12 +25,9 @@
 namespace recon {
 namespace {
 
-std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::path(::testing::TempDir()) / ("recon-tiles-test-" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+using namespace tile_testing;
+
+std::filesystem::path scratch(const std::string& name) { return scratch_folder("recon-tiles-test-" + name); }
 
 struct Case {
   const char* shape;
@@ -44,12 +42,13 @@ std::string name_of(const Case& c) {
          std::to_string(static_cast<int>(c.tile_size * 100)) + (c.noise > 0.0 ? "_noisy" : "");
 }
 
-PointCloud cloud_of(const Case& c) {
-  const auto shape = make_shape(c.shape);
-  PointCloud cloud = shape->sample(c.points, 11);
-  const double spacing = std::sqrt(shape->area() / static_cast<double>(c.points));
-  if (c.noise > 0.0) add_noise(cloud, c.noise * spacing / bounding_box<3>(cloud.positions).diagonal(), 5);
-  return cloud;
+PointCloud cloud_of(const Case& c) { return noisy_sample(c.shape, c.points, c.noise, 11, 5); }
+
+// The in-memory run a tiled one is compared with, by the case's method.
+Reconstruction in_memory(const PointCloud& cloud, const Case& c) {
+  ReconstructionOptions options;
+  options.method = c.method;
+  return reconstruct(cloud, options);
 }
 
 // The in-memory mesh the tiled one must equal: the final one (phase V's
@@ -78,9 +77,7 @@ class TiledRunOnCleanData : public ::testing::TestWithParam<Case> {};
 TEST_P(TiledRunOnCleanData, SameTrianglesAsInMemory) {
   const Case& c = GetParam();
   const PointCloud cloud = cloud_of(c);
-  ReconstructionOptions options;
-  options.method = c.method;
-  const Reconstruction whole = reconstruct(cloud, options);
+  const Reconstruction whole = in_memory(cloud, c);
   const Tiled tiled = run_tiled(cloud, c);
   ASSERT_GT(tiled.run.plan.tiles.size(), 1u) << "the case must cut the cloud";
   EXPECT_EQ(tiled.run.plan.statistics_points, cloud.size());
@@ -430,9 +427,7 @@ TEST(TiledRun, ATileOfCopiesMakesNoPlane) {
   const Case c{"sphere", 8000, Method::hoppe92, 1.0};
   PointCloud cloud = cloud_of(c);
   for (int i = 0; i < 50; ++i) cloud.positions.emplace_back(0.0, 0.0, 6.0);
-  ReconstructionOptions options;
-  options.method = c.method;
-  const Reconstruction whole = reconstruct(cloud, options);
+  const Reconstruction whole = in_memory(cloud, c);
   const Tiled tiled = run_tiled(cloud, c);
   EXPECT_TRUE(same_mesh(tiled.mesh, contoured(whole), 1e-9 * whole.contour.cell));
   EXPECT_EQ(analyze_topology(tiled.mesh).components, 1u);
