@@ -38,7 +38,7 @@ void add_limits(CLI::App& app, LabOptions& lab) {
       ->default_val(lab.max_points_list_heap)
       ->check(whole_number_up_to(1e12));
   // A test hook, left out of --help: spoil one run's result, so that the
-  // agreement checks must stop the lab (tests/cli_test.cpp).
+  // agreement checks must stop the lab (tests/cli/help_info_test.cpp).
   app.add_option("--test-spoil", lab.spoil, "Spoil this run's result (tests)")->group("");
   app.add_flag("--simplify", lab.simplify,
                "Also reconstruct the cloud and simplify its mesh to a tenth on each of phase VI's queues");

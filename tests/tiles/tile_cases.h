@@ -14,12 +14,15 @@
 #include <filesystem>
 #include <string>
 
+#include <unistd.h>
+
 namespace recon::tile_testing {
 
 /// An empty folder `name` in GoogleTest's temporary folder (emptied first
-/// if a run before left it).
+/// if a run before left it), named for this process too: two test runs at
+/// once (two checkouts on one machine) must not share it.
 inline std::filesystem::path scratch_folder(const std::string& name) {
-  const auto dir = std::filesystem::path(::testing::TempDir()) / name;
+  const auto dir = std::filesystem::path(::testing::TempDir()) / (name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -11,6 +11,7 @@
 #include "recon/core/errors.h"
 #include "recon/core/shapes.h"
 #include "recon/io/mesh_io.h"
+#include "tile_cases.h"
 #include "tiles/files.h"  // (the tiles' files, changed by hand below)
 
 #include <gtest/gtest.h>
@@ -38,12 +39,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  const auto dir = fs::path(::testing::TempDir()) / ("recon-tile-files-test-" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return tile_testing::scratch_folder("recon-tile-files-test-" + name); }
 
 std::string bytes_of(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
