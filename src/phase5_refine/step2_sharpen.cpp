@@ -161,14 +161,6 @@ void emit(Builder& b, const std::array<std::uint32_t, 3>& t, const std::array<st
 }
 
 // Step 2 over the whole mesh, in triangle order; then the corners.
-void snap_corners(Builder& b, const Projected& pr, double cos_crease);
-
-void weld_coincident(Builder& b, std::size_t projected);
-
-void remove_slivers(Builder& b);
-
-void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle);
-
 void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in, double cos_crease) {
   // The crease grid's side: a ten-thousandth of the longest edge, no less
   // than any tolerance asked of it (so the answers do not depend on it).

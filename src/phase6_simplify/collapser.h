@@ -31,7 +31,6 @@ namespace recon::simplification_steps {
 constexpr std::uint32_t none = UINT32_MAX;
 
 // ---------------------------------------------------------------------------
-// ---------------------------------------------------------------------------
 // Quadrics: the sum of w (n . x + d)^2 over planes, as a symmetric 4x4 form
 // (A = sum w n n^T, b = sum w d n, c = sum w d^2).
 
