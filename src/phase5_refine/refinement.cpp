@@ -26,6 +26,8 @@ void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle) {
   b.stem.resize(b.mesh.vertices.size());
 }
 
+namespace {
+
 // The fitted normal of each vertex (RefinementOptions::fitted_normals):
 // a projected vertex's own plane alone, moved onto its quadric, has one;
 // a vertex on two planes (a crease vertex, or one brought back onto a
@@ -52,6 +54,8 @@ void check_input(const RefinementInput& in) {
   if (in.blend > 1 && (in.origin_tree == nullptr || in.origin_tree->size() != n))
     throw InvalidInputError("refine_mesh: blending needs the tree over the origins");
 }
+
+}  // namespace
 
 }  // namespace refinement_steps
 

@@ -181,36 +181,13 @@ struct Fragments {
 };
 
 // Step 1 (step1_project.cpp): every vertex onto a quadric.
-SurfacePoint blended_projection(const RefinementInput& in, std::uint32_t i, const Vec3& p);
 Projected project_vertices(const Mesh& mesh, const RefinementInput& in, double max_move);
 double curvature_along(const RefinementInput& in, std::uint32_t i, const Vec3& d);
 
 // Step 2 (step2_sharpen.cpp): creases and corners; then welds and slivers.
-bool is_crease(const Projected& pr, const RefinementInput& in, std::uint32_t a, std::uint32_t b, double cos_crease);
-Vec3 on_crease_line(const Projected& pr, std::uint32_t a, std::uint32_t b, const Vec3& near);
-std::optional<Vec3> crease_point(const Projected& pr, std::uint32_t a, std::uint32_t b);
 std::size_t bring_back(Projected& pr, const Mesh& contoured, const RefinementInput& in, double cos_crease,
                        double max_move);
-std::optional<Vec3> corner_point(const Projected& pr, const std::array<std::uint32_t, 3>& on, const Vec3& centre,
-                                 double reach);
-double longest_edge(const std::vector<Vec3>& x, const std::array<std::uint32_t, 3>& t);
-std::uint32_t split_vertex(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in,
-                           std::uint32_t u, std::uint32_t v, double cos_crease);
-void emit(Builder& b, const std::array<std::uint32_t, 3>& t, const std::array<std::uint32_t, 3>& m,
-          std::uint32_t source);
-void snap_corners(Builder& b, const Projected& pr, double cos_crease);
-void weld_coincident(Builder& b, std::size_t projected);
-void remove_slivers(Builder& b);
 void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in, double cos_crease);
-std::optional<Vec3> triangle_corner(const Builder& b, const Projected& pr, const std::array<std::uint32_t, 3>& t,
-                                    double cos_crease);
-std::vector<std::vector<std::uint32_t>> cluster_corners(const std::vector<CornerCandidate>& found);
-bool can_move(const Builder& b, const std::vector<std::uint32_t>& around, std::uint32_t v, const Vec3& p);
-std::size_t sliver_edge(const std::vector<Vec3>& x, const std::array<std::uint32_t, 3>& tri);
-Slivers flip_slivers(Triangles& tris, const std::vector<Vec3>& x);
-bool collapse_keeps_sides(const Triangles& tris, const std::vector<Vec3>& x, const std::vector<std::uint32_t>& around,
-                          std::uint32_t u, std::uint32_t v);
-bool collapse_slivers(Builder& b, const std::vector<std::uint32_t>& slivers);
 
 // Step 3 (step3_balance.cpp): the mean sag.
 std::vector<double> mean_sag(const Mesh& contoured, const Projected& pr, double cos_crease);
@@ -220,13 +197,10 @@ std::vector<std::uint8_t> covered_vertices(const Builder& b, const Projected& pr
 std::size_t trim_boundaries(RefinedPatch& patch);
 std::vector<std::uint8_t> far_vertices(const Builder& b, const Projected& pr, const RefinementInput& in);
 std::size_t drop_strays(RefinedPatch& patch);
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t v);
 Fragments find_fragments(const Mesh& mesh, const std::vector<std::uint32_t>& piece_of_vertex, double fraction);
 
 // Around the steps (refinement.cpp).
 void compact(Builder& b, const std::vector<std::uint8_t>& keep_triangle);
-std::vector<Vec3> fitted_normals(const Builder& b, const Projected& pr);
-void check_input(const RefinementInput& in);
 
 // Removes the dropped triangles (and their `source`) and the vertices no
 // triangle uses any more, keeping the order of the rest; move(to, from) moves

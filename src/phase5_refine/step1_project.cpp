@@ -9,6 +9,8 @@
 
 namespace recon::refinement_steps {
 
+namespace {
+
 // On noisy data each quadric carries its neighbourhood's noise: the point
 // is projected onto the quadrics of the `blend` origins nearest to it that
 // face the same way as plane i (not across a crease), and the results are
@@ -34,6 +36,8 @@ SurfacePoint blended_projection(const RefinementInput& in, std::uint32_t i, cons
   if (!(total > 0.0)) return project_onto_quadric(in.origins[i], in.normals[i], in.curvature[i], p);
   return {point / total, normal.normalized()};
 }
+
+}  // namespace
 
 // Step 1: every vertex onto the quadric of the plane f takes there (so the
 // faces meeting at a crease split the space as f does). A vertex that would

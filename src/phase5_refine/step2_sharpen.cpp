@@ -13,6 +13,8 @@
 
 namespace recon::refinement_steps {
 
+namespace {
+
 // Step 2's test: whether the edge (a, b) crosses a crease. The ends'
 // normals must differ by more than the crease angle and by more than twice
 // what the curvature at either end turns a normal along the edge.
@@ -47,6 +49,8 @@ std::optional<Vec3> crease_point(const Projected& pr, std::uint32_t a, std::uint
   return x;
 }
 
+}  // namespace
+
 // Step 2a: an end of a crease edge that lies past the crease, on its own
 // face's plane but outside the other face's half-space at a convex edge
 // (inside it at a concave one), is moved onto the crease line, once.
@@ -78,6 +82,8 @@ std::size_t bring_back(Projected& pr, const Mesh& contoured, const RefinementInp
     }
   return moved;
 }
+
+namespace {
 
 // Where the tangent planes at the projected vertices `on` meet, if they
 // meet at a well-defined point within `reach` of `centre`.
@@ -160,6 +166,15 @@ void emit(Builder& b, const std::array<std::uint32_t, 3>& t, const std::array<st
   b.source.resize(out.size(), source);
 }
 
+}  // namespace
+
+namespace {
+// After the creases (defined below, in the order they run).
+void snap_corners(Builder& b, const Projected& pr, double cos_crease);
+void weld_coincident(Builder& b, std::size_t projected);
+void remove_slivers(Builder& b);
+}  // namespace
+
 // Step 2 over the whole mesh, in triangle order; then the corners.
 void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const RefinementInput& in, double cos_crease) {
   // The crease grid's side: a ten-thousandth of the longest edge, no less
@@ -177,6 +192,8 @@ void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const Refin
   weld_coincident(b, pr.point.size());
   remove_slivers(b);
 }
+
+namespace {
 
 // Three or more tangent planes far apart in direction among a triangle's
 // vertices (the planes a crease vertex lies on count for it): a corner
@@ -465,5 +482,7 @@ void remove_slivers(Builder& b) {
     if (s.flipped == 0 && !collapsed) return;
   }
 }
+
+}  // namespace
 
 }  // namespace recon::refinement_steps

@@ -71,10 +71,14 @@ std::size_t drop_strays(RefinedPatch& patch) {
   return dropped;
 }
 
+namespace {
+
 std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t v) {
   while (parent[v] != v) v = parent[v] = parent[parent[v]];
   return v;
 }
+
+}  // namespace
 
 Fragments find_fragments(const Mesh& mesh, const std::vector<std::uint32_t>& piece_of_vertex, double fraction) {
   const std::size_t n = mesh.vertices.size();
