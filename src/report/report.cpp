@@ -195,11 +195,14 @@ void add_boundary(const Mesh& mesh, std::size_t budget, const Vec3& centre, Repo
 }
 
 // Distances from points to the surface of a mesh (its triangles). The
-// nearest point lies on some triangle, and every vertex of that triangle
-// lies within the mesh's longest edge of it. So, with d_v the distance to
-// the nearest vertex (an upper bound), only the triangles around the
-// vertices within d_v + longest edge need be measured, nearest first, until
-// the vertices lie farther than the best distance found + longest edge.
+// nearest point q lies on some triangle, and every point of a triangle lies
+// within L / sqrt 3 of one of its vertices, L its longest edge (the
+// equilateral triangle's centre is the worst case; an obtuse triangle's
+// worst points lie on its edges, within L / 2). So, with d an upper bound
+// (the distance to the triangles around the nearest vertex), only the
+// triangles around the vertices within d + L / sqrt 3 can hold q: they are
+// measured, nearest first, until the vertices lie farther than the best
+// distance found + L / sqrt 3.
 class MeshDistance {
  public:
   explicit MeshDistance(const Mesh& mesh) : mesh_(mesh) {
@@ -221,28 +224,35 @@ class MeshDistance {
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
       for (const std::uint32_t v : mesh.triangles[t]) around_[count[v]++] = t;
     tree_ = KdTree<3>(used);
+    cover_ = 0.58 * longest_;  // 1 / sqrt 3 = 0.5774
   }
 
   /// NaN when the mesh has no triangle.
   [[nodiscard]] double operator()(const Vec3& p) const {
     if (tree_.empty()) return std::numeric_limits<double>::quiet_NaN();
-    double best = std::sqrt(tree_.nearest(p).distance2);
-    const double reach = best + longest_;
+    double best = around(used_id_[tree_.nearest(p).index], p, std::numeric_limits<double>::infinity());
+    const double reach = best + cover_;
     for (const Neighbor& n : tree_.radius(p, reach * reach)) {
-      if (std::sqrt(n.distance2) > best + longest_) break;
-      const std::uint32_t v = used_id_[n.index];
-      for (std::uint32_t i = first_[v]; i < first_[v + 1]; ++i) {
-        const auto& t = mesh_.triangles[around_[i]];
-        best = std::min(best,
-                        point_triangle_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]));
-      }
+      if (std::sqrt(n.distance2) > best + cover_) break;
+      best = around(used_id_[n.index], p, best);
     }
     return best;
   }
 
  private:
+  // The least of `best` and the distances from p to the triangles around vertex v.
+  [[nodiscard]] double around(std::uint32_t v, const Vec3& p, double best) const {
+    for (std::uint32_t i = first_[v]; i < first_[v + 1]; ++i) {
+      const auto& t = mesh_.triangles[around_[i]];
+      best =
+          std::min(best, point_triangle_distance(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]));
+    }
+    return best;
+  }
+
   const Mesh& mesh_;
   double longest_ = 0.0;
+  double cover_ = 0.0;                         // L / sqrt 3 (see above), with a margin for rounding
   std::vector<std::uint32_t> used_id_;         // the mesh's index of each tree point
   std::vector<std::uint32_t> first_, around_;  // the triangles around vertex v: around_[first_[v] .. first_[v + 1])
   KdTree<3> tree_;

@@ -326,6 +326,34 @@ TEST(Report, RefinementDistancesFarFromThe1992Surface) {
   EXPECT_GT(layers.drawn_box.extent().minCoeff(), 2.9);
 }
 
+// The nearest point of the 1992 surface can be the middle of a large
+// triangle whose corners all lie farther than another triangle's corner:
+// here a refined vertex just above a unit triangle's centre (its corners
+// 0.577 away), with a small triangle's corner 0.3 above it. The search must
+// reach L / sqrt 3 beyond the distance found around the nearest corner.
+TEST(Report, RefinementDistanceReachesTheMiddleOfALargeTriangle) {
+  const Reconstruction& r = small_sphere(Method::refined);
+  const double h = std::sqrt(3.0) / 2.0;
+  const Vec3 centre(0.5, h / 3.0, 0.0);
+  Mesh contoured;
+  contoured.vertices = {Vec3(0, 0, 0),
+                        Vec3(1, 0, 0),
+                        Vec3(0.5, h, 0),  // the unit triangle
+                        centre + Vec3(0, 0, 0.31),
+                        centre + Vec3(0.05, 0, 0.35),
+                        centre + Vec3(0, 0.05, 0.35)};
+  contoured.triangles = {{0, 1, 2}, {3, 4, 5}};
+  Refinement moved;
+  moved.mesh.vertices = {centre + Vec3(0, 0, 0.01), centre + Vec3(0.001, 0, 0.01), centre + Vec3(0, 0.001, 0.01)};
+  moved.mesh.triangles = {{0, 1, 2}};
+  ReportInput input = report_input(r);
+  input.mesh = &contoured;
+  input.refinement = &moved;
+  const ReportLayers layers = make_report_layers(input);
+  expect_distances_to(layers, moved.mesh, contoured);
+  EXPECT_NEAR(layers.distance_max, 0.01, 1e-9);
+}
+
 TEST(Report, Hoppe92RunHasNoRefinementLayer) {
   const Reconstruction& r = small_sphere(Method::hoppe92);
   ASSERT_FALSE(r.refinement);
