@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -60,6 +61,9 @@ void fit_second_order(Reconstruction& r, const ReconstructionOptions& options, d
     const double first = r.quadrics->seconds;
     r.quadrics = fit_local_quadrics(r.planes, fits);
     r.quadrics->seconds += first;
+    // The cell came from the first planes' rho: another cell's fits are not
+    // known to be these (phases_1_2_hold_for).
+    r.quadrics->same_fits = {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   }
   adopt_second_order(r.planes, *r.quadrics);
 }
@@ -526,6 +530,12 @@ void reconstruct_phase_2_on(Reconstruction& r, const ReconstructionOptions& opti
     phase_2(r, run, 0.0, SignedDistanceOptions{}, nullptr, seconds_tree);
     r.seconds_distance_setup = seconds_tree;
   }
+}
+
+bool phases_1_2_hold_for(const Reconstruction& r, const ReconstructionOptions& options) {
+  if (r.method != options.method) return false;
+  if (!r.quadrics || options.quadrics.min_sheet_separation > 0.0) return true;  // the cell plays no part in them
+  return r.quadrics->same_fits.holds(1.5 * lattice_cell(r.points(), r.planes, options));  // as fit_second_order
 }
 
 void reconstruct_phases_3_on(Reconstruction& r, const ReconstructionOptions& options) {

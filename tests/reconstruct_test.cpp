@@ -377,7 +377,7 @@ TEST(Reconstruct, LaterPhasesAgainGiveReconstructsMeshForTheirParameters) {
     for (const double scale : {1.0, 0.8, 1.3}) {
       ReconstructionOptions later = options;
       if (scale != 1.0) later.cell = scale * kept.planes.rho;
-      if (method == Method::refined && scale != 1.0) continue;  // phase I's fits depend on the cell (reconstruct.h)
+      ASSERT_TRUE(phases_1_2_hold_for(kept, later)) << "no two sheets here: no fit depends on the cell";
       reconstruct_phases_3_on(kept, later);
       const Reconstruction whole = reconstruct(cloud, later);
       EXPECT_TRUE(kept.mesh().vertices == whole.mesh().vertices) << method_name(method) << " scale " << scale;
@@ -390,6 +390,39 @@ TEST(Reconstruct, LaterPhasesAgainGiveReconstructsMeshForTheirParameters) {
     other.method = method == Method::refined ? Method::hoppe92 : Method::refined;
     EXPECT_THROW(reconstruct_phases_3_on(kept, other), InvalidInputError);
   }
+}
+
+// A plate 0.02 thick: phase I's fits split a neighbourhood into the two
+// faces where they lie 1.5 cells apart or more, and fit one surface between
+// them where nearer. A new cell keeps phases I-II exactly when it leaves
+// every such decision alone (phases_1_2_hold_for), and then phases III-V
+// alone give reconstruct()'s mesh for it; a cell that changes the decisions
+// does not keep them, and reconstruct()'s fits for it are indeed others.
+TEST(Reconstruct, ANewCellKeepsTheRefinedPhasesOneAndTwoWhenTheFitsHold) {
+  const PointCloud cloud = make_box(Vec3(1.0, 1.0, 0.02))->sample(20000, 3);
+  ReconstructionOptions options;
+  options.planes.adapt_k = false;  // (a raised k undone keeps nothing: see phases_1_2_hold_for)
+  options.cell = 0.01;             // 1.5 cells: 0.015, under the faces' distance
+  Reconstruction kept = reconstruct_phases_1_2(cloud, options);
+  ASSERT_TRUE(kept.quadrics);
+  ASSERT_GT(kept.quadrics->split, 1000u) << "the faces are split apart";
+  const SeparationRange range = kept.quadrics->same_fits;
+  ReconstructionOptions near = options, far = options;
+  near.cell = 0.0105;
+  far.cell = 0.03;  // 1.5 cells: 0.045, beyond the faces' distance
+  EXPECT_TRUE(phases_1_2_hold_for(kept, near)) << range.below << " " << range.up_to;
+  EXPECT_FALSE(phases_1_2_hold_for(kept, far)) << range.below << " " << range.up_to;
+  reconstruct_phases_3_on(kept, near);
+  const Reconstruction whole_near = reconstruct(cloud, near);
+  EXPECT_TRUE(kept.mesh().vertices == whole_near.mesh().vertices);
+  EXPECT_TRUE(kept.mesh().triangles == whole_near.mesh().triangles);
+  const Reconstruction whole_far = reconstruct_phases_1_2(cloud, far);
+  EXPECT_NE(whole_far.quadrics->split, kept.quadrics->split);
+  ReconstructionOptions hoppe92 = options, hoppe92_far = far;
+  hoppe92.method = hoppe92_far.method = Method::hoppe92;
+  const Reconstruction first_order = reconstruct_phase_1(cloud, hoppe92);
+  EXPECT_TRUE(phases_1_2_hold_for(first_order, hoppe92_far)) << "hoppe92's phase I has no cell";
+  EXPECT_FALSE(phases_1_2_hold_for(first_order, far)) << "another method";
 }
 
 // Large enough that every parallel part splits its work (kd-tree build tasks

@@ -257,8 +257,8 @@ struct Reconstruction {
 /// method, planes, orientation, quadrics, use_input_normals, max_memory,
 /// offset, keep_graph and, in the refined method, the cell (phase I's
 /// second-order fits tell two sheets apart at 1.5 cells): a later call with
-/// another cell in the refined method does not give reconstruct()'s mesh
-/// for that cell; in hoppe92 it does.
+/// another cell in the refined method gives reconstruct()'s mesh for that
+/// cell when phases_1_2_hold_for says so; in hoppe92 it always does.
 /// Cost: O(n k log n) expected, as reconstruct()'s phases I-II.
 /// Throws: what reconstruct() throws for those phases.
 /// Pre: none.
@@ -277,6 +277,16 @@ void reconstruct_phase_2_on(Reconstruction& r, const ReconstructionOptions& opti
 /// when options.method is not the method of r's phase I.
 /// Pre: `r` from reconstruct_phases_1_2 (or phase 1 then phase 2 on it).
 void reconstruct_phases_3_on(Reconstruction& r, const ReconstructionOptions& options);
+/// Whether `r`'s phases I-II are those reconstruct() would run with
+/// `options`, which differ from the options r was made with in the cell or
+/// the resolution at most: always in hoppe92; in the refined method when the
+/// new cell's sheet separation (1.5 cells, unless options.quadrics gives one)
+/// leaves every second-order fit as it was (LocalQuadrics::same_fits), and
+/// never after phase I undid a raised k (its cell came from other planes).
+/// Cost: O(n) (the cloud's box, for a resolution); O(1) with a cell.
+/// Throws: InvalidInputError for a cell or resolution reconstruct() refuses.
+/// Pre: `r` from reconstruct_phases_1_2 (or reconstruct_phase_1) with the same options but the cell and resolution.
+[[nodiscard]] bool phases_1_2_hold_for(const Reconstruction& r, const ReconstructionOptions& options);
 /// Phase I alone, as reconstruct() runs it: the planes, and in the refined
 /// method the second-order fits (with a raised k undone where they find
 /// two sheets); r.order, r.offset and r.planes (neighbour lists kept), and

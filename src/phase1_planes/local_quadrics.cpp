@@ -289,21 +289,28 @@ double cut_over(std::span<const Vec3> x, Row row, const Vec3& o, const Vec3& n, 
 // follow them apart) stay one surface between them: the other side's
 // samples, fitted with a plane parallel to this sheet's and nearer than
 // that. (The other side of a crease is no parallel sheet and is split off.)
+// `same` narrows to the separations that decide this pair alike.
 bool too_close_to_split(std::span<const Vec3> x, Row row, const Vec3& o, const Vec3& n, double cut, bool above,
-                        const PlaneFit<3>& sheet, double separation) {
+                        const PlaneFit<3>& sheet, double separation, SeparationRange& same) {
   if (!(separation > 0.0)) return false;
   std::vector<std::uint32_t> other;
   for (const std::uint32_t j : row)
     if (((x[j] - o).dot(n) > cut) != above) other.push_back(j);
   if (other.size() < 3) return false;
   const PlaneFit<3> far = fit_plane<3>(x, other);
-  return std::abs(far.normal.dot(sheet.normal)) > 0.9 &&
-         std::abs((far.centroid - sheet.centroid).dot(sheet.normal)) < separation;
+  if (!(std::abs(far.normal.dot(sheet.normal)) > 0.9)) return false;
+  const double gap = std::abs((far.centroid - sheet.centroid).dot(sheet.normal));
+  if (gap < separation) {
+    same.below = std::max(same.below, gap);
+    return true;
+  }
+  same.up_to = std::min(same.up_to, gap);
+  return false;
 }
 
 SheetFit fit_own_sheet(const TangentPlanes<3>& planes, std::size_t i, const Quadric& whole,
                        const LocalQuadricOptions& options, std::vector<double>& heights,
-                       std::vector<std::uint32_t>& kept) {
+                       std::vector<std::uint32_t>& kept, SeparationRange& same) {
   const std::span<const Vec3> x = planes.point_tree.points();
   const Row row = planes.neighbors.row(i);
   SheetFit fit{whole, planes.origins[i], planes.normals[i]};
@@ -333,7 +340,7 @@ SheetFit fit_own_sheet(const TangentPlanes<3>& planes, std::size_t i, const Quad
   if (kept.size() < 6) return fit;
   PlaneFit<3> sheet = fit_plane<3>(x, kept);
   if (!(sheet.eigenvalues[1] > 1e-6 * sheet.eigenvalues[2]) || std::abs(sheet.normal.dot(n)) < 0.9) return fit;
-  if (too_close_to_split(x, row, o, n, cut, above, sheet, options.min_sheet_separation)) return fit;
+  if (too_close_to_split(x, row, o, n, cut, above, sheet, options.min_sheet_separation, same)) return fit;
   if (sheet.normal.dot(planes.normals[i]) < 0.0) sheet.normal = -sheet.normal;
   const Quadric part = fit_quadric(x, kept, sheet);
   if (part.flat || !(part.residual < 0.25 * whole.residual)) return fit;
@@ -462,24 +469,31 @@ void split_sheets(const TangentPlanes<3>& planes, Fits& fits, const std::vector<
   fits.frames.resize(suspects.size());
   if (options.keep_parts) result.was_split.assign(n, 0);
   std::size_t split = 0;
+  // Without a separation no pair is measured: a positive one could change the fits.
+  double below = -std::numeric_limits<double>::infinity();
+  double up_to = options.min_sheet_separation > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
   const auto count = static_cast<std::int64_t>(suspects.size());
-#pragma omp parallel reduction(+ : split)
+#pragma omp parallel reduction(+ : split) reduction(max : below) reduction(min : up_to)
   {
     std::vector<double> heights;
     std::vector<std::uint32_t> kept;
+    SeparationRange same;
 #pragma omp for schedule(dynamic, 64)
     for (std::int64_t s = 0; s < count; ++s) {
       const auto slot = static_cast<std::size_t>(s);
       const std::uint32_t i = suspects[slot];
-      const SheetFit sheet = fit_own_sheet(planes, i, fits[i], options, heights, kept);
+      const SheetFit sheet = fit_own_sheet(planes, i, fits[i], options, heights, kept, same);
       if (std::isnan(sheet.cut)) continue;
       fits.frames[slot] = {sheet.quadric.origin, sheet.quadric.normal};
       fits.set(i, sheet.quadric, static_cast<std::uint32_t>(slot));
       if (options.keep_parts) result.was_split[i] = 1;
       ++split;
     }
+    below = std::max(below, same.below);
+    up_to = std::min(up_to, same.up_to);
   }
   result.split = split;
+  result.same_fits = {below, up_to};
 }
 
 // The samples with a neighbour whose (new) normal is more than the crease

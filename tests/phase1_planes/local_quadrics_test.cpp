@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -144,6 +145,50 @@ TEST(LocalQuadrics, TwoSheetsCloserThanANeighbourhoodAreFittedApart) {
     EXPECT_NEAR(q.origins[i].z(), x[i].z(), 1e-9) << i;  // not in the empty band between the sheets
     EXPECT_GT(std::abs(q.normals[i].z()), 1.0 - 1e-9);
   }
+}
+
+// Two sheets whose distance grows from 0.02 to 0.04 across the cloud: at a
+// separation of 0.03 the nearer part is fitted as one surface, the farther
+// split. same_fits is exactly the separations that give these fits: the
+// same fits just inside either end, other fits just outside.
+TEST(LocalQuadrics, SameFitsIsTheRangeOfSeparationsThatGiveThem) {
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  PointCloud cloud;
+  for (int i = 0; i < 20000; ++i) {
+    const double x = u(rng);
+    cloud.positions.emplace_back(x, u(rng), i % 2 == 0 ? 0.0 : 0.03 + 0.01 * x);
+  }
+  TangentPlaneOptions planes_options;
+  planes_options.adapt_k = false;
+  const LeafPlanes lp = leaf_planes(cloud, planes_options);
+  LocalQuadricOptions options;
+  options.min_sheet_separation = 0.03;
+  const LocalQuadrics q = fit_local_quadrics(lp.planes, options);
+  const SeparationRange range = q.same_fits;
+  ASSERT_LT(range.below, 0.03);
+  ASSERT_GE(range.up_to, 0.03);
+  ASSERT_GT(range.below, 0.02) << "some pairs nearer than 0.03 were measured";
+  ASSERT_LT(range.up_to, 0.04) << "and some farther";
+  const auto fits_at = [&](double separation) {
+    LocalQuadricOptions o = options;
+    o.min_sheet_separation = separation;
+    return fit_local_quadrics(lp.planes, o);
+  };
+  const auto same = [&](const LocalQuadrics& other) {
+    return other.split == q.split && other.origins == q.origins && other.normals == q.normals;
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(same(fits_at(std::nextafter(range.below, inf))));
+  EXPECT_TRUE(same(fits_at(range.up_to)));
+  EXPECT_TRUE(range.holds(std::nextafter(range.below, inf)) && range.holds(range.up_to));
+  EXPECT_FALSE(same(fits_at(range.below)));
+  EXPECT_FALSE(same(fits_at(std::nextafter(range.up_to, inf))));
+  EXPECT_FALSE(range.holds(range.below) || range.holds(std::nextafter(range.up_to, inf)));
+  // Without a separation no pair is measured: only none gives the same fits.
+  const LocalQuadrics unseparated = fits_at(0.0);
+  EXPECT_TRUE(unseparated.same_fits.holds(0.0));
+  EXPECT_FALSE(unseparated.same_fits.holds(1e-12));
 }
 
 // A neighbourhood of copies of one point has no surface; strays scattered

@@ -38,6 +38,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -84,6 +85,23 @@ struct Curvature {
   float p = 0.0f, q = 0.0f, r = 0.0f;
 };
 
+/// The values of LocalQuadricOptions::min_sheet_separation that give the
+/// same fits: those s with below < s <= up_to. Each pair of parallel sheets
+/// the fits measured lies either nearer than the separation used (kept as
+/// one surface) or not (split); a separation between the nearest such gaps
+/// on either side decides every pair alike. (The web page uses it: a new
+/// lattice cell, of which the separation is 1.5, keeps phases I-II when it
+/// falls in the range.)
+struct SeparationRange {
+  double below = -std::numeric_limits<double>::infinity();
+  double up_to = std::numeric_limits<double>::infinity();
+  /// Whether separation s gives the same fits.
+  /// Cost: O(1).
+  /// Throws: nothing.
+  /// Pre: none.
+  [[nodiscard]] bool holds(double s) const { return below < s && s <= up_to; }
+};
+
 struct LocalQuadrics {
   std::vector<Vec3> origins;  ///< s_i: x_i moved onto its quadric (replaces the centroid)
   std::vector<Vec3> normals;  ///< unit normal at s_i, on the same side as phase I's n_i
@@ -103,9 +121,10 @@ struct LocalQuadrics {
   /// 1 where its neighbourhood was split into two sheets.
   std::vector<float> fit_residual;
   std::vector<std::uint8_t> was_split;
-  std::size_t borrowed = 0;  ///< samples that took a neighbour's quadric (near creases)
-  std::size_t split = 0;     ///< neighbourhoods split into two sheets
-  std::size_t flat = 0;      ///< fits that fell back to a plane (samples too few, collinear, or no surface)
+  std::size_t borrowed = 0;   ///< samples that took a neighbour's quadric (near creases)
+  std::size_t split = 0;      ///< neighbourhoods split into two sheets
+  std::size_t flat = 0;       ///< fits that fell back to a plane (samples too few, collinear, or no surface)
+  SeparationRange same_fits;  ///< the sheet separations that give these fits
   double seconds = 0.0;
 };
 
