@@ -101,6 +101,51 @@ export function warmUp(renderer) {
   for (const o of objects) o.material.dispose();
 }
 
+// Frames that never hold the page's main thread while they are drawn (the
+// web page's, while its worker runs). Without a graphics card, the browser
+// draws in software and, to show the canvas, reads its picture back on the
+// main thread, waiting there until the frame is drawn: 30-70 ms for a view
+// of phases I-II while the worker takes a core. So each frame is drawn
+// into a picture of its own (a render target), with a fence behind it; the
+// page polls the fence between tasks and, once the drawing is done, copies
+// the picture to the canvas, which is quick to draw and to read back. A
+// frame asked for while one is being drawn replaces any other waiting, and
+// is drawn next. frames.draw(scene, camera) takes the place of
+// renderer.render(scene, camera).
+export function fencedFrames(renderer) {
+  const gl = renderer.getContext();
+  // Half floats: the picture is kept linear, as drawn, and made sRGB by the copy.
+  const target = new THREE.WebGLRenderTarget(1, 1, { type: THREE.HalfFloatType });
+  const copy = new THREE.Scene();
+  copy.add(new THREE.Mesh(new THREE.PlaneGeometry(2, 2), new THREE.MeshBasicMaterial({ map: target.texture, toneMapped: false })));
+  const copyCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
+  const size = new THREE.Vector2();
+  let fence = null, next = null;
+  function start(scene, camera) {
+    renderer.getDrawingBufferSize(size);
+    if (target.width !== size.x || target.height !== size.y) target.setSize(size.x, size.y);
+    renderer.setRenderTarget(target);
+    renderer.render(scene, camera);
+    renderer.setRenderTarget(null);
+    fence = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
+    gl.flush();
+    setTimeout(poll, 4);
+  }
+  function poll() {
+    if (gl.getSyncParameter(fence, gl.SYNC_STATUS) !== gl.SIGNALED) { setTimeout(poll, 4); return; }
+    gl.deleteSync(fence);
+    fence = null;
+    renderer.render(copy, copyCamera);
+    frames.drawn += 1;
+    if (next) { const [scene, camera] = next; next = null; start(scene, camera); }
+  }
+  const frames = {
+    drawn: 0,  // frames on the canvas (the tests wait for one)
+    draw(scene, camera) { if (fence) next = [scene, camera]; else start(scene, camera); },
+  };
+  return frames;
+}
+
 // Draws `data` (the JSON block report.cpp writes) in the page's elements
 // (#canvas, #layers, #parameters, #statistics, ...: template.html);
 // arrayBytes(id) gives array id's bytes (a Uint8Array). Returns the view's
@@ -110,8 +155,9 @@ export function warmUp(renderer) {
 // previous view, with `deferFirstFrame` (the first frame is drawn in a task
 // of its own, an animation frame, rather than waited for here, so that no
 // task of the page's main thread holds both) and its own `renderer`
-// (makeRenderer, warmUp: kept from view to view, its shaders compiled once).
-export function showReport(data, arrayBytes, { deferFirstFrame = false, renderer: sharedRenderer = null } = {}) {
+// (makeRenderer, warmUp: kept from view to view, its shaders compiled once),
+// drawing through `frames` (fencedFrames) when given.
+export function showReport(data, arrayBytes, { deferFirstFrame = false, renderer: sharedRenderer = null, frames = null } = {}) {
   // A section filled by an earlier view keeps only its heading.
   for (const id of ['layers', 'lab', 'parameters', 'statistics'])
     for (const child of [...document.getElementById(id).children]) if (child.tagName !== 'H2') child.remove();
@@ -182,7 +228,8 @@ export function showReport(data, arrayBytes, { deferFirstFrame = false, renderer
   // browser draws in software).
   let started = false, renderQueued = false;
   function render() {
-    renderer.render(scene, camera);
+    if (frames) frames.draw(scene, camera);
+    else renderer.render(scene, camera);
   }
   function requestRender() {
     if (!started || renderQueued) return;

@@ -9,9 +9,11 @@
 // For the tests (web/tests/webapp.test.mjs): document.body.dataset.state is
 // idle, running, done or error; window.recon holds the last run's --stats
 // JSON (stats), the input's description (input), how often each phase ran
-// (runs), the views drawn (views), the error line (error) and the viewer's
-// handle (viewer).
-import { makeRenderer, showReport, warmUp } from '../report/viewer.js';
+// (runs), the views drawn (views), the error line (error), the viewer's
+// handle (viewer), the frames drawn (frames.drawn) and how Cancel stops a
+// run (cancels: 'at the next interruption point' or 'by ending the worker')
+// and the workers started (workers).
+import { fencedFrames, makeRenderer, showReport, warmUp } from '../report/viewer.js';
 
 /* global workerSource */
 const $ = (id) => document.getElementById(id);
@@ -28,8 +30,12 @@ const phaseNames = {
 let worker = null;
 let workerHasInput = false;  // the worker holds the cloud (a fresh worker does not)
 let source = null;           // { file } or { sample, points }: what to (re)load
-let lastRun = null;          // the parameters of the last finished run
+let held = null;             // the parameters of the run whose phases I-II the worker holds
 let pending = null;          // resolves the worker's answer to a request
+// Cancel's flag, shared with the worker, where the page may share memory
+// (window.crossOriginIsolated: served with COOP and COEP headers). From
+// file:// it may not, and Cancel ends the worker instead (see cancel()).
+let cancelFlag = null;
 
 function setState(state) {
   document.body.dataset.state = state;
@@ -47,6 +53,7 @@ function showError(message) {
 // ---- the worker
 
 function startWorker() {
+  recon.workers = (recon.workers ?? 0) + 1;
   const url = URL.createObjectURL(new Blob([workerSource], { type: 'text/javascript' }));
   worker = new Worker(url);
   URL.revokeObjectURL(url);
@@ -56,6 +63,11 @@ function startWorker() {
   // index.html#max-memory=MB lowers the memory a run may use (2,500 MB by default).
   const limit = /max-memory=(\d+)/.exec(location.hash);
   if (limit) worker.postMessage({ type: 'limit', bytes: Number(limit[1]) * 1e6 });
+  if (window.crossOriginIsolated && typeof SharedArrayBuffer === 'function') {
+    cancelFlag = new Int32Array(new SharedArrayBuffer(4));
+    worker.postMessage({ type: 'cancel-flag', buffer: cancelFlag.buffer });
+  }
+  recon.cancels = cancelFlag ? 'at the next interruption point' : 'by ending the worker';
 }
 
 // One request at a time; the answer is the worker's next 'answer' message.
@@ -98,6 +110,8 @@ function showProgress(done, total) {
 const renderer = makeRenderer($('canvas'), false, false);
 renderer.setSize(Math.max(1, $('view').clientWidth), Math.max(1, $('view').clientHeight), false);  // (its buffers, once)
 warmUp(renderer);
+const frames = fencedFrames(renderer);  // drawn without holding the main thread (viewer.js)
+recon.frames = frames;
 
 // Stage 1: phase I done, 2: phase II, 4: phase IV (refined, as phase V
 // starts), 5: the run. recon.views records each view: its stage, the
@@ -106,7 +120,7 @@ function showLayers({ stage, json, arrays }) {
   const start = performance.now();
   const data = JSON.parse(json);
   recon.viewer?.dispose();
-  recon.viewer = showReport(data, (id) => arrays[id], { deferFirstFrame: true, renderer });
+  recon.viewer = showReport(data, (id) => arrays[id], { deferFirstFrame: true, renderer, frames });
   document.title = `recon: ${data.title}`;
   recon.views.push({ stage, at: start, ms: performance.now() - start,
     bytes: json.length + arrays.reduce((n, a) => n + a.byteLength, 0),
@@ -138,17 +152,18 @@ function parameters() {
   return {
     method: Number($('method').value), k: Math.round(number('k')), rho: number('rho'),
     delta: $('delta').value === '' ? -1 : Math.max(0, Number($('delta').value)), cell: number('cell'),
+    resolution: Math.round(number('resolution')),
   };
 }
 
 // The first phase a change of parameters affects: k, rho and the method
-// change phase I; delta and (hoppe92) the cell only phases III-V. The
-// refined method's phase I fits depend on the cell (reconstruct.h).
+// change phase I; delta, the cell and the resolution phases III-V. (In the
+// refined method a new cell may change phase I's fits, which tell two
+// sheets apart at 1.5 cells: the worker then runs phases I-II again,
+// webapp.cpp.)
 function firstPhaseFor(p) {
-  if (!lastRun || !workerHasInput) return 1;
-  if (p.method !== lastRun.method || p.k !== lastRun.k || p.rho !== lastRun.rho) return 1;
-  if (p.cell !== lastRun.cell && p.method === 0) return 1;
-  return 3;
+  if (!held || !workerHasInput) return 1;
+  return p.method !== held.method || p.k !== held.k || p.rho !== held.rho ? 1 : 3;
 }
 
 async function run() {
@@ -157,12 +172,14 @@ async function run() {
   recon.error = '';
   setState('running');
   try {
-    if (!workerHasInput) { lastRun = null; await load(); }
+    if (!workerHasInput) { held = null; await load(); }
     const from = firstPhaseFor(p);
+    if (cancelFlag) Atomics.store(cancelFlag, 0, 0);
     const answer = await request({ type: 'run', from, ...p });
+    held = answer.kept ? p : null;
+    if (answer.cancelled) { showCancelled(); return; }
     if (answer.error) throw new Error(answer.error);
     recon.runEndedAt = answer.postedAt - performance.timeOrigin;  // the worker idle from here (bench/webapp_bench.mjs)
-    lastRun = p;
     recon.stats = answer.stats;
     showLayers(answer.layers);
     showChosen(answer.stats);
@@ -170,7 +187,6 @@ async function run() {
     $('phase').textContent = `done in ${answer.stats.seconds_total.toFixed(2)} s`;
     setState('done');
   } catch (e) {
-    lastRun = null;
     showError(e.message);
   }
 }
@@ -183,17 +199,28 @@ function showChosen(stats) {
   $('chosen-rho').textContent = `used: ${format(stats.tangent_planes.rho)}`;
   $('chosen-delta').textContent = `used: ${format(stats.signed_distance.delta)}`;
   $('chosen-cell').textContent = `used: ${format(stats.contouring.cell)}`;
+  $('chosen-resolution').textContent = `used: a lattice of ${stats.contouring.lattice_size.map(format).join(' × ')} cubes`;
 }
 
-// Cancel: the worker is busy in WebAssembly and reads no message until the
-// run ends (a shared flag would need SharedArrayBuffer, which a page opened
-// from file:// does not have), so it is ended and a fresh one started; the
+// Cancel. The worker is busy in WebAssembly and reads no message until the
+// run ends. With a shared flag, the run stops at its next interruption point
+// (webapp.cpp) and the worker keeps the input, and phases I-II when they
+// were done. Without one (a page opened from file://, where browsers give
+// no SharedArrayBuffer), the worker is ended and a fresh one started; the
 // next run reads the input again.
 function cancel() {
+  if (cancelFlag) {
+    Atomics.store(cancelFlag, 0, 1);
+    $('phase').textContent = 'cancelling…';
+    return;
+  }
   worker.terminate();
-  if (pending) { pending = null; }
+  pending = null;
   startWorker();
-  lastRun = null;
+  held = null;
+  showCancelled();
+}
+function showCancelled() {
   $('phase').textContent = 'cancelled';
   $('bar').style.width = '0';
   setState('idle');
@@ -202,7 +229,7 @@ function cancel() {
 function choose(newSource) {
   source = newSource;
   workerHasInput = false;
-  lastRun = null;
+  held = null;
   run();
 }
 

@@ -17,8 +17,14 @@
 //     normals, the memory estimate and the page's limit.
 //   webapp_run(from_phase, method, k, rho, delta, cell, resolution) runs
 //     phases I-V (from_phase 1) or, on the kept phases I-II, III-V again
-//     (from_phase 3); k 0, rho 0, delta < 0, cell 0, resolution 0 mean "the
-//     program's default". Returns 0 or 1. While it runs it calls the page's
+//     (from_phase 3: a new delta, cell or resolution; phases I-II run again
+//     too when the refined method's fits would change with the new cell,
+//     phases_1_2_hold_for); k 0, rho 0, delta < 0, cell 0, resolution 0 mean
+//     "the program's default". Returns 0, 1, or 2 when the page cancelled the
+//     run (Module.reconCancelled() true at an interruption point: the page
+//     sets it through a SharedArrayBuffer where it has one, worker.js).
+//     Cancelled or failed in phases I-II, the run keeps nothing of them;
+//     later, it keeps phases I-II for the next run. While it runs it calls the page's
 //     hooks (Module.reconPhase, reconProgress, reconLayers: worker.js); the
 //     layers go as the report's data (report_data: the JSON and the arrays'
 //     bytes, copied out of the module's memory) after phase I, phase II and
@@ -26,6 +32,7 @@
 //     the end with the report's budgets.
 //   webapp_set_limit(bytes) sets the memory a run may use (0: 2.5 GB, the
 //     default); a cloud estimated to need more is refused before phase I.
+//   webapp_kept() is 1 when phases I-II are kept for a run from phase III.
 //   webapp_stats() is the last run's --stats JSON; webapp_write(what, path)
 //     writes "mesh" (by the path's extension), "cloud" (the oriented cloud,
 //     .ply), "report" or "stats" and returns 0 or 1.
@@ -86,6 +93,9 @@ State state;
 // The hooks of worker.js (EM_JS: JavaScript called from here).
 EM_JS(void, js_phase, (const char* phase), { Module["reconPhase"](UTF8ToString(phase)); });
 EM_JS(void, js_progress, (double done, double total), { Module["reconProgress"](done, total); });
+EM_JS(int, js_cancelled, (), { return Module["reconCancelled"]() ? 1 : 0; });
+// Thrown at an interruption point once the page has cancelled the run.
+struct Cancelled {};
 // The layers: the JSON, then `count` arrays given as (address, bytes) pairs
 // at `arrays`; copied out of the module's memory for the page.
 EM_JS(void, js_layers, (int stage, const char* json, std::size_t length, const std::uint32_t* arrays, int count), {
@@ -215,16 +225,19 @@ void run(int from_phase, const ReconstructionOptions& options) {
   o.progress = &counter;
   double last = -1.0;
   const InterruptionCheck progress([&] {
+    if (js_cancelled() != 0) throw Cancelled{};
     if (total.elapsed() - last < 0.1) return;
     last = total.elapsed();
     tell_progress(counter);
   });
-  if (from_phase <= 2 || !state.r || state.r->method != o.method) {
-    state.r.reset();
-    state.r.emplace(reconstruct_phase_1(PointCloudView(state.cloud), o));
-    tell_early_layers(1, *state.r);
-    reconstruct_phase_2_on(*state.r, o);
-    tell_early_layers(2, *state.r);
+  state.summary.reset();
+  if (from_phase <= 2 || !state.r || !phases_1_2_hold_for(*state.r, o)) {
+    state.r.reset();  // (kept only once phase II is done)
+    Reconstruction r = reconstruct_phase_1(PointCloudView(state.cloud), o);
+    tell_early_layers(1, r);
+    reconstruct_phase_2_on(r, o);
+    tell_early_layers(2, r);
+    state.r.emplace(std::move(r));
   }
   reconstruct_phases_3_on(*state.r, o);
   state.options = o;
@@ -269,7 +282,8 @@ void write(const std::string& what, const std::string& path) {
   }
 }
 
-// Runs `step`, turning an exception into 1 and the program's one line.
+// Runs `step`, turning an exception into 1 and the program's one line, and
+// a cancellation into 2.
 template <class Step>
 int guarded(Step step) {
   state.error.clear();
@@ -279,6 +293,9 @@ int guarded(Step step) {
   } catch (const std::exception& e) {
     state.error = e.what();
     return 1;
+  } catch (const Cancelled&) {
+    state.error = "cancelled";
+    return 2;
   }
 }
 
@@ -324,6 +341,9 @@ EMSCRIPTEN_KEEPALIVE int webapp_run(int from_phase, int method, int k, double rh
     run(from_phase, run_options(method, k, rho, delta, cell, resolution));
   });
 }
+
+// 1 when the worker holds phases I-II (of the last run's method, k and rho) for a later run from phase III.
+EMSCRIPTEN_KEEPALIVE int webapp_kept() { return state.r ? 1 : 0; }
 
 EMSCRIPTEN_KEEPALIVE const char* webapp_stats() {
   state.text = state.summary ? state.summary->stats().dump(2) : std::string("{}");

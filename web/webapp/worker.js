@@ -16,12 +16,17 @@ const post = (message, transfer = []) => postMessage(message, transfer);
 const answer = (fields, transfer = []) =>
   post({ type: 'answer', ...fields, postedAt: performance.timeOrigin + performance.now() }, transfer);
 let finalLayers = null;
+// The page's Cancel: a flag it shares, where the browser gives the page a
+// SharedArrayBuffer (a server that isolates it: README.md, "In the
+// browser"); read at every interruption point of the run (webapp.cpp).
+let cancelFlag = null;
 
 const moduleReady = createReconWebapp({
   print: (text) => post({ type: 'line', text }),
   printErr: (text) => post({ type: 'line', text }),
   reconPhase: (name) => post({ type: 'phase', name }),
   reconProgress: (done, total) => post({ type: 'progress', done, total }),
+  reconCancelled: () => cancelFlag !== null && Atomics.load(cancelFlag, 0) === 1,
   // Phases I-II's layers go at once; the run's own go with its answer (the
   // page draws them once the worker is idle).
   reconLayers: (stage, json, arrays) => {
@@ -53,13 +58,17 @@ function describe(module) {
   return JSON.parse(module.UTF8ToString(module._webapp_input(0, 0)));
 }
 
+// The run's answer: its statistics and final layers, its error, or that it
+// was cancelled; and whether phases I-II are kept for a run from phase III.
 function run(module, m) {
   finalLayers = null;
-  const failed = module._webapp_run(m.from, m.method, m.k, m.rho, m.delta, m.cell, 0);
-  if (failed) return [{ error: errorOf(module) }];
+  const failed = module._webapp_run(m.from, m.method, m.k, m.rho, m.delta, m.cell, m.resolution);
+  const kept = module._webapp_kept() === 1;
+  if (failed === 2) return [{ cancelled: true, kept }];
+  if (failed) return [{ error: errorOf(module), kept }];
   const layers = finalLayers;
   finalLayers = null;
-  return [{ stats: JSON.parse(module.UTF8ToString(module._webapp_stats())), layers }, layers.arrays.map((a) => a.buffer)];
+  return [{ stats: JSON.parse(module.UTF8ToString(module._webapp_stats())), layers, kept }, layers.arrays.map((a) => a.buffer)];
 }
 
 function write(module, m) {
@@ -81,6 +90,7 @@ onmessage = async (e) => {
     } else if (m.type === 'run') answer(...run(module, m));
     else if (m.type === 'write') answer(...write(module, m));
     else if (m.type === 'limit') module._webapp_set_limit(m.bytes);
+    else if (m.type === 'cancel-flag') cancelFlag = new Int32Array(m.buffer);
   } catch (error) {
     answer({ error: `the page's worker failed: ${error.message ?? error}` });
   }
