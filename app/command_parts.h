@@ -59,6 +59,10 @@ void add_simplify_options(CLI::App& app, const std::string& target_flag, std::st
                           const std::string& subject, const std::string& bound_flag, std::optional<double>& bound,
                           const std::string& reference, const std::string& measure);
 
+/// --method refined|hoppe92: `refined` says what the default does in the
+/// command, `phases` which of the paper's phases hoppe92 runs exactly.
+void add_method_option(CLI::App& app, std::string& method, const std::string& refined, const std::string& phases);
+
 /// The options of a command that writes a mesh: --ascii, --normals (whose
 /// help starts with where the normals come from: `source`) and --stats.
 void add_mesh_output_options(CLI::App& app, bool& ascii, bool& normals, const std::string& source,

@@ -125,6 +125,14 @@ void add_simplify_options(CLI::App& app, const std::string& target_flag, std::st
       ->check(positive_length());
 }
 
+// --method, shared by reconstruct and normals: what the refined default
+// does there, and which of the paper's phases hoppe92 runs.
+void add_method_option(CLI::App& app, std::string& method, const std::string& refined, const std::string& phases) {
+  app.add_option("--method", method,
+                 "refined (default: " + refined + ") or hoppe92 (the 1992 paper's " + phases + " exactly)")
+      ->check(CLI::IsMember({"refined", "hoppe92"}));
+}
+
 // --ascii, --normals and --stats, shared by reconstruct and simplify.
 void add_mesh_output_options(CLI::App& app, bool& ascii, bool& normals, const std::string& source,
                              std::filesystem::path& stats) {
@@ -281,10 +289,10 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
   app.add_option("-o,--output", o->output,
                  "Mesh to write (.ply .obj .off .stl .glb); for 2D points, curves (.svg .obj .txt)")
       ->required();
-  app.add_option("--method", o->method,
-                 "refined (default: second-order fits, a finer lattice, the mesh moved onto the fitted surface, "
-                 "creases sharpened, fragments dropped) or hoppe92 (the 1992 paper's four phases exactly)")
-      ->check(CLI::IsMember({"refined", "hoppe92"}));
+  add_method_option(app, o->method,
+                    "second-order fits, a finer lattice, the mesh moved onto the fitted surface, creases sharpened, "
+                    "fragments dropped",
+                    "four phases");
   app.add_flag("--keep-fragments", o->keep_fragments,
                "Keep small mesh components next to larger ones drawn from the same data (refined)");
   add_phase_options(app, o->phases);
@@ -370,6 +378,7 @@ struct NormalsCommandOptions {
   PhaseOptions phases;
   std::filesystem::path output, stats, report;
   bool ascii = false;
+  std::string method = "refined";
 };
 
 void write_normals_report(const std::filesystem::path& path, const NormalEstimation& estimated, const PointCloud& cloud,
@@ -399,14 +408,14 @@ void run_normals(const NormalsCommandOptions& o, const GlobalOptions& global) {
   ProgressCounter counter;
   Progress progress(!global.quiet);
   NormalEstimationOptions options;
+  options.method = method_from_name(o.method);
   options.planes = phase_1_options(o.phases);
   options.max_memory = o.phases.max_memory;
   options.progress = progress.enabled() ? &counter : nullptr;
   options.on_phase = on_phase(progress, memory, options.progress);
   const NormalEstimation estimated = estimate_normals(cloud, options);
   progress.stop();
-  summary.add(phase_1_report(estimated.planes, cloud.size()), "tangent_planes");
-  summary.add(phase_2_report(estimated.oriented), "orientation");
+  report_normal_estimation(estimated, cloud.size(), summary);
 
   memory.start("write");
   cloud.normals = estimated.normals_in_input_order();
@@ -428,6 +437,9 @@ Command add_normals(CLI::App& app, const GlobalOptions& global) {
   app.add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary");
   app.add_option("--stats", o->stats, "Also write the run's figures as JSON to this file");
   add_report_option(app, o->report);
+  add_method_option(app, o->method,
+                    "the normals reconstruct orients: second-order fits, each piece's side decided at its best extreme",
+                    "phases I and II");
   add_phase_options(app, o->phases);
   return [o, &global] { run_normals(*o, global); };
 }

@@ -268,16 +268,25 @@ template StepReport phase_1_report<3>(const TangentPlanes<3>&, std::size_t);
 template StepReport phase_2_report<2>(const OrientedNormals<2>&);
 template StepReport phase_2_report<3>(const OrientedNormals<3>&);
 
-void report_reconstruction(Reconstruction& r, const ReconstructionOptions& options, std::size_t points, bool keep_all,
-                           Summary& summary) {
-  summary.add(phase_1_report(r.planes, points), "tangent_planes");
-  summary.stats()["method"] = method_name(r.method);
-  if (r.quadrics) summary.add(quadrics_report(*r.quadrics), "tangent_planes", "quadrics");
-  if (r.oriented) {
-    summary.add(phase_2_report(*r.oriented), "orientation");
+void report_phases_1_2(const TangentPlanes<3>& planes, Method method, const std::optional<LocalQuadrics>& quadrics,
+                       const OrientedNormals<3>* oriented, std::size_t points, Summary& summary) {
+  summary.add(phase_1_report(planes, points), "tangent_planes");
+  summary.stats()["method"] = method_name(method);
+  if (quadrics) summary.add(quadrics_report(*quadrics), "tangent_planes", "quadrics");
+  if (oriented != nullptr) {
+    summary.add(phase_2_report(*oriented), "orientation");
   } else {
     summary.say("phase II  skipped: the input's normals are used");
   }
+}
+
+void report_normal_estimation(const NormalEstimation& estimated, std::size_t points, Summary& summary) {
+  report_phases_1_2(estimated.planes, estimated.method, estimated.quadrics, &estimated.oriented, points, summary);
+}
+
+void report_reconstruction(Reconstruction& r, const ReconstructionOptions& options, std::size_t points, bool keep_all,
+                           Summary& summary) {
+  report_phases_1_2(r.planes, r.method, r.quadrics, r.oriented ? &*r.oriented : nullptr, points, summary);
   const MarchingCubesResult& c = r.contour;
   summary.add(phase_3_report({r.delta, r.delta_given, c.evaluated_corners, c.undefined_corners,
                               r.seconds_distance_setup + c.seconds_field, r.seconds_distance_beside}),

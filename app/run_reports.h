@@ -7,6 +7,7 @@
 #include "summary.h"
 
 #include "recon/core/resource_usage.h"
+#include "recon/estimate_normals.h"
 #include "recon/io/point_io.h"  // ReadNotes
 #include "recon/reconstruct.h"
 #include "recon/report/report.h"
@@ -48,6 +49,16 @@ struct SignedDistanceFigures {
 [[nodiscard]] StepReport simplification_report(const Simplification& s, std::optional<double> rho);
 /// A lattice's cubes (or squares) along each axis, as a JSON array.
 [[nodiscard]] Json lattice_size_json(std::span<const std::int32_t> size);
+
+/// Phases I and II of a run of `method` on `points` points: phase I's
+/// planes, the method (in the statistics), the second-order fits when there
+/// are any, and phase II's orientation (null: skipped, the input's normals used).
+void report_phases_1_2(const TangentPlanes<3>& planes, Method method, const std::optional<LocalQuadrics>& quadrics,
+                       const OrientedNormals<3>* oriented, std::size_t points, Summary& summary);
+
+/// A finished estimate_normals() on `points` points (`recon normals`, the
+/// Python package's estimate_normals): its phases I and II, as above.
+void report_normal_estimation(const NormalEstimation& estimated, std::size_t points, Summary& summary);
 
 /// Every phase of a finished reconstruction of `points` points made with
 /// `options` (lines and statistics), then its mesh. Without `keep_all` (no

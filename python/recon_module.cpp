@@ -459,9 +459,10 @@ std::unique_ptr<PyMesh> run_reconstruct(const CloudArrays& input, const Reconstr
   return result;
 }
 
-py::tuple run_estimate_normals(const CloudArrays& input, const PhaseParameters& p, std::optional<int> threads_wanted,
-                               const py::object& progress) {
+py::tuple run_estimate_normals(const CloudArrays& input, const PhaseParameters& p, const std::string& method,
+                               std::optional<int> threads_wanted, const py::object& progress) {
   NormalEstimationOptions options;
+  options.method = method_from_name(method);  // (ValueError for another name, before any work)
   options.planes = p.planes();
   options.max_memory = p.max_memory;
   ThreadsForOneCall threads(threads_wanted);
@@ -474,8 +475,7 @@ py::tuple run_estimate_normals(const CloudArrays& input, const PhaseParameters& 
     options.on_phase = phase_hook(memory, progress);
     const NormalEstimation estimated = estimate_normals(input.view, options);
     summary.stats()["input"]["points"] = input.view.size();
-    summary.add(cli::phase_1_report(estimated.planes, input.view.size()), "tangent_planes");
-    summary.add(cli::phase_2_report(estimated.oriented), "orientation");
+    cli::report_normal_estimation(estimated, input.view.size(), summary);
     cli::report_memory(memory, summary);
     summary.stats()["threads"] = thread_count();
     *normals = estimated.normals_in_input_order();
@@ -683,13 +683,13 @@ void bind_runs(py::module_& m) {
   m.def(
       "estimate_normals",
       [](const py::object& points, std::optional<std::int64_t> k, std::optional<double> rho, std::optional<int> threads,
-         const py::object& max_memory, const py::object& progress) {
+         const py::object& max_memory, const py::object& progress, const std::string& method) {
         const CloudArrays in(points, py::none(), py::none());
         PhaseParameters p{k, rho, memory_limit(max_memory)};
-        return run_estimate_normals(in, p, threads, progress);
+        return run_estimate_normals(in, p, method, threads, progress);
       },
       py::arg("points"), py::arg("k") = py::none(), py::arg("rho") = py::none(), py::arg("threads") = py::none(),
-      py::arg("max_memory") = py::none(), py::arg("progress") = py::none());
+      py::arg("max_memory") = py::none(), py::arg("progress") = py::none(), py::arg("method") = "refined");
 
   m.def(
       "reconstruct",

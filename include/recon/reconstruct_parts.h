@@ -3,8 +3,9 @@
 // some of them on their own: a tiled run (tiles/tiles.h) runs phase I over
 // the whole cloud and the later phases tile by tile, each tile with the
 // options, the lattice cell, f and phase V's input that reconstruct() would
-// give it; the 2D curves (curves/reconstruct_curve.h) and
-// estimate_normals() choose the cell and build phase I's tree the same way.
+// give it; the 2D curves (curves/reconstruct_curve.h) choose the cell and
+// build phase I's tree the same way; estimate_normals() runs phase I
+// (reconstruct_phase_1) and phase II (orientation_options) as it does.
 // A user who wants a mesh needs reconstruct.h only.
 
 #include "recon/reconstruct.h"

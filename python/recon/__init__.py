@@ -230,17 +230,24 @@ def estimate_normals(
     *,
     max_memory: Union[None, int, str] = None,
     progress: Optional[Progress] = None,
+    method: str = "refined",
 ) -> Tuple[np.ndarray, dict]:
     """Phases I and II (``recon normals``): consistently oriented normals.
 
-    Returns ``(normals, info)``: an n x 3 array in the order of ``points``,
-    and the phases' statistics (``info["tangent_planes"]``,
-    ``info["orientation"]``: as ``--stats`` records them). ``k`` defaults to
-    20, raised for noisy data; ``rho`` is estimated per point unless given;
-    ``threads`` defaults to all cores; ``progress(phase)`` is called as each
-    phase starts."""
+    ``points``: (n, 3) float64. Returns ``(normals, info)``: an (n, 3)
+    float64 array of unit normals in the order of ``points``, and the
+    phases' statistics (``info["method"]``, ``info["tangent_planes"]``,
+    ``info["orientation"]``: as ``--stats`` records them).
+
+    ``method="refined"`` (the default) gives the normals
+    ``reconstruct(method="refined")`` orients, bit for bit: second-order
+    fits, each piece's side decided at its best extreme; ``"hoppe92"`` the
+    1992 paper's phases I and II exactly. Another name raises ValueError.
+    ``k`` defaults to 20, raised for noisy data; ``rho`` is estimated per
+    point unless given; ``threads`` defaults to all cores;
+    ``progress(phase)`` is called as each phase starts."""
     points, _, _ = _cloud_arrays(points, None, None)
-    return _recon.estimate_normals(points, k, rho, threads, max_memory, progress)
+    return _recon.estimate_normals(points, k, rho, threads, max_memory, progress, method)
 
 
 def reconstruct(

@@ -37,7 +37,8 @@ def read_points(path: str, format: Optional[str] = ..., columns: Optional[Sequen
 def write_points(path: str, points: Any, normals: Any = ..., colors: Any = ..., ascii: bool = ...) -> None: ...
 def estimate_normals(points: Any, k: Optional[int] = ..., rho: Optional[float] = ..., threads: Optional[int] = ...,
                      max_memory: Union[None, int, str] = ...,
-                     progress: Optional[Callable[[str], Any]] = ...) -> Tuple[np.ndarray, dict[str, Any]]: ...
+                     progress: Optional[Callable[[str], Any]] = ...,
+                     method: str = ...) -> Tuple[np.ndarray, dict[str, Any]]: ...
 def reconstruct(points: Any, normals: Any = ..., colors: Any = ..., k: Optional[int] = ..., rho: Optional[float] = ...,
                 delta: Optional[float] = ..., cell: Optional[float] = ..., resolution: Optional[int] = ...,
                 method: str = ..., keep_fragments: bool = ..., max_memory: Union[None, int, str] = ...,

@@ -131,9 +131,10 @@ def test_too_much_work_is_a_resource_limit_error(tmp_path):
     path = tmp_path / "s.ply"
     recon.write_points(path, points)
     # The same words as the program's refusal where it refuses in memory
-    # (recon normals, which needs what hoppe92's phases I-II need); recon
-    # reconstruct would try tiles first.
-    assert str(caught.value) == program_error("normals", path, "-o", tmp_path / "n.ply", "--max-memory", "1M")
+    # (recon normals --method hoppe92, which needs what hoppe92's phases I-II
+    # need); recon reconstruct would try tiles first.
+    assert str(caught.value) == program_error("normals", path, "-o", tmp_path / "n.ply", "--method", "hoppe92",
+                                              "--max-memory", "1M")
     with pytest.raises(ValueError, match="max_memory: unknown size unit"):
         recon.reconstruct(points, max_memory="3 parsecs")
 

@@ -43,15 +43,43 @@ def test_the_mesh_is_the_programs_mesh(torus_file, tmp_path):
 
 
 def test_the_normals_are_the_programs_normals(torus_file, tmp_path):
-    oriented = tmp_path / "oriented.ply"
-    run_cli("normals", torus_file, "-o", oriented)
-    by_program = recon.read_points(oriented)
     cloud = recon.read_points(torus_file)
-    normals, info = recon.estimate_normals(cloud.points)
-    assert normals.shape == cloud.points.shape
-    np.testing.assert_array_equal(normals, by_program.normals)
-    assert info["tangent_planes"]["k"] >= 20
-    assert info["orientation"]["components"] == 1
+    for method in ("refined", "hoppe92"):
+        oriented = tmp_path / f"oriented-{method}.ply"
+        run_cli("normals", torus_file, "-o", oriented, "--method", method)
+        by_program = recon.read_points(oriented)
+        normals, info = recon.estimate_normals(cloud.points, method=method)
+        assert normals.shape == cloud.points.shape
+        np.testing.assert_array_equal(normals, by_program.normals)
+        assert info["method"] == method
+        assert ("quadrics" in info["tangent_planes"]) == (method == "refined")
+        assert info["tangent_planes"]["k"] >= 20
+        assert info["orientation"]["components"] == 1
+    # The default is the refined method.
+    np.testing.assert_array_equal(recon.estimate_normals(cloud.points)[0],
+                                  recon.estimate_normals(cloud.points, method="refined")[0])
+
+
+def test_the_default_normals_get_every_conic_right(tmp_path):
+    """Issue 27: the 1992 walk turns the course's tall narrow cone inside
+    out; the default (refined) gets each of the five pieces right."""
+    path = tmp_path / "conics.ply"
+    run_cli("generate", "conics", "--with-normals", "-o", path, "--quiet")
+    cloud = recon.read_points(path)
+    # The pieces stand in a row along x (shapes.h, make_conics).
+    piece = np.digitize(cloud.points[:, 0], [-1.25, -0.3, 0.55, 1.65])
+    for method, tall_cone in (("refined", (0.99, 1.0)), ("hoppe92", (0.0, 0.05))):
+        normals, _ = recon.estimate_normals(cloud, method=method)
+        right = np.einsum("ij,ij->i", normals, cloud.normals) > 0
+        share = [right[piece == p].mean() for p in range(5)]
+        assert tall_cone[0] <= share[0] <= tall_cone[1], (method, share)
+        if method == "refined":
+            assert min(share) >= 0.99, share
+
+
+def test_an_unknown_method_is_a_value_error():
+    with pytest.raises(ValueError, match="unknown method 'sideways': use refined"):
+        recon.estimate_normals(sphere(500), method="sideways")
 
 
 def test_the_mesh_lies_on_the_true_surface():

@@ -23,7 +23,7 @@ TEST_F(CliHelp, ProgramListsSubcommandsAndGlobalOptions) {
 TEST_F(CliHelp, EachSubcommandListsItsOptions) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> expected = {
       {"info", {"input", "--format", "--k"}},
-      {"normals", {"input", "--format", "--output", "--k", "--rho", "--ascii", "--stats"}},
+      {"normals", {"input", "--format", "--output", "--k", "--rho", "--ascii", "--stats", "--method", "hoppe92"}},
       {"reconstruct",
        {"input", "--format", "--output", "--k", "--rho", "--delta", "--cell", "--resolution", "--use-normals",
         "--ascii", "--stats", "--normals", ".glb"}},

@@ -100,6 +100,42 @@ TEST_F(CliReport, NormalsWritesAReportWithoutLatticeLayers) {
   EXPECT_EQ(page.find("\"corners\":{"), std::string::npos);
 }
 
+// The base64 arrays of a report page, in the order of their ids
+// (recon-array-0, -1, ...).
+std::vector<std::string> report_arrays(const std::string& page) {
+  std::vector<std::string> arrays;
+  for (;;) {
+    const std::string tag = "<script id=\"recon-array-" + std::to_string(arrays.size()) + "\"";
+    const std::size_t start = page.find('>', page.find(tag));
+    if (page.find(tag) == std::string::npos || start == std::string::npos) return arrays;
+    arrays.push_back(page.substr(start + 1, page.find("</script>", start) - start - 1));
+  }
+}
+
+// Issue 27: `recon normals --report` draws the walk reconstruct's phase II
+// made: layers 1-5 (points, planes, the graph and its tree, the oriented
+// normals, drawn first) are the reconstruct report's, byte for byte; in
+// hoppe92 they are not (its planes and walk are the 1992 ones).
+TEST_F(CliReport, NormalsDrawsTheWalkOfReconstructsPhaseTwo) {
+  ASSERT_TRUE(succeeded(recon({"--quiet", "generate", "conics", "-n", "4000", "-o", "c.ply"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "reconstruct", "c.ply", "-o", "m.ply", "--report", "m.html"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "c.ply", "-o", "n.ply", "--report", "n.html"})));
+  ASSERT_TRUE(
+      succeeded(recon({"--quiet", "normals", "c.ply", "-o", "h.ply", "--method", "hoppe92", "--report", "h.html"})));
+  const std::vector<std::string> mesh = report_arrays(read_bytes(at("m.html")));
+  const std::vector<std::string> refined = report_arrays(read_bytes(at("n.html")));
+  const std::vector<std::string> hoppe92 = report_arrays(read_bytes(at("h.html")));
+  ASSERT_GE(refined.size(), 13U);  // points (8 arrays), kd-tree (2), graph (3)
+  ASSERT_EQ(hoppe92.size(), refined.size());
+  ASSERT_GT(mesh.size(), refined.size());  // and the lattice and meshes
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < refined.size(); ++i) {
+    EXPECT_TRUE(refined[i] == mesh[i]) << "array " << i;
+    if (hoppe92[i] != refined[i]) ++differ;
+  }
+  EXPECT_GT(differ, 0U);
+}
+
 TEST_F(CliReport, AColouredRunsPageCarriesThePointsAndTheMeshsColours) {
   ASSERT_NO_FATAL_FAILURE(generate("sphere", 3000, "s.xyz"));
   add_red_above_blue_below(at("s.xyz"), at("c.ply"));

@@ -3,6 +3,9 @@
 // thread count).
 
 #include "cli/cli_helpers.h"
+#include "conics_truth.h"
+
+#include "recon/estimate_normals.h"
 
 namespace recon {
 namespace {
@@ -70,6 +73,47 @@ TEST_F(CliNormals, KeepsTheInputsColoursUnlessNoColors) {
   EXPECT_TRUE(first.ends_with(input.colors[0] == Color{255, 0, 0} ? " 255 0 0" : " 0 0 255")) << first;
   ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "c.ply", "-o", "plain.ply", "--no-colors"})));
   EXPECT_FALSE(io::read_points(at("plain.ply")).has_colors());
+}
+
+// Issue 27: `recon normals` gives the refined normals, as reconstruct
+// orients them; the 1992 walk (--method hoppe92) turns the tall narrow cone
+// inside out, as it always did. The stats say which method ran.
+TEST_F(CliNormals, TheDefaultGetsEveryConicRightAndHoppe92IsAsItWas) {
+  ASSERT_TRUE(succeeded(recon({"--quiet", "generate", "conics", "--with-normals", "-o", "c.ply"})));
+  const RunResult run = recon({"normals", "c.ply", "-o", "n.ply", "--stats", "n.json"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_EQ(lines_starting_with(run.out, "          second-order fits: ").size(), 1U) << run.out;
+  ASSERT_TRUE(
+      succeeded(recon({"--quiet", "normals", "c.ply", "-o", "h.ply", "--method", "hoppe92", "--stats", "h.json"})));
+  EXPECT_NE(read_bytes(at("n.json")).find("\"method\": \"refined\""), std::string::npos);
+  EXPECT_NE(read_bytes(at("h.json")).find("\"method\": \"hoppe92\""), std::string::npos);
+
+  const PointCloud truth = io::read_points(at("c.ply"));
+  const std::vector<double> refined = testing::right_per_conic(truth, io::read_points(at("n.ply")).normals);
+  for (std::size_t p = 0; p < refined.size(); ++p) EXPECT_GE(refined[p], 0.99) << "piece " << p;
+  EXPECT_LT(testing::right_per_conic(truth, io::read_points(at("h.ply")).normals)[0], 0.05) << "the tall cone, hoppe92";
+}
+
+// The normals written are estimate_normals()'s of the method asked for
+// (estimate_normals_test.cpp: reconstruct()'s phase II normals, and for
+// hoppe92 the paper's phases called plainly), bit for bit, in input order.
+TEST_F(CliNormals, EachMethodWritesTheLibrarysNormals) {
+  ASSERT_TRUE(succeeded(recon({"--quiet", "generate", "part", "-n", "20000", "-o", "p.ply"})));
+  const PointCloud cloud = io::read_points(at("p.ply"));
+  for (const Method method : {Method::refined, Method::hoppe92}) {
+    ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "p.ply", "-o", "n.ply", "--method", method_name(method)})));
+    NormalEstimationOptions options;
+    options.method = method;
+    EXPECT_TRUE(io::read_points(at("n.ply")).normals == estimate_normals(cloud, options).normals_in_input_order())
+        << method_name(method);
+  }
+}
+
+TEST_F(CliNormals, AnUnknownMethodIsRefusedInOneLine) {
+  ASSERT_NO_FATAL_FAILURE(generate("sphere", 500, "s.ply"));
+  EXPECT_TRUE(option_refused(recon({"normals", "s.ply", "-o", "n.ply", "--method", "sideways"}), "--method",
+                             "sideways not in {refined,hoppe92}"));
+  EXPECT_EQ(entries(), std::vector<std::string>{"s.ply"});
 }
 
 // ---------------------------------------------------------------- reconstruct
