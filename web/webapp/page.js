@@ -172,10 +172,13 @@ async function run() {
   recon.error = '';
   setState('running');
   try {
+    recon.timeline = { start: performance.now() };  // (bench/webapp_bench.mjs prints it)
     if (!workerHasInput) { held = null; await load(); }
+    recon.timeline.loaded = performance.now();
     const from = firstPhaseFor(p);
     if (cancelFlag) Atomics.store(cancelFlag, 0, 0);
     const answer = await request({ type: 'run', from, ...p });
+    recon.timeline.answered = performance.now();
     held = answer.kept ? p : null;
     if (answer.cancelled) { showCancelled(); return; }
     if (answer.error) throw new Error(answer.error);
@@ -186,6 +189,7 @@ async function run() {
     $('bar').style.width = '100%';
     $('phase').textContent = `done in ${answer.stats.seconds_total.toFixed(2)} s`;
     setState('done');
+    recon.timeline.done = performance.now();
   } catch (e) {
     showError(e.message);
   }
