@@ -58,7 +58,7 @@ async function inPage(browser, path) {
   console.log(`  in the worker ${result.stats?.seconds_total?.toFixed(2)} s (reading ${result.stats?.input?.seconds?.toFixed(2)} s); ` +
     `layers set up on the main thread: ${result.layerTimes.map((t) => `${(t.bytes / 1e6).toFixed(1)} MB in ${t.ms.toFixed(0)} ms`).join('; ')}`);
   const t = result.timeline;
-  console.log(`  the page's run: file read and handed to the worker, and its reader ${((t.loaded - t.start) / 1000).toFixed(2)} s; ` +
+  if (t) console.log(`  the page's run: file read and handed to the worker, and its reader ${((t.loaded - t.start) / 1000).toFixed(2)} s; ` +
     `the run, its layers and their copies ${((t.answered - t.loaded) / 1000).toFixed(2)} s; the final view ${((t.done - t.answered) / 1000).toFixed(2)} s`);
   return { seconds, ...result };
 }

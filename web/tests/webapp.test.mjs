@@ -13,12 +13,12 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { createServer } from 'node:http';
 import { mkdtempSync, readFileSync, writeFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { chromium } from 'playwright-core';
+import { isolatedServer } from '../webapp/serve.mjs';
 
 const pageFile = process.env.WEBAPP_PAGE;
 const cli = process.env.RECON_CLI;
@@ -496,15 +496,7 @@ test('the resolution control gives the program\'s mesh for that resolution, and 
 // memory: Cancel sets a flag the run reads at its next interruption point,
 // and the worker stays, with the input and, when done, phases I-II.
 test('served isolated, Cancel stops the run at its next interruption point and keeps the worker', async () => {
-  const html = readFileSync(pageFile);
-  const server = createServer((request, response) => {
-    const found = request.url === '/';
-    response.writeHead(found ? 200 : 404, { 'Content-Type': 'text/html; charset=utf-8',
-      'Cross-Origin-Opener-Policy': 'same-origin', 'Cross-Origin-Embedder-Policy': 'require-corp' });
-    response.end(found ? html : '');
-  });
-  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
-  const origin = `http://127.0.0.1:${server.address().port}`;
+  const { server, origin } = await isolatedServer(readFileSync(pageFile));
   const context = await browser.newContext({ viewport: { width: 1280, height: 800 }, acceptDownloads: true });
   const elsewhere = [];
   await context.route(/.*/, (route) => {
