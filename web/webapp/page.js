@@ -173,10 +173,11 @@ async function run() {
   setState('running');
   try {
     recon.timeline = { start: performance.now() };  // (bench/webapp_bench.mjs prints it)
+    if (cancelFlag) Atomics.store(cancelFlag, 0, 0);
     if (!workerHasInput) { held = null; await load(); }
     recon.timeline.loaded = performance.now();
+    if (cancelFlag && Atomics.load(cancelFlag, 0) === 1) { showCancelled(); return; }  // (while the file was read)
     const from = firstPhaseFor(p);
-    if (cancelFlag) Atomics.store(cancelFlag, 0, 0);
     const answer = await request({ type: 'run', from, ...p });
     recon.timeline.answered = performance.now();
     held = answer.kept ? p : null;
