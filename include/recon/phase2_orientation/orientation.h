@@ -26,6 +26,27 @@
 // the others. (Open surfaces, a terrain, a facade, have no inside: there the
 // side facing up is kept, as before, wherever the top is well defined.)
 //
+// Nested pieces (the refined method). Each component's side is decided
+// alone, at its extremes, as if it bounded a solid of its own. That is
+// right for pieces side by side, but a piece inside another (the inner
+// wall of a hollow ball) bounds a cavity, and its outward normals point
+// into the cavity: away from the material, towards its own inside. Going
+// inwards the sides alternate, material, cavity, material, so a piece
+// enclosed by an odd number of others is turned round, one enclosed by an
+// even number kept. The textbook test for "p is inside closed surface Q"
+// is the winding number of Q around p (1 inside, 0 outside); for a cloud
+// of oriented samples the generalized winding number (Barill et al. 2018)
+// sums each sample's dipole, a_i (x_i - p) . n_i / (4 pi |x_i - p|^3)
+// (2 pi |x_i - p|^2 in 2D), with a_i the area it stands for (here the
+// k-NN estimate, pi r_i^2 / (k - 1) for neighbourhood radius r_i), and p
+// is inside where |w| > 1/2 (|w|: Q's own sign may still be turned). Here
+// after the extremes have decided: each piece's probe is its highest
+// origin; Q is tested only when its bounding box holds P's (pieces side by
+// side, the conics, are never tested); each sum runs serially in a fixed
+// order, the pairs in parallel, so the outcome is the same for any thread
+// count. Cost: O(sum over tested pairs of |Q|), nothing for a single piece
+// or boxes that nest in no other, plus O(c^2) for c components' boxes.
+//
 // Facing sheets (the refined method). Where two sheets of surface lie
 // closer than a neighbourhood (the two sides of a thin plate, two objects
 // nearly touching), graph edges join them: their planes are parallel, the
@@ -103,6 +124,8 @@ struct OrientedNormals {
   std::size_t flip_count = 0;             ///< normals reversed in the end
   std::size_t vote_flips = 0;             ///< of which changed by the vote
   std::size_t components_turned = 0;      ///< components turned round by sign_by_extremes
+  std::size_t pieces_nested = 0;          ///< components inside another (sign_by_extremes; see above)
+  std::size_t nested_turned = 0;          ///< of which turned round: inside an odd number of others
   std::size_t sheet_edges = 0;            ///< tree edges between facing sheets (walked reversed)
   std::size_t crease_patches_turned = 0;  ///< faces turned round across a sharp crease (see above)
   double seconds_mst = 0.0;
