@@ -9,7 +9,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <span>
 #include <tuple>
 #include <utility>
@@ -269,36 +268,19 @@ std::size_t turn_components_outward(const TangentPlanes<D>& planes, const Guide<
 //    their signs as decided (winding_number).
 // 3. Turns: a piece inside an odd number of others is turned round.
 
-// The area a sample stands for: its neighbourhood's radius r spans k
-// samples (itself included), so the k - 1 others cover a disc of radius r
-// (pi r^2; in 2D a segment, 2 r): the k-NN estimate of the sampling
-// density, which on a sphere is exact for any r (a cap's area is pi times
-// its chord squared).
-template <int D>
-double sample_area(float radius, int k) {
-  const double r = static_cast<double>(radius);
-  const double disc = D == 3 ? std::numbers::pi * r * r : 2.0 * r;
-  return disc / std::max(1, k - 1);
-}
-
-// The generalized winding number at p of the oriented samples `members`:
-// the sum of a_i (o_i - p) . n_i over the solid angle of the whole sphere
-// times |o_i - p|^D. About +-1 inside a closed surface, 0 outside. The sum
-// runs in the members' order (deterministic for any thread count).
+// Q's winding number at p (the header), from the oriented samples
+// `members`: isolated samples (no surface) left out, the sum in the
+// members' order (the same for any thread count).
 template <int D>
 double winding_number(const TangentPlanes<D>& planes, const std::vector<std::uint8_t>& flipped,
                       std::span<const std::uint32_t> members, const Vec<D>& p) {
-  constexpr double full_angle = D == 3 ? 4.0 * std::numbers::pi : 2.0 * std::numbers::pi;
   double w = 0.0;
-  for (const std::uint32_t i : members) {
-    if (planes.local_rho[i] <= 0.0f) continue;  // isolated: no surface
-    const Vec<D> d = planes.origins[i] - p;
-    const double r2 = d.squaredNorm();
-    if (r2 <= 0.0) continue;
-    const double r_d = D == 3 ? r2 * std::sqrt(r2) : r2;
-    w += sample_area<D>(planes.radius[i], planes.k) * d.dot(signed_normal<D>(planes.normals, flipped, i)) / r_d;
-  }
-  return w / full_angle;
+  for (const std::uint32_t i : members)
+    if (planes.local_rho[i] > 0.0f)
+      w +=
+          winding_term<D>(planes.origins[i],
+                          sample_area<D>(planes.radius[i], planes.k) * signed_normal<D>(planes.normals, flipped, i), p);
+  return w;
 }
 
 template <int D>
@@ -360,7 +342,7 @@ std::pair<std::size_t, std::size_t> turn_nested_pieces(const TangentPlanes<D>& p
     const auto [p, q] = pairs[e];
     const std::span<const std::uint32_t> members(m.members.data() + m.first[q], components.sizes[q]);
     const double w = winding_number<D>(planes, result.flipped, members, planes.origins[result.tree.roots[p]]);
-    inside[e] = std::abs(w) > 0.5 ? 1 : 0;
+    inside[e] = winding_inside(w) ? 1 : 0;
   });
   std::vector<std::uint32_t> depth(components.sizes.size(), 0);
   for (std::size_t e = 0; e < pairs.size(); ++e) depth[pairs[e].first] += inside[e];
@@ -479,7 +461,8 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
     result.crease_patches_turned = turn_crease_patches<D>(planes, g, options.sheet_misfit, result);
   if (options.sign_by_extremes) {
     result.components_turned = turn_components_outward<D>(planes, guide, result);
-    std::tie(result.pieces_nested, result.nested_turned) = turn_nested_pieces<D>(planes, result);
+    if (options.turn_nested)
+      std::tie(result.pieces_nested, result.nested_turned) = turn_nested_pieces<D>(planes, result);
   }
 
   // The signs found (with the guide, where there is one), on the planes' own normals.

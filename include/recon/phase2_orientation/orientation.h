@@ -89,7 +89,10 @@
 #include "recon/phase2_orientation/minimum_spanning_tree.h"
 #include "recon/phase2_orientation/riemannian_graph.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <span>
 #include <vector>
 
@@ -99,6 +102,10 @@ struct OrientationOptions {
   RiemannianGraphOptions graph{};  ///< k, gap factor
   int vote_rounds = 3;             ///< rounds of the neighbour vote after the tree walk (0: pure Hoppe)
   bool sign_by_extremes = false;   ///< decide each component's side at its best extreme (see above; refined)
+  /// With sign_by_extremes: then turn the pieces nested in an odd number of
+  /// others (see above). A tile (tiles.h) sees parts of pieces only, and
+  /// leaves this to the reconciliation over all tiles.
+  bool turn_nested = true;
   /// Per plane, the RMS misfit of its fit (LocalQuadrics::residual): when
   /// given, the orientation is carried reversed between facing sheets (see
   /// above; refined). Empty: never. Referenced, not copied.
@@ -132,6 +139,39 @@ struct OrientedNormals {
 
   [[nodiscard]] std::size_t component_count() const { return graph.components.sizes.size(); }
 };
+
+/// The area a sample stands for in a winding number (nested pieces, see above): its neighbourhood's radius r
+/// spans k samples, itself included, so the k - 1 others cover pi r^2 (in 2D a segment, 2 r): the k-NN
+/// estimate of the sampling density, exact on a sphere for any r (a cap's area is pi times its chord squared).
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: radius >= 0 (k below 2 is taken as 2).
+template <int D>
+[[nodiscard]] inline double sample_area(float radius, int k) {
+  const double r = static_cast<double>(radius);
+  return (D == 3 ? std::numbers::pi * r * r : 2.0 * r) / static_cast<double>(std::max(1, k - 1));
+}
+
+/// One sample's term of the generalized winding number at p (see above): a (x - p) . n over the full solid
+/// angle times |x - p|^D (4 pi |x - p|^3; in 2D 2 pi |x - p|^2), given `area_normal` = a n; 0 where x = p.
+/// Cost: O(D).
+/// Throws: nothing.
+/// Pre: finite arguments.
+template <int D>
+[[nodiscard]] inline double winding_term(const Vec<D>& x, const Vec<D>& area_normal, const Vec<D>& p) {
+  const Vec<D> d = x - p;
+  const double r2 = d.squaredNorm();
+  if (r2 <= 0.0) return 0.0;
+  const double full_angle = D == 3 ? 4.0 * std::numbers::pi * r2 * std::sqrt(r2) : 2.0 * std::numbers::pi * r2;
+  return d.dot(area_normal) / full_angle;
+}
+
+/// Whether a winding number says inside: |w| > 1/2 (either side: the enclosing piece's own sign may still be
+/// turned).
+/// Cost: O(1).
+/// Throws: nothing.
+/// Pre: none.
+[[nodiscard]] inline bool winding_inside(double w) { return std::abs(w) > 0.5; }
 
 /// Phase II: the planes' normals, consistently oriented (one per plane, unit), with the Riemannian
 /// graph and the spanning forest that carried the orientation.
