@@ -264,8 +264,9 @@ std::size_t turn_components_outward(const TangentPlanes<D>& planes, const Guide<
 // 1. Boxes: each piece's bounding box (over its origins) and its probe, the
 //    root of its spanning tree (its highest origin).
 // 2. Winding numbers: for each pair of pieces (P, Q) where Q's box holds
-//    P's, Q's winding number at P's probe, summed over Q's samples with
-//    their signs as decided (winding_number).
+//    P's and Q's samples close a surface (closes_a_surface), Q's winding
+//    number at P's probe, summed over Q's samples with their signs as
+//    decided (winding_number).
 // 3. Turns: a piece inside an odd number of others is turned round.
 
 // Q's winding number at p (the header), from the oriented samples
@@ -281,6 +282,22 @@ double winding_number(const TangentPlanes<D>& planes, const std::vector<std::uin
           winding_term<D>(planes.origins[i],
                           sample_area<D>(planes.radius[i], planes.k) * signed_normal<D>(planes.normals, flipped, i), p);
   return w;
+}
+
+// Whether Q's oriented samples `members` close a surface (closes_a_surface),
+// over the samples winding_number counts.
+template <int D>
+bool closed_piece(const TangentPlanes<D>& planes, const std::vector<std::uint8_t>& flipped,
+                  std::span<const std::uint32_t> members) {
+  Vec<D> area_normal = Vec<D>::Zero();
+  double area = 0.0;
+  for (const std::uint32_t i : members)
+    if (planes.local_rho[i] > 0.0f) {
+      const double a = sample_area<D>(planes.radius[i], planes.k);
+      area_normal += a * signed_normal<D>(planes.normals, flipped, i);
+      area += a;
+    }
+  return closes_a_surface<D>(area_normal, area);
 }
 
 template <int D>
@@ -337,11 +354,19 @@ std::pair<std::size_t, std::size_t> turn_nested_pieces(const TangentPlanes<D>& p
   const PieceMembers<D> m = piece_members<D>(planes, components);
   const auto pairs = nesting_candidates<D>(m.boxes);
   if (pairs.empty()) return {0, 0};
+  const auto members_of = [&](std::uint32_t q) {
+    return std::span<const std::uint32_t>(m.members.data() + m.first[q], components.sizes[q]);
+  };
+  std::vector<std::uint8_t> closed(components.sizes.size(), 0);  // (tested for the pieces that may enclose)
+  for (const auto& [p, q] : pairs) closed[q] = 2;
+  detail::parallel_for_dynamic(closed.size(), 1, [&](std::size_t q) {
+    if (closed[q] == 2) closed[q] = closed_piece<D>(planes, result.flipped, members_of(static_cast<std::uint32_t>(q)));
+  });
   std::vector<std::uint8_t> inside(pairs.size());
   detail::parallel_for_dynamic(pairs.size(), 1, [&](std::size_t e) {
     const auto [p, q] = pairs[e];
-    const std::span<const std::uint32_t> members(m.members.data() + m.first[q], components.sizes[q]);
-    const double w = winding_number<D>(planes, result.flipped, members, planes.origins[result.tree.roots[p]]);
+    if (closed[q] == 0) return;
+    const double w = winding_number<D>(planes, result.flipped, members_of(q), planes.origins[result.tree.roots[p]]);
     inside[e] = winding_inside(w) ? 1 : 0;
   });
   std::vector<std::uint32_t> depth(components.sizes.size(), 0);

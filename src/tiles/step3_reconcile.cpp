@@ -152,8 +152,9 @@ Signs reconcile(const SignGraph& g, TileReconciliation& result) {
 // memory): each object's box and probe over its core samples; for each
 // pair (P, Q) where Q's box holds P's, Q's winding number at P's probe,
 // summed over Q's core samples in every tile (the orientation files read
-// again, only when there is such a pair); an object inside an odd number
-// of others is turned round.
+// again, only when there is such a pair), and whether Q's samples close a
+// surface (closes_a_surface); an object inside an odd number of closed
+// others is turned round.
 void turn_nested_objects(const std::filesystem::path& dir, const TilePlan& plan, const SignGraph& g, Signs& s,
                          TileReconciliation& result) {
   std::map<std::uint32_t, Extent> objects;  // by the node each was walked from
@@ -166,6 +167,7 @@ void turn_nested_objects(const std::filesystem::path& dir, const TilePlan& plan,
   std::map<std::uint32_t, std::vector<std::size_t>> tested;  // per object Q, its pairs
   for (std::size_t e = 0; e < pairs.size(); ++e) tested[pairs[e].second].push_back(e);
   std::vector<double> w(pairs.size(), 0.0);
+  std::map<std::uint32_t, std::pair<Vec3, double>> sums;  // per object Q: its area-weighted normals, its area
   for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
     const tile_files::Orientation o =
         tile_files::read_orientation(tile_files::of_tile(dir, plan.tiles[t].id, "orient"));
@@ -174,11 +176,19 @@ void turn_nested_objects(const std::filesystem::path& dir, const TilePlan& plan,
       const auto q = tested.find(s.object[node]);
       if (q == tested.end()) continue;
       const Vec3 x = vec(d.origin), an = static_cast<double>(s.flip[node]) * vec(d.area_normal);
+      auto& [area_normal, area] = sums.try_emplace(q->first, Vec3::Zero(), 0.0).first->second;
+      area_normal += an;
+      area += an.norm();
       for (const std::size_t e : q->second) w[e] += winding_term<3>(x, an, objects[pairs[e].first].probe);
     }
   }
+  const auto closed = [&](std::uint32_t q) {
+    const auto sum = sums.find(q);
+    return sum != sums.end() && closes_a_surface<3>(sum->second.first, sum->second.second);
+  };
   std::map<std::uint32_t, std::uint32_t> depth;
-  for (std::size_t e = 0; e < pairs.size(); ++e) depth[pairs[e].first] += winding_inside(w[e]) ? 1u : 0u;
+  for (std::size_t e = 0; e < pairs.size(); ++e)
+    depth[pairs[e].first] += closed(pairs[e].second) && winding_inside(w[e]) ? 1u : 0u;
   for (const auto& [object, d] : depth) {
     result.objects_nested += d > 0 ? 1u : 0u;
     result.nested_turned += d % 2 == 1 ? 1u : 0u;

@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 namespace recon {
 namespace {
 
@@ -135,6 +138,24 @@ TEST(Orientation, APieceBesideAnotherIsNeverTurned) {
     EXPECT_EQ(oriented.nested_turned, 0u);
     for (std::size_t i = 0; i < cloud.size(); ++i) ASSERT_GT(oriented.normals[i].dot(cloud.normals[i]), 0.0) << i;
   }
+}
+
+// A ball in a bowl (an open hemisphere): the bowl's winding number at the
+// ball is over 1/2, but the bowl bounds no cavity (its area-weighted
+// normals add up to its opening, half its area), so the ball stays as it is.
+TEST(Orientation, ABallInABowlIsNeverTurned) {
+  const PointCloud cloud = testing::ball_in_bowl(20000, 4000, 23);
+  double w = 0.0;
+  const Vec3 top(0.0, 0.0, -0.5);
+  for (std::size_t i = 0; i < 20000; ++i)
+    w += winding_term<3>(cloud.positions[i], 2.0 * std::numbers::pi / 20000.0 * cloud.normals[i], top);
+  ASSERT_GT(std::abs(w), 0.5) << "a winding number alone would count the ball inside the bowl";
+  const auto oriented = refined_orientation(cloud);
+  ASSERT_EQ(oriented.component_count(), 2u);
+  EXPECT_EQ(oriented.pieces_nested, 0u);
+  std::size_t right = 0;
+  for (std::size_t i = 20000; i < cloud.size(); ++i) right += oriented.normals[i].dot(cloud.normals[i]) > 0.0 ? 1u : 0u;
+  EXPECT_EQ(right, 4000u) << "the ball faces out";
 }
 
 // The 1992 method (no sign_by_extremes) decides no nesting; and the

@@ -39,7 +39,10 @@
 // sums each sample's dipole, a_i (x_i - p) . n_i / (4 pi |x_i - p|^3)
 // (2 pi |x_i - p|^2 in 2D), with a_i the area it stands for (here the
 // k-NN estimate, pi r_i^2 / (k - 1) for neighbourhood radius r_i), and p
-// is inside where |w| > 1/2 (|w|: Q's own sign may still be turned). Here
+// is inside where |w| > 1/2 (|w|: Q's own sign may still be turned). An
+// open piece bounds no cavity, but its winding number exceeds 1/2 inside a
+// deep bowl: Q counts only when its samples close a surface
+// (closes_a_surface: their area-weighted normals add up to nearly 0). Here
 // after the extremes have decided: each piece's probe is its highest
 // origin; Q is tested only when its bounding box holds P's (pieces side by
 // side, the conics, are never tested); each sum runs serially in a fixed
@@ -172,6 +175,19 @@ template <int D>
 /// Throws: nothing.
 /// Pre: none.
 [[nodiscard]] inline bool winding_inside(double w) { return std::abs(w) > 0.5; }
+
+/// Whether a piece's samples close a surface, from the sum of their area-weighted normals (signs as
+/// decided) and of their areas: over a closed surface the outward normals times area add up to zero (the
+/// divergence theorem), over an open one to its opening (a hemisphere's, to half its area; a terrain's, to
+/// about all of it). Only a closed piece bounds a cavity (see above): a ball in a bowl stays as it is.
+/// Closed: |sum a n| at most a tenth of sum a.
+/// Cost: O(D).
+/// Throws: nothing.
+/// Pre: none.
+template <int D>
+[[nodiscard]] inline bool closes_a_surface(const Vec<D>& area_normal_sum, double area_sum) {
+  return area_normal_sum.norm() <= 0.1 * area_sum;
+}
 
 /// Phase II: the planes' normals, consistently oriented (one per plane, unit), with the Riemannian
 /// graph and the spanning forest that carried the orientation.
