@@ -480,7 +480,9 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
   app.add_option("shape", o->shape,
                  "sphere, torus, ellipsoid, box, two (a sphere beside a torus), terrain (a scan-like open "
                  "height field on a jittered grid), part (a slab with three holes: sharp creases, genus 3), handle "
-                 "(a long thin capsule), or conics (the course's data set: two cones, two cylinders and a sphere)")
+                 "(a long thin capsule), conics (the course's data set: two cones, two cylinders and a sphere), shell "
+                 "(a hollow ball: outer radius 1, a cavity of radius 0.7 whose wall faces into it), or nested "
+                 "(that shell with a ball of radius 0.3 in its cavity)")
       ->required();
   app.add_option("-o,--output", o->output, "Point cloud to write (.ply or .xyz)")->required();
   app.add_option("-n,--points", o->count, "Number of points (default 100000; conics: 16000)")

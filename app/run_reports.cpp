@@ -63,6 +63,8 @@ StepReport phase_2_report(const OrientedNormals<D>& oriented) {
   line << " points), graph of " << plural(g.edge_count, "edge") << ", " << plural(oriented.flip_count, "flip");
   if (oriented.crease_patches_turned > 0)
     line << ", " << plural(oriented.crease_patches_turned, "face") << " turned across a sharp crease";
+  if (oriented.nested_turned > 0)
+    line << ", " << plural(oriented.nested_turned, "nested piece") << " turned to face its cavity";
   line << " (" << format_seconds(seconds) << ")";
   Json::Array size_list;
   for (std::uint32_t v : g.components.sizes) size_list.emplace_back(static_cast<std::size_t>(v));
@@ -79,6 +81,8 @@ StepReport phase_2_report(const OrientedNormals<D>& oriented) {
                                   {"sheet_edges", oriented.sheet_edges},
                                   {"crease_patches_turned", oriented.crease_patches_turned},
                                   {"components_turned", oriented.components_turned},
+                                  {"pieces_nested", oriented.pieces_nested},
+                                  {"nested_turned", oriented.nested_turned},
                                   {"seconds", seconds}});
 }
 

@@ -124,6 +124,8 @@ StepReport run_report(const TiledRun& run) {
                     std::to_string(c.turned) + " turned round to agree (" + std::to_string(c.disagreeing) + " of " +
                     std::to_string(c.shared_samples) + " shared samples still disagree) (" + format_seconds(orient) +
                     ")");
+  if (c.nested_turned > 0)
+    r.lines.push_back("          " + plural(c.nested_turned, "nested object") + " turned to face its cavity");
   if (inexact > 0)
     r.lines.push_back("          " + plural(inexact, "sample") +
                       " near a core may see less than the whole cloud (halo too narrow)");
@@ -135,6 +137,8 @@ StepReport run_report(const TiledRun& run) {
                 {"pieces_turned", c.turned},
                 {"shared_samples", c.shared_samples},
                 {"disagreeing_samples", c.disagreeing},
+                {"objects_nested", c.objects_nested},
+                {"nested_turned", c.nested_turned},
                 {"inexact_samples", inexact},
                 {"welded_vertices", run.mesh.welded}});
   if (run.plan.method == Method::refined) {

@@ -52,6 +52,17 @@ TEST(EstimateNormals, TheDefaultGetsEveryPieceOfTheConicsRight) {
   EXPECT_GE(hoppe92[2], 0.99);  // (the upright cylinder, with a flat cap on top: right in both)
 }
 
+// Issue 27: a piece nested in another faces into the cavity it bounds
+// (the hollow ball's inner wall), and a piece in that cavity out again.
+TEST(EstimateNormals, TheDefaultFacesEveryNestedWallTheTrueWay) {
+  for (const std::size_t walls : {2u, 3u}) {
+    const PointCloud cloud = (walls == 2 ? make_hollow_ball() : make_nested_balls())->sample(30000, 3);
+    const std::vector<double> right =
+        testing::right_per_ball(cloud, estimate_normals(cloud).normals_in_input_order(), walls);
+    for (std::size_t w = 0; w < walls; ++w) EXPECT_GE(right[w], 0.99) << walls << " walls, wall " << w;
+  }
+}
+
 // The default's normals are reconstruct()'s phase II normals (what phase
 // III reads), bit for bit: on the conics, on a CAD part with creases, and
 // on a noisy torus (phase I raises k there).

@@ -58,16 +58,18 @@ PointCloud sample_by_area(std::size_t n, std::uint64_t seed, const std::vector<d
   return cloud;
 }
 
+// A sphere; with `facing` -1 the wall of a spherical cavity, whose normals
+// point into the cavity (out of the solid around it).
 class Sphere final : public Shape {
  public:
-  Sphere(double r, Vec3 c) : r_(r), c_(std::move(c)) {}
+  Sphere(double r, Vec3 c, double facing = 1.0) : r_(r), c_(std::move(c)), facing_(facing) {}
   PointCloud sample(std::size_t n, std::uint64_t seed) const override {
     Rng rng(seed);
     PointCloud cloud;
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3 u = unit_vector(rng);
       cloud.positions.push_back(c_ + r_ * u);
-      cloud.normals.push_back(u);
+      cloud.normals.push_back(facing_ * u);
     }
     return cloud;
   }
@@ -78,6 +80,7 @@ class Sphere final : public Shape {
  private:
   double r_;
   Vec3 c_;
+  double facing_;
 };
 
 class Torus final : public Shape {
@@ -532,6 +535,14 @@ std::unique_ptr<Shape> make_sphere_and_torus(double gap) {
                                  std::make_unique<Torus>(1.0, 0.35, Vec3::Zero()));
 }
 
+std::unique_ptr<Shape> make_hollow_ball(double outer, double inner) {
+  return std::make_unique<Union>(std::make_unique<Sphere>(outer, Vec3::Zero()),
+                                 std::make_unique<Sphere>(inner, Vec3::Zero(), -1.0));
+}
+std::unique_ptr<Shape> make_nested_balls() {
+  return std::make_unique<Union>(make_hollow_ball(), std::make_unique<Sphere>(0.3, Vec3::Zero()));
+}
+
 std::unique_ptr<Shape> make_machined_part() { return std::make_unique<MachinedPart>(); }
 std::unique_ptr<Shape> make_handle() { return std::make_unique<Capsule>(1.0, 0.08); }
 
@@ -561,8 +572,11 @@ std::unique_ptr<Shape> make_shape(const std::string& name) {
   if (name == "part") return make_machined_part();
   if (name == "handle") return make_handle();
   if (name == "conics") return make_conics();
+  if (name == "shell") return make_hollow_ball();
+  if (name == "nested") return make_nested_balls();
   throw InvalidInputError("unknown shape '" + name +
-                          "' (known: sphere, torus, ellipsoid, box, two, terrain, part, handle, conics)");
+                          "' (known: sphere, torus, ellipsoid, box, two, terrain, part, handle, conics, shell, "
+                          "nested)");
 }
 
 void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed) {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <span>
+#include <tuple>
 #include <utility>
 
 namespace recon {
@@ -259,6 +260,127 @@ std::size_t turn_components_outward(const TangentPlanes<D>& planes, const Guide<
   return turned;
 }
 
+// Nested pieces (see the header), in three steps.
+// 1. Boxes: each piece's bounding box (over its origins) and its probe, the
+//    root of its spanning tree (its highest origin).
+// 2. Winding numbers: for each pair of pieces (P, Q) where Q's box holds
+//    P's and Q's samples close a surface (closes_a_surface), Q's winding
+//    number at P's probe, summed over Q's samples with their signs as
+//    decided (winding_number).
+// 3. Turns: a piece inside an odd number of others is turned round.
+
+// Q's winding number at p (the header), from the oriented samples
+// `members`: isolated samples (no surface) left out, the sum in the
+// members' order (the same for any thread count).
+template <int D>
+double winding_number(const TangentPlanes<D>& planes, const std::vector<std::uint8_t>& flipped,
+                      std::span<const std::uint32_t> members, const Vec<D>& p) {
+  double w = 0.0;
+  for (const std::uint32_t i : members)
+    if (planes.local_rho[i] > 0.0f)
+      w +=
+          winding_term<D>(planes.origins[i],
+                          sample_area<D>(planes.radius[i], planes.k) * signed_normal<D>(planes.normals, flipped, i), p);
+  return w;
+}
+
+// Whether Q's oriented samples `members` close a surface (closes_a_surface),
+// over the samples winding_number counts.
+template <int D>
+bool closed_piece(const TangentPlanes<D>& planes, const std::vector<std::uint8_t>& flipped,
+                  std::span<const std::uint32_t> members) {
+  Vec<D> area_normal = Vec<D>::Zero();
+  double area = 0.0;
+  for (const std::uint32_t i : members)
+    if (planes.local_rho[i] > 0.0f) {
+      const double a = sample_area<D>(planes.radius[i], planes.k);
+      area_normal += a * signed_normal<D>(planes.normals, flipped, i);
+      area += a;
+    }
+  return closes_a_surface<D>(area_normal, area);
+}
+
+template <int D>
+struct PieceBox {
+  Vec<D> lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
+  Vec<D> hi = Vec<D>::Constant(-std::numeric_limits<double>::infinity());
+  [[nodiscard]] bool holds(const PieceBox& other) const {
+    return (lo.array() <= other.lo.array()).all() && (other.hi.array() <= hi.array()).all();
+  }
+};
+
+// Per piece, its members (sample indices, ascending) and its box.
+template <int D>
+struct PieceMembers {
+  std::vector<std::uint32_t> first;  // piece c's members: [first[c], first[c + 1])
+  std::vector<std::uint32_t> members;
+  std::vector<PieceBox<D>> boxes;
+};
+
+template <int D>
+PieceMembers<D> piece_members(const TangentPlanes<D>& planes, const Components& components) {
+  const std::size_t pieces = components.sizes.size();
+  PieceMembers<D> m;
+  m.first.assign(pieces + 1, 0);
+  for (std::size_t c = 0; c < pieces; ++c) m.first[c + 1] = m.first[c] + components.sizes[c];
+  m.members.resize(components.label.size());
+  m.boxes.resize(pieces);
+  std::vector<std::uint32_t> next(m.first.begin(), m.first.end() - 1);
+  for (std::uint32_t i = 0; i < components.label.size(); ++i) {
+    const std::uint32_t c = components.label[i];
+    m.members[next[c]++] = i;
+    m.boxes[c].lo = m.boxes[c].lo.cwiseMin(planes.origins[i]);
+    m.boxes[c].hi = m.boxes[c].hi.cwiseMax(planes.origins[i]);
+  }
+  return m;
+}
+
+// Step 2's pairs: (P, Q) with Q's box holding P's, P != Q.
+template <int D>
+std::vector<std::pair<std::uint32_t, std::uint32_t>> nesting_candidates(const std::vector<PieceBox<D>>& boxes) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  const auto pieces = static_cast<std::uint32_t>(boxes.size());
+  for (std::uint32_t p = 0; p < pieces; ++p)
+    for (std::uint32_t q = 0; q < pieces; ++q)
+      if (p != q && boxes[q].holds(boxes[p])) pairs.emplace_back(p, q);
+  return pairs;
+}
+
+// Returns the pieces inside at least one other, and those turned round.
+template <int D>
+std::pair<std::size_t, std::size_t> turn_nested_pieces(const TangentPlanes<D>& planes, OrientedNormals<D>& result) {
+  const Components& components = result.graph.components;
+  if (components.sizes.size() < 2) return {0, 0};
+  const PieceMembers<D> m = piece_members<D>(planes, components);
+  const auto pairs = nesting_candidates<D>(m.boxes);
+  if (pairs.empty()) return {0, 0};
+  const auto members_of = [&](std::uint32_t q) {
+    return std::span<const std::uint32_t>(m.members.data() + m.first[q], components.sizes[q]);
+  };
+  std::vector<std::uint8_t> closed(components.sizes.size(), 0);  // (tested for the pieces that may enclose)
+  for (const auto& [p, q] : pairs) closed[q] = 2;
+  detail::parallel_for_dynamic(closed.size(), 1, [&](std::size_t q) {
+    if (closed[q] == 2) closed[q] = closed_piece<D>(planes, result.flipped, members_of(static_cast<std::uint32_t>(q)));
+  });
+  std::vector<std::uint8_t> inside(pairs.size());
+  detail::parallel_for_dynamic(pairs.size(), 1, [&](std::size_t e) {
+    const auto [p, q] = pairs[e];
+    if (closed[q] == 0) return;
+    const double w = winding_number<D>(planes, result.flipped, members_of(q), planes.origins[result.tree.roots[p]]);
+    inside[e] = winding_inside(w) ? 1 : 0;
+  });
+  std::vector<std::uint32_t> depth(components.sizes.size(), 0);
+  for (std::size_t e = 0; e < pairs.size(); ++e) depth[pairs[e].first] += inside[e];
+  std::size_t nested = 0, turned = 0;
+  for (const std::uint32_t d : depth) {
+    nested += d > 0 ? 1u : 0u;
+    turned += d % 2 == 1 ? 1u : 0u;
+  }
+  for (std::size_t i = 0; i < components.label.size() && turned > 0; ++i)
+    if (depth[components.label[i]] % 2 == 1) result.flipped[i] ^= 1;
+  return {nested, turned};
+}
+
 }  // namespace
 
 template <int D>
@@ -362,7 +484,11 @@ OrientedNormals<D> orient_normals(const TangentPlanes<D>& planes, RiemannianGrap
   vote(signs, g, options.vote_rounds, result);
   if (!options.sheet_misfit.empty())
     result.crease_patches_turned = turn_crease_patches<D>(planes, g, options.sheet_misfit, result);
-  if (options.sign_by_extremes) result.components_turned = turn_components_outward<D>(planes, guide, result);
+  if (options.sign_by_extremes) {
+    result.components_turned = turn_components_outward<D>(planes, guide, result);
+    if (options.turn_nested)
+      std::tie(result.pieces_nested, result.nested_turned) = turn_nested_pieces<D>(planes, result);
+  }
 
   // The signs found (with the guide, where there is one), on the planes' own normals.
   result.normals.resize(n);

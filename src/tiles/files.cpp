@@ -48,6 +48,7 @@ void write_orientation(const std::filesystem::path& path, const Orientation& o) 
   out.put_vector<std::uint32_t>(o.piece);
   out.put_vector<PieceTop>(o.tops);
   out.put_vector<BorderRecord>(o.border);
+  out.put_vector<DipoleRecord>(o.dipoles);
   out.put(o.inexact);
   out.commit();
 }
@@ -59,6 +60,7 @@ Orientation read_orientation(const std::filesystem::path& path) {
   o.piece = in.get_vector<std::uint32_t>();
   o.tops = in.get_vector<PieceTop>();
   o.border = in.get_vector<BorderRecord>();
+  o.dipoles = in.get_vector<DipoleRecord>();
   o.inexact = in.get<std::uint64_t>();
   in.finish();
   if (o.sign.size() != o.piece.size())
@@ -75,6 +77,13 @@ Orientation read_orientation(const std::filesystem::path& path) {
     if (b.node >= o.tops.size()) throw bad(in, at_record("border sample", i) + "names a piece the tile does not have");
     if (!std::isfinite(b.normal[0]) || !std::isfinite(b.normal[1]) || !std::isfinite(b.normal[2]))
       throw bad(in, at_record("border sample", i) + "its normal is not finite");
+  }
+  for (std::size_t i = 0; i < o.dipoles.size(); ++i) {
+    const DipoleRecord& d = o.dipoles[i];
+    if (d.piece >= o.tops.size()) throw bad(in, at_record("core sample", i) + "names a piece the tile does not have");
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(d.origin[a]) || !std::isfinite(d.area_normal[a]))
+        throw bad(in, at_record("core sample", i) + "its origin or normal is not finite");
   }
   return o;
 }

@@ -43,6 +43,16 @@ struct PieceTop {
   std::uint64_t index = UINT64_MAX;
 };
 
+/// A core sample of a tile as the winding number of its piece reads it
+/// (nested pieces, orientation.h): its plane's origin (working coordinates)
+/// and its area times its normal, as the tile oriented it (floats: a
+/// winding number is asked only whether it passes 1/2).
+struct DipoleRecord {
+  float origin[3] = {0.0f, 0.0f, 0.0f};
+  float area_normal[3] = {0.0f, 0.0f, 0.0f};
+  std::uint32_t piece = 0;  ///< the tile's piece
+};
+
 inline constexpr std::uint32_t none = UINT32_MAX;
 
 /// A vertex of a tile's mesh: its position (input coordinates) and its name
@@ -99,10 +109,11 @@ void write_mesh(const std::filesystem::path& path, const TileMesh& mesh);
 
 /// What step 2 writes of a tile (tile-N.orient) and steps 3 and 4 read.
 struct Orientation {
-  std::vector<std::int8_t> sign;     ///< per tile point (file order): +1 or -1, its normal against phase I's
-  std::vector<std::uint32_t> piece;  ///< per tile point: its piece (< tops.size())
-  std::vector<PieceTop> tops;        ///< per piece
-  std::vector<BorderRecord> border;  ///< node: the piece (< tops.size())
+  std::vector<std::int8_t> sign;      ///< per tile point (file order): +1 or -1, its normal against phase I's
+  std::vector<std::uint32_t> piece;   ///< per tile point: its piece (< tops.size())
+  std::vector<PieceTop> tops;         ///< per piece
+  std::vector<BorderRecord> border;   ///< node: the piece (< tops.size())
+  std::vector<DipoleRecord> dipoles;  ///< per core sample with a surface (not isolated), in spatial order
   std::uint64_t inexact = 0;
 };
 void write_orientation(const std::filesystem::path& path, const Orientation& o);
@@ -133,7 +144,7 @@ void write_plan(const TilePlan& plan, const std::filesystem::path& dir);
 inline constexpr char plan_magic[9] = "RCNPLAN4";
 inline constexpr char points_magic[9] = "RCNPTS02";
 inline constexpr char colors_magic[9] = "RCNCOL02";
-inline constexpr char orient_magic[9] = "RCNORI02";
+inline constexpr char orient_magic[9] = "RCNORI03";
 inline constexpr char flips_magic[9] = "RCNFLIP3";
 inline constexpr char mesh_magic[9] = "RCNMESH4";
 inline constexpr char planes_magic[9] = "RCNPLNS3";

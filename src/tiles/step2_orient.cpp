@@ -11,6 +11,7 @@ namespace recon {
 
 using tile_files::BorderRecord;
 using tile_files::CoreBox;
+using tile_files::DipoleRecord;
 using tile_files::Orientation;
 using tile_files::outside_core;
 using tile_files::PieceTop;
@@ -18,6 +19,15 @@ using tile_files::TilePoints;
 using namespace tile_input;
 
 namespace {
+// Sample j (spatial order) as its piece's winding number reads it.
+DipoleRecord dipole(const Reconstruction& r, std::size_t j, std::uint32_t piece) {
+  const Vec3& x = r.planes.origins[j];
+  const Vec3 an = sample_area<3>(r.planes.radius[j], r.planes.k) * r.oriented->normals[j];
+  return {{static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z())},
+          {static_cast<float>(an.x()), static_cast<float>(an.y()), static_cast<float>(an.z())},
+          piece};
+}
+
 // What the reconciliation needs of one oriented sample j (spatial order).
 void note_sample(const TilePlan& plan, const CoreBox& core, const Reconstruction& r, const TilePoints& points,
                  std::size_t j, Orientation& o) {
@@ -29,6 +39,7 @@ void note_sample(const TilePlan& plan, const CoreBox& core, const Reconstruction
     PieceTop& top = o.tops[piece];
     if (std::tie(w.z(), top.index) > std::tie(top.z, points.index[t]) || top.index == UINT64_MAX)
       top = {w.z(), points.index[t]};
+    if (r.planes.local_rho[j] > 0.0f) o.dipoles.push_back(dipole(r, j, piece));
   }
   if (out > plan.exact_margin) return;
   if (r.planes.local_rho[j] > 0.0f && out + 2.0 * static_cast<double>(r.planes.radius[j]) > plan.halo) ++o.inexact;
@@ -40,7 +51,8 @@ void note_sample(const TilePlan& plan, const CoreBox& core, const Reconstruction
 
 Orientation orient_points(const TilePlan& plan, const CoreBox& core, Reconstruction& r, const TilePoints& points) {
   const ReconstructionOptions options = tile_files::tile_options(plan);
-  const OrientationOptions orientation = orientation_options(r, options);
+  OrientationOptions orientation = orientation_options(r, options);
+  orientation.turn_nested = false;  // (decided over all tiles: step3_reconcile.cpp)
   RiemannianGraph<3> graph = build_riemannian_graph<3>(r.planes, orientation.graph);
   r.planes.neighbors = {};
   r.oriented = orient_normals<3>(r.planes, std::move(graph), orientation);

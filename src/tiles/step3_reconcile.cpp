@@ -1,19 +1,23 @@
 // Step 3 of a tiled run (tiles.h): the tiles' orientations made to agree
 // where their borders overlap, by a spanning forest over the tiles'
-// pieces (union-find), one sign a piece.
+// pieces (union-find), one sign a piece; then, for the refined method, the
+// objects nested in an odd number of others turned round.
 #include "recon/core/errors.h"
 #include "recon/core/timer.h"
+#include "recon/phase2_orientation/orientation.h"
 #include "recon/structures/union_find.h"
 #include "recon/tiles/tiles.h"
 #include "tiles/files.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <tuple>
 
 namespace recon {
 
 using tile_files::BorderRecord;
+using tile_files::DipoleRecord;
 using tile_files::Orientation;
 using tile_files::PieceTop;
 
@@ -24,9 +28,38 @@ struct Agreement {
 };
 using NodePair = std::pair<std::uint32_t, std::uint32_t>;
 
+// Where a node's core samples lie (nested objects, below): their box and
+// the highest origin (the probe); none for a piece of halo samples alone.
+struct Extent {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = -lo;
+  Vec3 probe = Vec3::Zero();
+  bool any = false;
+  void add(const Vec3& x) {
+    if (!any || x.z() > probe.z()) probe = x;
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+    any = true;
+  }
+  void add(const Extent& other) {
+    if (!other.any) return;
+    add(other.probe);
+    lo = lo.cwiseMin(other.lo);
+    hi = hi.cwiseMax(other.hi);
+  }
+  [[nodiscard]] bool holds(const Extent& other) const {
+    return any && other.any && (lo.array() <= other.lo.array()).all() && (other.hi.array() <= hi.array()).all();
+  }
+};
+
+Vec3 vec(const float (&v)[3]) {
+  return {static_cast<double>(v[0]), static_cast<double>(v[1]), static_cast<double>(v[2])};
+}
+
 struct SignGraph {
   std::vector<std::uint64_t> first_node;  // per tile, its first node
   std::vector<PieceTop> tops;             // per node
+  std::vector<Extent> extents;            // per node
   std::map<NodePair, Agreement> edges;
   std::size_t shared = 0;
 };
@@ -42,6 +75,8 @@ SignGraph sign_graph(const std::filesystem::path& dir, const TilePlan& plan) {
       throw ResourceLimitError("the tiles hold more than 2^32 pieces between them; use larger tiles");
     for (BorderRecord& b : o.border) b.node += static_cast<std::uint32_t>(g.tops.size());
     g.tops.insert(g.tops.end(), o.tops.begin(), o.tops.end());
+    g.extents.resize(g.tops.size());
+    for (const DipoleRecord& d : o.dipoles) g.extents[g.first_node.back() + d.piece].add(vec(d.origin));
     border.insert(border.end(), o.border.begin(), o.border.end());
   }
   std::sort(border.begin(), border.end(), [](const BorderRecord& a, const BorderRecord& b) {
@@ -113,6 +148,56 @@ Signs reconcile(const SignGraph& g, TileReconciliation& result) {
   return s;
 }
 
+// Nested objects (orientation.h, as phase II turns nested pieces in
+// memory): each object's box and probe over its core samples; for each
+// pair (P, Q) where Q's box holds P's, Q's winding number at P's probe,
+// summed over Q's core samples in every tile (the orientation files read
+// again, only when there is such a pair), and whether Q's samples close a
+// surface (closes_a_surface); an object inside an odd number of closed
+// others is turned round.
+void turn_nested_objects(const std::filesystem::path& dir, const TilePlan& plan, const SignGraph& g, Signs& s,
+                         TileReconciliation& result) {
+  std::map<std::uint32_t, Extent> objects;  // by the node each was walked from
+  for (std::uint32_t v = 0; v < g.extents.size(); ++v) objects[s.object[v]].add(g.extents[v]);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (P, Q), by object
+  for (const auto& [p, inner] : objects)
+    for (const auto& [q, outer] : objects)
+      if (p != q && outer.holds(inner)) pairs.emplace_back(p, q);
+  if (pairs.empty()) return;
+  std::map<std::uint32_t, std::vector<std::size_t>> tested;  // per object Q, its pairs
+  for (std::size_t e = 0; e < pairs.size(); ++e) tested[pairs[e].second].push_back(e);
+  std::vector<double> w(pairs.size(), 0.0);
+  std::map<std::uint32_t, std::pair<Vec3, double>> sums;  // per object Q: its area-weighted normals, its area
+  for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
+    const tile_files::Orientation o =
+        tile_files::read_orientation(tile_files::of_tile(dir, plan.tiles[t].id, "orient"));
+    for (const DipoleRecord& d : o.dipoles) {
+      const std::uint64_t node = g.first_node[t] + d.piece;
+      const auto q = tested.find(s.object[node]);
+      if (q == tested.end()) continue;
+      const Vec3 x = vec(d.origin), an = static_cast<double>(s.flip[node]) * vec(d.area_normal);
+      auto& [area_normal, area] = sums.try_emplace(q->first, Vec3::Zero(), 0.0).first->second;
+      area_normal += an;
+      area += an.norm();
+      for (const std::size_t e : q->second) w[e] += winding_term<3>(x, an, objects[pairs[e].first].probe);
+    }
+  }
+  const auto closed = [&](std::uint32_t q) {
+    const auto sum = sums.find(q);
+    return sum != sums.end() && closes_a_surface<3>(sum->second.first, sum->second.second);
+  };
+  std::map<std::uint32_t, std::uint32_t> depth;
+  for (std::size_t e = 0; e < pairs.size(); ++e)
+    depth[pairs[e].first] += closed(pairs[e].second) && winding_inside(w[e]) ? 1u : 0u;
+  for (const auto& [object, d] : depth) {
+    result.objects_nested += d > 0 ? 1u : 0u;
+    result.nested_turned += d % 2 == 1 ? 1u : 0u;
+  }
+  for (std::uint32_t v = 0; v < s.flip.size(); ++v)
+    if (const auto d = depth.find(s.object[v]); d != depth.end() && d->second % 2 == 1)
+      s.flip[v] = static_cast<std::int8_t>(-s.flip[v]);
+}
+
 }  // namespace
 
 TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
@@ -120,7 +205,7 @@ TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
   const TilePlan plan = read_tile_plan(work_dir);
   const SignGraph g = sign_graph(work_dir, plan);
   TileReconciliation result;
-  const Signs signs = reconcile(g, result);
+  Signs signs = reconcile(g, result);
   const std::vector<std::int8_t>& flip = signs.flip;
   result.nodes = g.tops.size();
   result.edges = g.edges.size();
@@ -128,6 +213,7 @@ TileReconciliation reconcile_tiles(const std::filesystem::path& work_dir) {
   result.turned = static_cast<std::size_t>(std::count(flip.begin(), flip.end(), std::int8_t{-1}));
   for (const auto& [nodes, agreement] : g.edges)
     result.disagreeing += flip[nodes.first] == flip[nodes.second] ? agreement.disagree : agreement.agree;
+  if (plan.method == Method::refined) turn_nested_objects(work_dir, plan, g, signs, result);
   tile_files::write_flips(work_dir, {g.first_node, flip, signs.object});
   result.seconds = timer.elapsed();
   return result;

@@ -94,6 +94,18 @@ TEST_F(CliNormals, TheDefaultGetsEveryConicRightAndHoppe92IsAsItWas) {
   EXPECT_LT(testing::right_per_conic(truth, io::read_points(at("h.ply")).normals)[0], 0.05) << "the tall cone, hoppe92";
 }
 
+// Issue 27: `recon normals` faces the hollow ball's inner wall into the
+// cavity and the ball inside it out again, and says so in its stats.
+TEST_F(CliNormals, NestedWallsFaceTheTrueWay) {
+  ASSERT_TRUE(succeeded(recon({"--quiet", "generate", "nested", "-n", "30000", "--with-normals", "-o", "b.ply"})));
+  ASSERT_TRUE(succeeded(recon({"--quiet", "normals", "b.ply", "-o", "n.ply", "--stats", "n.json"})));
+  const std::vector<double> right =
+      testing::right_per_ball(io::read_points(at("b.ply")), io::read_points(at("n.ply")).normals, 3);
+  for (std::size_t w = 0; w < right.size(); ++w) EXPECT_GE(right[w], 0.99) << "wall " << w;
+  EXPECT_NE(read_bytes(at("n.json")).find("\"pieces_nested\": 2"), std::string::npos);
+  EXPECT_NE(read_bytes(at("n.json")).find("\"nested_turned\": 1"), std::string::npos);
+}
+
 // The normals written are estimate_normals()'s of the method asked for
 // (estimate_normals_test.cpp: reconstruct()'s phase II normals, and for
 // hoppe92 the paper's phases called plainly), bit for bit, in input order.

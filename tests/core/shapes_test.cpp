@@ -71,6 +71,9 @@ std::vector<Truth> all_truths() {
       {"part", -4, 1, part_area, part_volume},
       {"handle", 2, 1, handle_area, handle_volume},
       {"conics", 10, 5, conics_area, conics_volume},
+      {"shell", 4, 2, sphere_area(1.0) + sphere_area(0.7), sphere_volume(1.0) - sphere_volume(0.7)},
+      {"nested", 6, 3, sphere_area(1.0) + sphere_area(0.7) + sphere_area(0.3),
+       sphere_volume(1.0) - sphere_volume(0.7) + sphere_volume(0.3)},
   };
 }
 
@@ -232,7 +235,7 @@ TEST_P(ShapeTest, TopologyIsAsDocumented) {
 
 INSTANTIATE_TEST_SUITE_P(Shapes, ShapeTest,
                          ::testing::Values("sphere", "torus", "ellipsoid", "box", "two", "terrain", "part", "handle",
-                                           "conics"),
+                                           "conics", "shell", "nested"),
                          [](const ::testing::TestParamInfo<std::string>& shape) { return shape.param; });
 
 TEST(ShapeNames, UnknownNameIsRefusedWithTheKnownOnes) {

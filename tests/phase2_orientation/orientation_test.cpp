@@ -1,10 +1,15 @@
 #include "recon/phase2_orientation/orientation.h"
 
+#include "conics_truth.h"
+#include "recon/core/parallel.h"
 #include "recon/core/shapes.h"
 #include "recon/io/point_io.h"
 #include "test_data.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
 
 namespace recon {
 namespace {
@@ -86,6 +91,87 @@ TEST(Orientation, KittenAgreesWithItsStoredNormals) {
   const auto c = orient_and_compare(cloud);
   EXPECT_EQ(c.components, 1u);
   EXPECT_GE(static_cast<double>(c.outward), 0.99 * static_cast<double>(c.total));
+}
+
+// Nested pieces (the refined method, sign_by_extremes): each piece is
+// first made to face out at its extremes, as if alone; then a piece inside
+// an odd number of others is turned round to face into its cavity.
+OrientedNormals<3> refined_orientation(const PointCloud& cloud) {
+  const auto planes = estimate_tangent_planes<3>(cloud.positions);
+  OrientationOptions options;
+  options.sign_by_extremes = true;
+  return orient_normals<3>(planes, options);
+}
+
+PointCloud joined(PointCloud a, const PointCloud& b) {
+  a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+  a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
+  return a;
+}
+
+// Issue 27: the cavity's wall (depth 1) faces into the cavity; the ball in
+// it (depth 2) faces out again. Each piece alone would face out.
+TEST(Orientation, NestedPiecesFaceIntoTheirCavityAtEveryDepth) {
+  for (const std::size_t walls : {2u, 3u}) {
+    const PointCloud cloud = (walls == 2 ? make_hollow_ball() : make_nested_balls())->sample(40000, 17);
+    const auto oriented = refined_orientation(cloud);
+    ASSERT_EQ(oriented.component_count(), walls);
+    EXPECT_EQ(oriented.pieces_nested, walls - 1);
+    EXPECT_EQ(oriented.nested_turned, 1u) << "the cavity's wall only";
+    const std::vector<double> right = testing::right_per_ball(cloud, oriented.normals, walls);
+    for (std::size_t w = 0; w < walls; ++w) EXPECT_GE(right[w], 0.99) << walls << " walls, wall " << w;
+  }
+}
+
+// Pieces side by side are never turned, also where one's bounding box
+// holds the other's: a small ball in the corner of a large one's box, but
+// outside the ball (its winding number there is about 0).
+TEST(Orientation, APieceBesideAnotherIsNeverTurned) {
+  const PointCloud corner =
+      joined(make_sphere()->sample(30000, 18), make_sphere(0.1, Vec3(0.8, 0.8, 0.8))->sample(1500, 19));
+  const PointCloud apart =
+      joined(make_sphere()->sample(20000, 20), make_sphere(0.5, Vec3(2.0, 0.3, 0.0))->sample(5000, 21));
+  for (const PointCloud& cloud : {corner, apart}) {
+    const auto oriented = refined_orientation(cloud);
+    ASSERT_EQ(oriented.component_count(), 2u);
+    EXPECT_EQ(oriented.pieces_nested, 0u);
+    EXPECT_EQ(oriented.nested_turned, 0u);
+    for (std::size_t i = 0; i < cloud.size(); ++i) ASSERT_GT(oriented.normals[i].dot(cloud.normals[i]), 0.0) << i;
+  }
+}
+
+// A ball in a bowl (an open hemisphere): the bowl's winding number at the
+// ball is over 1/2, but the bowl bounds no cavity (its area-weighted
+// normals add up to its opening, half its area), so the ball stays as it is.
+TEST(Orientation, ABallInABowlIsNeverTurned) {
+  const PointCloud cloud = testing::ball_in_bowl(20000, 4000, 23);
+  double w = 0.0;
+  const Vec3 top(0.0, 0.0, -0.5);
+  for (std::size_t i = 0; i < 20000; ++i)
+    w += winding_term<3>(cloud.positions[i], 2.0 * std::numbers::pi / 20000.0 * cloud.normals[i], top);
+  ASSERT_GT(std::abs(w), 0.5) << "a winding number alone would count the ball inside the bowl";
+  const auto oriented = refined_orientation(cloud);
+  ASSERT_EQ(oriented.component_count(), 2u);
+  EXPECT_EQ(oriented.pieces_nested, 0u);
+  std::size_t right = 0;
+  for (std::size_t i = 20000; i < cloud.size(); ++i) right += oriented.normals[i].dot(cloud.normals[i]) > 0.0 ? 1u : 0u;
+  EXPECT_EQ(right, 4000u) << "the ball faces out";
+}
+
+// The 1992 method (no sign_by_extremes) decides no nesting; and the
+// refined one's turns do not depend on the thread count.
+TEST(Orientation, NestingIsTheRefinedMethodsAndTheSameOnAnyThreadCount) {
+  const PointCloud cloud = make_nested_balls()->sample(30000, 22);
+  const auto plain = orient_normals<3>(estimate_tangent_planes<3>(cloud.positions));
+  EXPECT_EQ(plain.pieces_nested, 0u);
+  EXPECT_EQ(plain.nested_turned, 0u);
+  set_thread_count(4);
+  const auto many = refined_orientation(cloud);
+  set_thread_count(1);
+  const auto one = refined_orientation(cloud);
+  set_thread_count(0);
+  EXPECT_EQ(many.flipped, one.flipped);
+  EXPECT_EQ(many.nested_turned, 1u);
 }
 
 }  // namespace

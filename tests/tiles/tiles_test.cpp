@@ -5,6 +5,7 @@
 
 #include "recon/tiles/tiles.h"
 
+#include "conics_truth.h"
 #include "mesh_compare.h"
 #include "recon/core/errors.h"
 #include "recon/core/shapes.h"
@@ -20,6 +21,7 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <string>
 
 namespace recon {
@@ -213,6 +215,41 @@ TEST(TiledRun, SeparateObjectsStaySeparate) {
   EXPECT_EQ(topology.components, 2u);
   EXPECT_TRUE(topology.watertight());
   EXPECT_GT(topology.signed_volume, 0.0) << "facing outward";
+}
+
+// Issue 27: a hollow ball with a ball in its cavity, cut into tiles: the
+// cavity's wall (an object inside one other) faces into the cavity and the
+// ball (inside two) out, as in memory, from winding numbers summed over
+// the tiles. Every triangle is the in-memory one, oriented the same way.
+TEST(TiledRun, NestedObjectsFaceAsInMemory) {
+  const Case c{"nested", 20000, Method::refined, 0.8};
+  const PointCloud cloud = cloud_of(c);
+  const Reconstruction whole = in_memory(cloud, c);
+  ASSERT_EQ(whole.oriented->nested_turned, 1u);
+  const Tiled tiled = run_tiled(cloud, c);
+  ASSERT_GT(tiled.run.plan.tiles.size(), 1u);
+  EXPECT_EQ(tiled.run.reconciliation.objects, 3u);
+  EXPECT_EQ(tiled.run.reconciliation.objects_nested, 2u);
+  EXPECT_EQ(tiled.run.reconciliation.nested_turned, 1u);
+  EXPECT_EQ(tiled.run.reconciliation.disagreeing, 0u);
+  EXPECT_TRUE(same_mesh(tiled.mesh, whole.mesh(), 1e-9 * whole.contour.cell));
+  const double volume = 4.0 / 3.0 * std::numbers::pi * (1.0 - 0.7 * 0.7 * 0.7 + 0.3 * 0.3 * 0.3);
+  EXPECT_NEAR(analyze_topology(tiled.mesh).signed_volume, volume, 0.02 * volume) << "every wall the true way";
+}
+
+// A ball in a bowl: the bowl's box holds the ball's, and its winding
+// number there exceeds 1/2, but its samples, summed over the tiles, close
+// no surface: nothing is turned, as in memory.
+TEST(TiledRun, ABallInABowlFacesAsInMemory) {
+  const Case c{"ball-in-bowl", 24000, Method::refined, 0.8};
+  const PointCloud cloud = testing::ball_in_bowl(20000, 4000, 24);
+  const Reconstruction whole = in_memory(cloud, c);
+  ASSERT_EQ(whole.oriented->pieces_nested, 0u);
+  const Tiled tiled = run_tiled(cloud, c);
+  ASSERT_GT(tiled.run.plan.tiles.size(), 1u);
+  EXPECT_EQ(tiled.run.reconciliation.objects_nested, 0u);
+  EXPECT_EQ(tiled.run.reconciliation.nested_turned, 0u);
+  EXPECT_TRUE(same_mesh(tiled.mesh, whole.mesh(), 1e-9 * whole.contour.cell));
 }
 
 // Noisy data: a sample's neighbourhood is the same in a tile, but the

@@ -99,6 +99,17 @@ class Shape {
 /// which piece a point of its sample belongs to: the nearest).
 [[nodiscard]] std::vector<std::unique_ptr<Shape>> make_conics_pieces();
 
+/// A hollow ball: the sphere of radius `outer` around the origin and, inside
+/// it, the wall of a spherical cavity of radius `inner`, whose true normals
+/// point into the cavity (out of the material). Two components, Euler
+/// characteristic 4; the two walls are sampled by area (the inner gets
+/// (inner / outer)^2 of the outer's share).
+[[nodiscard]] std::unique_ptr<Shape> make_hollow_ball(double outer = 1.0, double inner = 0.7);
+/// make_hollow_ball() with a solid ball of radius 0.3 in its cavity (normals
+/// outward again: material inside the cavity). Three components, Euler
+/// characteristic 6.
+[[nodiscard]] std::unique_ptr<Shape> make_nested_balls();
+
 /// Adds Gaussian noise to every position: each coordinate gets an
 /// independent offset of standard deviation `fraction` times the diagonal
 /// of the cloud's bounding box (the scale `recon generate --noise` and the
@@ -109,7 +120,8 @@ class Shape {
 void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed);
 
 /// A shape by name, at its default sizes: "sphere", "torus", "ellipsoid", "box", "two" (sphere + torus),
-/// "terrain", "part" (make_machined_part), "handle", "conics".
+/// "terrain", "part" (make_machined_part), "handle", "conics", "shell" (make_hollow_ball), "nested"
+/// (make_nested_balls).
 /// Cost: O(1).
 /// Throws: InvalidInputError for another name.
 /// Pre: none.

@@ -35,7 +35,11 @@
 //      where two tiles orient the same samples, weighted by how many of them
 //      agree; its maximum spanning forest, walked from the piece holding
 //      each object's highest sample (phase II's own rule), turns the
-//      pieces that disagree. Separate objects stay separate.
+//      pieces that disagree. Separate objects stay separate. For the
+//      refined method, an object nested in others then faces as phase II
+//      turns nested pieces (orientation.h): step 2 wrote each core
+//      sample's origin and area-weighted normal, so the winding numbers
+//      are summed over the tiles, where one object's box holds another's.
 //   4. contour_tile, for every tile: the planes step 2 wrote, their
 //      normals signed as reconciled, f, and marching cubes over the tile's
 //      own cubes and a ring of cubes around them on the one global lattice,
@@ -198,6 +202,8 @@ struct TileReconciliation {
   std::size_t turned = 0;          ///< pieces turned round
   std::size_t shared_samples = 0;  ///< sample pairs compared
   std::size_t disagreeing = 0;     ///< of which still disagree after the turns (0 on clean data)
+  std::size_t objects_nested = 0;  ///< objects inside another (the refined method; orientation.h)
+  std::size_t nested_turned = 0;   ///< of which turned round: inside an odd number of others
   double seconds = 0.0;
 };
 
@@ -239,7 +245,9 @@ TilePlan plan_tiles(const PointPass& pass, const TilingOptions& options, const s
 /// Pre: plan_tiles done in `work_dir`.
 TileOrientation orient_tile(const std::filesystem::path& work_dir, std::size_t tile);
 /// Step 3, once every tile is oriented: writes each piece's sign.
-/// Cost: O(B log B) for the B border samples of all tiles (a sort), and Kruskal over the pieces' graph.
+/// Cost: O(B log B) for the B border samples of all tiles (a sort), and Kruskal over the pieces' graph; where one
+/// object's box holds another's (the refined method), the tiles' orientation files read again and O(|Q|) per such
+/// pair (P, Q).
 /// Throws: ParseError/IoError when a file is absent or damaged, IoError when it cannot write; ResourceLimitError
 /// for more than 2^32 pieces in all.
 /// Pre: every tile oriented.
