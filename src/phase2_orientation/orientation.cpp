@@ -269,35 +269,36 @@ std::size_t turn_components_outward(const TangentPlanes<D>& planes, const Guide<
 //    decided (winding_number).
 // 3. Turns: a piece inside an odd number of others is turned round.
 
+// Sample i's area times its normal as decided (sample_area), for the sums
+// below; zero for an isolated sample (no surface), which they leave out.
+template <int D>
+Vec<D> area_normal(const TangentPlanes<D>& planes, const std::vector<std::uint8_t>& flipped, std::uint32_t i) {
+  if (!(planes.local_rho[i] > 0.0f)) return Vec<D>::Zero();
+  return sample_area<D>(planes.radius[i], planes.k) * signed_normal<D>(planes.normals, flipped, i);
+}
+
 // Q's winding number at p (the header), from the oriented samples
-// `members`: isolated samples (no surface) left out, the sum in the
-// members' order (the same for any thread count).
+// `members`, the sum in the members' order (the same for any thread count).
 template <int D>
 double winding_number(const TangentPlanes<D>& planes, const std::vector<std::uint8_t>& flipped,
                       std::span<const std::uint32_t> members, const Vec<D>& p) {
   double w = 0.0;
-  for (const std::uint32_t i : members)
-    if (planes.local_rho[i] > 0.0f)
-      w +=
-          winding_term<D>(planes.origins[i],
-                          sample_area<D>(planes.radius[i], planes.k) * signed_normal<D>(planes.normals, flipped, i), p);
+  for (const std::uint32_t i : members) w += winding_term<D>(planes.origins[i], area_normal<D>(planes, flipped, i), p);
   return w;
 }
 
-// Whether Q's oriented samples `members` close a surface (closes_a_surface),
-// over the samples winding_number counts.
+// Whether Q's oriented samples `members` close a surface (closes_a_surface).
 template <int D>
 bool closed_piece(const TangentPlanes<D>& planes, const std::vector<std::uint8_t>& flipped,
                   std::span<const std::uint32_t> members) {
-  Vec<D> area_normal = Vec<D>::Zero();
+  Vec<D> sum = Vec<D>::Zero();
   double area = 0.0;
-  for (const std::uint32_t i : members)
-    if (planes.local_rho[i] > 0.0f) {
-      const double a = sample_area<D>(planes.radius[i], planes.k);
-      area_normal += a * signed_normal<D>(planes.normals, flipped, i);
-      area += a;
-    }
-  return closes_a_surface<D>(area_normal, area);
+  for (const std::uint32_t i : members) {
+    const Vec<D> an = area_normal<D>(planes, flipped, i);
+    sum += an;
+    area += an.norm();
+  }
+  return closes_a_surface<D>(sum, area);
 }
 
 template <int D>

@@ -207,10 +207,11 @@ class MeshDistance {
  public:
   explicit MeshDistance(const Mesh& mesh) : mesh_(mesh) {
     std::vector<std::uint32_t> count(mesh.vertices.size() + 1, 0);
+    double longest = 0.0;  // L
     for (const auto& t : mesh.triangles) {
       for (const std::uint32_t v : t) ++count[v + 1];
       for (std::size_t c = 0; c < 3; ++c)
-        longest_ = std::max(longest_, (mesh.vertices[t[c]] - mesh.vertices[t[(c + 1) % 3]]).norm());
+        longest = std::max(longest, (mesh.vertices[t[c]] - mesh.vertices[t[(c + 1) % 3]]).norm());
     }
     std::vector<Vec3> used;  // vertices of some triangle: an unused one bounds nothing
     for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v)
@@ -224,7 +225,7 @@ class MeshDistance {
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
       for (const std::uint32_t v : mesh.triangles[t]) around_[count[v]++] = t;
     tree_ = KdTree<3>(used);
-    cover_ = 0.58 * longest_;  // 1 / sqrt 3 = 0.5774
+    cover_ = 0.58 * longest;  // 1 / sqrt 3 = 0.5774
   }
 
   /// NaN when the mesh has no triangle.
@@ -251,7 +252,6 @@ class MeshDistance {
   }
 
   const Mesh& mesh_;
-  double longest_ = 0.0;
   double cover_ = 0.0;                         // L / sqrt 3 (see above), with a margin for rounding
   std::vector<std::uint32_t> used_id_;         // the mesh's index of each tree point
   std::vector<std::uint32_t> first_, around_;  // the triangles around vertex v: around_[first_[v] .. first_[v + 1])
