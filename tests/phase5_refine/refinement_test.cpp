@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -217,6 +218,47 @@ TEST(Refinement, FragmentsGoSmallObjectsStay) {
   EXPECT_EQ(analyze_topology(dropped.mesh).components, 2u);
   refine.keep_fragments = true;
   EXPECT_EQ(analyze_topology(refine_mesh(contoured, input, refine).mesh).components, 3u);
+}
+
+// A closed bipyramid over a ring of `ring` vertices (2 ring triangles),
+// lying on the unit sphere around the direction `at`: a component of the
+// sphere's piece (its vertices vote for it), which no trimming can peel.
+void add_bipyramid(Mesh& mesh, const Vec3& at, std::size_t ring) {
+  const Vec3 n = at.normalized(), u = n.unitOrthogonal(), v = n.cross(u);
+  const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+  const auto r = static_cast<std::uint32_t>(ring);
+  for (std::uint32_t k = 0; k < r; ++k) {
+    const double t = 2.0 * std::numbers::pi * k / static_cast<double>(r);
+    mesh.vertices.push_back(n + 0.04 * (std::cos(t) * u + std::sin(t) * v));
+  }
+  mesh.vertices.push_back(1.01 * n);
+  mesh.vertices.push_back(0.99 * n);
+  for (std::uint32_t k = 0; k < r; ++k) {
+    const std::uint32_t a = base + k, b = base + (k + 1) % r;
+    mesh.triangles.push_back({a, b, base + r});
+    mesh.triangles.push_back({b, a, base + r + 1});
+  }
+}
+
+// The fragment rule's threshold (fragment_fraction, 2 %): next to a
+// sphere's contoured mesh of T triangles, a component of 5 % of T drawn
+// from the same piece stays and one of 1 % goes.
+TEST(Refinement, FragmentsAreJudgedAgainstTheirPiecesLargest) {
+  const PointCloud cloud = bare(make_sphere()->sample(20000, 65));
+  const Reconstruction r = reconstruct(cloud, ReconstructionOptions{});
+  const SignedDistance<3> f = signed_distance_of(r);
+  Mesh contoured = r.contour.mesh;
+  for (Vec3& v : contoured.vertices) v -= r.offset;
+  const std::size_t sphere = contoured.triangles.size();
+  const std::size_t five = sphere / 40, one = sphere / 200;  // rings: 2 triangles each
+  add_bipyramid(contoured, Vec3(1.0, 0.2, 0.1), five);
+  add_bipyramid(contoured, Vec3(-0.3, 1.0, 0.2), one);
+  RefinementOptions refine;
+  refine.max_move = r.contour.cell;
+  const Refinement refined = refine_mesh(contoured, refinement_input_of(r, f), refine);
+  EXPECT_EQ(refined.fragments, 1u);
+  EXPECT_EQ(refined.fragment_triangles, 2 * one) << "the 1 % component goes, the 5 % one stays";
+  EXPECT_EQ(analyze_topology(refined.mesh).components, 2u);
 }
 
 // Thin parts. A slab two neighbourhood radii thick (0.03; the radius and

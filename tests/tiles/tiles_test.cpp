@@ -379,9 +379,10 @@ TEST(TiledRun, DamagedMeshesAndColoursAreErrorsNamingThem) {
 // triangle with no open edge, and another on the fan's edge; tile B a
 // peelable triangle across an edge from the first that is on the open
 // boundary, a triangle hanging on the fan by a vertex, and a lone
-// triangle. The first two peelable triangles go (joined across the
-// border), the one on the fan stays with it, as does the hanging triangle
-// (their component is the fan's); the lone one goes as a fragment.
+// triangle, and a fan of 5 triangles. The first two peelable triangles go
+// (joined across the border), the one on the fan stays with it, as does the
+// hanging triangle (their component is the fan's); the lone one (1 % of the
+// fan) goes as a fragment, the small fan (5 %) stays.
 TEST(TiledRun, StitchDecidesTrimmingAndFragmentsAcrossTiles) {
   const Case c{"sphere", 20000, Method::refined, 0.7};
   const auto dir = scratch("stitch-by-hand");
@@ -426,9 +427,11 @@ TEST(TiledRun, StitchDecidesTrimmingAndFragmentsAcrossTiles) {
                 vertex(1000, true, 3),  vertex(3001, false, 3), vertex(3002, false, 3),   // hanging on the fan
                 vertex(4000, false, 4), vertex(4001, false, 4), vertex(4002, false, 4)};  // alone
   b.triangles = {triangle(0, 1, 2, 0), triangle(3, 4, 5, tile_files::none), triangle(6, 7, 8, tile_files::none)};
+  for (std::uint64_t v = 0; v < 7; ++v) b.vertices.push_back(vertex(5000 + v, false, 5));  // a fan of 5
+  for (std::uint32_t t = 10; t < 15; ++t) b.triangles.push_back(triangle(9, t, t + 1, tile_files::none));
   b.peel_open = {1};
-  b.atom_triangles = {0, 0, 0, 1, 1};
-  b.votes = {{2, 0, 1}, {3, 0, 2}, {4, 0, 3}};
+  b.atom_triangles = {0, 0, 0, 1, 1, 5};
+  b.votes = {{2, 0, 1}, {3, 0, 2}, {4, 0, 3}, {5, 0, 7}};
   for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
     char name[64];
     std::snprintf(name, sizeof name, "tile-%06u.mesh", static_cast<unsigned>(plan.tiles[t].id));
@@ -436,11 +439,11 @@ TEST(TiledRun, StitchDecidesTrimmingAndFragmentsAcrossTiles) {
   }
   const StitchedMesh m = stitch_tiles(dir, dir / "out.ply");
   EXPECT_EQ(m.trimmed, 2u) << "the peelable triangle without an open edge goes with the one across the border";
-  EXPECT_EQ(m.fragments, 1u);
+  EXPECT_EQ(m.fragments, 1u) << "the lone triangle (1 % of the fan's 102) goes, the fan of 5 (5 %) stays";
   EXPECT_EQ(m.fragment_triangles, 1u) << "the triangles on the fan, by a vertex or a shared vertex, are part of it";
-  EXPECT_EQ(m.triangles, 102u);
-  EXPECT_EQ(m.vertices, 106u);  // the fan's 102, and 2 of each triangle on it (1000 welded)
-  EXPECT_EQ(io::read_mesh(dir / "out.ply").triangles.size(), 102u);
+  EXPECT_EQ(m.triangles, 107u);
+  EXPECT_EQ(m.vertices, 113u);  // the fan's 102, 2 of each triangle on it (1000 welded), the small fan's 7
+  EXPECT_EQ(io::read_mesh(dir / "out.ply").triangles.size(), 107u);
   std::filesystem::remove_all(dir);
 }
 
