@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # How close each reconstruction lies to the true surface: recon's default
-# (refined) and --method hoppe92 beside Open3D's and CGAL's Screened Poisson,
+# (refined) and --method hoppe92 beside Kazhdan's PoissonRecon (depth 8 and
+# 10, given recon's own oriented normals from `recon normals`; and depth 10
+# trimmed by SurfaceTrimmer at 7, as for open scans) and Open3D's and CGAL's
+# Screened Poisson,
 # on the same clouds, measured by ../shared/eval/metrics.py (Chamfer,
 # Hausdorff-95, relative to the true surface's bounding-box diagonal, and the
 # topology). Writes bench/results/quality.md.
@@ -12,6 +15,7 @@
 #   QUALITY_OUTPUT   the markdown written (default bench/results/quality.md)
 #   QUALITY_EVAL     the evaluation scripts (default ../shared/eval)
 #   QUALITY_DATA     the real data (default ../shared/data)
+#   QUALITY_PEERS    PoissonRecon and SurfaceTrimmer (default ../shared/peers/poissonrecon)
 #
 # Clouds: gen_synthetic.py's sphere, torus, box (rotated, sharp), plate
 # (thickness 0.05), torus with 0.2 % noise; recon generate's ellipsoid, part
@@ -29,6 +33,24 @@ mkdir -p "$work"
 cmake -S bench/peers -B build/peers -DCMAKE_BUILD_TYPE=Release -G Ninja > "$work/peers-configure.log"
 cmake --build build/peers --target cgal_poisson > "$work/peers-build.log"
 cgal="$root/build/peers/cgal_poisson"
+kazhdan="${QUALITY_PEERS:-$root/../shared/peers/poissonrecon}"
+export OMP_WAIT_POLICY=passive  # PoissonRecon's threads otherwise spin on a shared machine
+
+# PoissonRecon at depth 8 and 10 from recon's own oriented normals, and the
+# depth-10 mesh trimmed (SurfaceTrimmer --trim 7) where it lies far from the data.
+kazhdan_poisson() {
+  local name="$1" cloud="$2"
+  rm -f "$work/$name-pr8.ply" "$work/$name-pr10.ply" "$work/$name-pr10t.ply"
+  [ -x "$kazhdan/PoissonRecon" ] || return 0
+  "$recon" normals "$cloud" -o "$work/$name-oriented.ply" > /dev/null 2>&1 || return 0
+  for depth in 8 10; do
+    timeout 900 "$kazhdan/PoissonRecon" --in "$work/$name-oriented.ply" --out "$work/$name-pr$depth.ply" \
+      --depth "$depth" --density > /dev/null 2>&1 || rm -f "$work/$name-pr$depth.ply"
+  done
+  [ -s "$work/$name-pr10.ply" ] && { "$kazhdan/SurfaceTrimmer" --in "$work/$name-pr10.ply" --out "$work/$name-pr10t.ply" \
+    --trim 7 > /dev/null 2>&1 || rm -f "$work/$name-pr10t.ply"; }
+  return 0
+}
 
 # One row: method, Chamfer, Hausdorff-95, components, watertight, Euler.
 measure() {
@@ -40,6 +62,9 @@ measure() {
   $python "$eval_dir/metrics.py" "$mesh" "$gt" | $python -c '
 import json, sys
 d = json.load(sys.stdin)
+if "error" in d:
+    print("| %s | %s | | | | |" % (sys.argv[1], d["error"]))
+    sys.exit(0)
 print("| %s | %.3g | %.3g | %d | %s | %d |" % (sys.argv[1], d["chamfer"], d["hausdorff95"], d["components"],
       "yes" if d["watertight"] else "no, %d boundary edges" % d["boundary_edges"], d["euler"]))' "$label"
 }
@@ -50,7 +75,7 @@ print("| %s | %.3g | %.3g | %d | %s | %d |" % (sys.argv[1], d["chamfer"], d["hau
   echo "Written by \`bench/quality.sh\` on $(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD)$(git diff --quiet || echo ' with local changes'),"
   echo "$(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo)."
   echo "Chamfer and Hausdorff-95 are relative to the true surface's bounding-box diagonal (\`metrics.py\`);"
-  echo "every program at its defaults (Open3D: k = 30, depth 8; CGAL: k = 24 for the jet normals and the MST orientation, Poisson at the average spacing)."
+  echo "every program at its defaults (Open3D: k = 30, depth 8; CGAL: k = 24 for the jet normals and the MST orientation, Poisson at the average spacing; PoissonRecon 18.75 at its defaults but the depth, given \`recon normals\`' output)."
   echo
 } > "$output.tmp"
 for name in $clouds; do
@@ -61,6 +86,7 @@ for name in $clouds; do
   "$recon" reconstruct "$cloud" --method hoppe92 -o "$work/$name-hoppe92.ply" > /dev/null 2>&1 || rm -f "$work/$name-hoppe92.ply"
   timeout 900 $python bench/peers/open3d_poisson.py "$cloud" -o "$work/$name-open3d.ply" > /dev/null 2>&1 || rm -f "$work/$name-open3d.ply"
   timeout 900 "$cgal" "$cloud" -o "$work/$name-cgal.ply" > /dev/null 2>&1 || rm -f "$work/$name-cgal.ply"
+  kazhdan_poisson "$name" "$cloud"
   {
     echo "## $name"
     echo
@@ -70,6 +96,9 @@ for name in $clouds; do
     measure "$work/$name-hoppe92.ply" "$gt" "recon --method hoppe92"
     measure "$work/$name-open3d.ply" "$gt" "Open3D Poisson"
     measure "$work/$name-cgal.ply" "$gt" "CGAL Poisson"
+    measure "$work/$name-pr8.ply" "$gt" "PoissonRecon depth 8 (recon's normals)"
+    measure "$work/$name-pr10.ply" "$gt" "PoissonRecon depth 10 (recon's normals)"
+    measure "$work/$name-pr10t.ply" "$gt" "PoissonRecon depth 10, trimmed at 7"
     echo
   } | tee -a "$output.tmp"
 done
