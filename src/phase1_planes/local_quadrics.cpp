@@ -10,6 +10,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <tuple>
+#include <utility>
 
 namespace recon {
 
@@ -388,15 +390,19 @@ double median_radius(std::span<const float> radius) {
   return static_cast<double>(*middle);
 }
 
-double median_residual(const Fits& fits) {
+// The median of the fits' finite residuals and their lower quartile (the
+// values nth_element puts at ranks n / 2 and n / 4), 0 where there are none.
+std::pair<double, double> median_and_quartile(const Fits& fits) {
   std::vector<double> residual;
   residual.reserve(fits.size());
   for (std::size_t i = 0; i < fits.size(); ++i)
     if (std::isfinite(fits.residual(i))) residual.push_back(fits.residual(i));
-  if (residual.empty()) return 0.0;
+  if (residual.empty()) return {0.0, 0.0};
   const auto middle = residual.begin() + static_cast<std::ptrdiff_t>(residual.size() / 2);
   std::nth_element(residual.begin(), middle, residual.end());
-  return *middle;
+  const auto quarter = residual.begin() + static_cast<std::ptrdiff_t>(residual.size() / 4);
+  std::nth_element(residual.begin(), quarter, middle);
+  return {*middle, *quarter};
 }
 
 }  // namespace
@@ -522,12 +528,14 @@ struct Taken {
 
 // Step 3 for sample i: the quadric it takes (its own, or a better one of a
 // neighbour's where its fit is poor), and the sample moved onto it, into
-// `result`. `poor`: the residual beyond which a fit looks for a better one;
-// `far_radius`: the neighbourhood radius beyond which there is no surface.
+// `result`. `look_beyond`: the residual beyond which a fit looks for a
+// better one; `poor`: that of a fit which explains nothing (a better one is
+// looked for further; beyond 2.5 times it, none is trusted); `far_radius`:
+// the neighbourhood radius beyond which there is no surface.
 Taken take_quadric(const TangentPlanes<3>& planes, const Fits& fits, const LocalQuadricOptions& options,
-                   std::uint32_t i, double poor, double far_radius, LocalQuadrics& result) {
+                   std::uint32_t i, double look_beyond, double poor, double far_radius, LocalQuadrics& result) {
   const std::span<const Vec3> x = planes.point_tree.points();
-  const bool look = fits.residual(i) > poor && std::isfinite(fits.residual(i));
+  const bool look = fits.residual(i) > look_beyond && std::isfinite(fits.residual(i));
   const std::uint32_t j = look ? support_of(planes, i, fits, options, poor) : i;
   const Quadric q = fits[j];
   result.residual[i] = static_cast<float>(q.residual);
@@ -577,18 +585,25 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
   split_sheets(planes, fits, banded, options, result);
   banded = {};
   // A fit is poor (a crease, a corner) beyond four times the typical
-  // residual; only those look for a better one.
+  // residual; those look for a better one, and so do those beyond the
+  // faces' own residual where creases hold most samples (see the header).
   if (options.keep_parts) {
     result.fit_residual.resize(n);
     for (std::size_t i = 0; i < n; ++i) result.fit_residual[i] = static_cast<float>(fits.residual(i));
   }
-  result.medians.fit_residual = options.cloud ? options.cloud->fit_residual : median_residual(fits);
+  if (options.cloud) {
+    result.medians.fit_residual = options.cloud->fit_residual;
+    result.medians.fit_residual_quartile = options.cloud->fit_residual_quartile;
+  } else {
+    std::tie(result.medians.fit_residual, result.medians.fit_residual_quartile) = median_and_quartile(fits);
+  }
   const double poor = 4.0 * result.medians.fit_residual;
-
   // Neighbourhoods far wider than the typical one are strays' (scattered
   // outliers reach each other across empty space): no surface there.
   result.medians.radius = options.cloud ? options.cloud->radius : median_radius(planes.radius);
   const double far_radius = options.stray_radius * result.medians.radius;
+  const double look_beyond = std::min(poor, std::max(options.crease_quartile * result.medians.fit_residual_quartile,
+                                                     options.smooth_residual * result.medians.radius));
 
   // Step 3, and each sample onto the quadric it takes.
   result.origins.resize(n);
@@ -599,7 +614,8 @@ LocalQuadrics fit_local_quadrics(const TangentPlanes<3>& planes, const LocalQuad
   const auto count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(dynamic, 1024) reduction(+ : borrowed, flat)
   for (std::int64_t s = 0; s < count; ++s) {
-    const Taken taken = take_quadric(planes, fits, options, static_cast<std::uint32_t>(s), poor, far_radius, result);
+    const Taken taken =
+        take_quadric(planes, fits, options, static_cast<std::uint32_t>(s), look_beyond, poor, far_radius, result);
     borrowed += taken.borrowed ? 1u : 0u;
     flat += taken.flat ? 1u : 0u;
   }

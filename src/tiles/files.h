@@ -141,7 +141,7 @@ void write_flips(const std::filesystem::path& dir, const Flips& flips);
 void write_plan(const TilePlan& plan, const std::filesystem::path& dir);
 [[nodiscard]] TilePlan read_plan_file(const std::filesystem::path& path);
 
-inline constexpr char plan_magic[9] = "RCNPLAN4";
+inline constexpr char plan_magic[9] = "RCNPLAN5";
 inline constexpr char points_magic[9] = "RCNPTS02";
 inline constexpr char colors_magic[9] = "RCNCOL02";
 inline constexpr char orient_magic[9] = "RCNORI03";

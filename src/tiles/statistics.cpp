@@ -243,9 +243,14 @@ ReconstructionOptions given_spacing(const ReconstructionOptions& asked, int k, c
   return o;
 }
 
-// B: the median of the own fits' residuals (finite ones), and the samples split.
-std::pair<double, std::uint64_t> own_fits(const TilePlan& plan, const std::filesystem::path& dir,
-                                          const ReconstructionOptions& o, const LocalQuadricOptions& fits) {
+// B: the median of the own fits' residuals (finite ones) and their lower
+// quartile (at the ranks fit_local_quadrics takes), and the samples split.
+struct OwnFits {
+  double median = 0.0, quartile = 0.0;
+  std::uint64_t split = 0;
+};
+OwnFits own_fits(const TilePlan& plan, const std::filesystem::path& dir, const ReconstructionOptions& o,
+                 const LocalQuadricOptions& fits) {
   std::uint64_t split = 0;
   over_tiles(plan, dir, o, [&](const TileVisit& t, std::vector<Values>& values) {
     const LocalQuadrics q = fit_local_quadrics(t.r.planes, fits);
@@ -255,7 +260,9 @@ std::pair<double, std::uint64_t> own_fits(const TilePlan& plan, const std::files
     }
   });
   const auto finite = [](const Values& v) { return std::isfinite(v.a) ? std::optional<float>(v.a) : std::nullopt; };
-  return {static_cast<double>(Selection(plan, dir).median(finite).value_or(0.0f)), split};
+  const Selection residuals(plan, dir);
+  return {static_cast<double>(residuals.median(finite).value_or(0.0f)),
+          static_cast<double>(residuals.select(finite, [](std::uint64_t n) { return n / 4; }).value_or(0.0f)), split};
 }
 
 // C: the median of the residuals of the quadrics taken, given B's medians.
@@ -286,12 +293,12 @@ Measures measure_over_tiles(const TilePlan& plan, const std::filesystem::path& d
   if (asked.method == Method::refined) {
     const double cell = lattice_cell([&] { return plan.box.extent().maxCoeff(); }, a.spacing.rho, asked);
     const LocalQuadricOptions fits = fit_options(asked, cell);
-    auto [fit_residual, split] = own_fits(plan, dir, given_spacing(asked, k, a.spacing), fits);
-    if (k > asked.planes.k && 4 * split > a.samples) {  // (B: the raise undone)
+    OwnFits own = own_fits(plan, dir, given_spacing(asked, k, a.spacing), fits);
+    if (k > asked.planes.k && 4 * own.split > a.samples) {  // (B: the raise undone)
       a = measure_spacing(plan, dir, asked, k = asked.planes.k, n);
-      std::tie(fit_residual, split) = own_fits(plan, dir, given_spacing(asked, k, a.spacing), fits);
+      own = own_fits(plan, dir, given_spacing(asked, k, a.spacing), fits);
     }
-    QuadricMedians medians{fit_residual, a.radius_median, 0.0};
+    QuadricMedians medians{own.median, a.radius_median, 0.0, own.quartile};
     medians.noise = taken_fits(plan, dir, given_spacing(asked, k, a.spacing), fits, medians);
     a.spacing.noise = medians.noise;
     m.quadric_medians = medians;

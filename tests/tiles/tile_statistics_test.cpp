@@ -28,7 +28,8 @@ struct Case {
   Method method;
   double noise = 0.0;  // of the sample spacing
   std::optional<double> rho = std::nullopt;
-  std::size_t copies = 0;  // of one sample (a scanner's repeated point: no spacing, no plane there)
+  std::size_t copies = 0;    // of one sample (a scanner's repeated point: no spacing, no plane there)
+  std::size_t in_a_row = 1;  // samples of the shape, 3 apart along x (a sparse shape's halo spans it whole)
 };
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.shape << " " << c.points << " " << method_name(c.method); }
@@ -36,6 +37,9 @@ void PrintTo(const Case& c, std::ostream* os) { *os << c.shape << " " << c.point
 PointCloud cloud_of(const Case& c) {
   PointCloud cloud = noisy_sample(c.shape, c.points, c.noise, 23, 7);
   for (std::size_t i = 0; i < c.copies; ++i) cloud.positions.push_back(cloud.positions[c.points / 3]);
+  for (std::size_t r = 1; r < c.in_a_row; ++r)
+    for (const Vec3& p : noisy_sample(c.shape, c.points, c.noise, 23 + r, 7).positions)
+      cloud.positions.push_back(p + Vec3(3.0 * static_cast<double>(r), 0.0, 0.0));
   return cloud;
 }
 
@@ -77,6 +81,7 @@ TEST_P(MeasuredOverTiles, MeasuresAndMeshAreTheInMemoryOnes) {
     EXPECT_EQ(plan.quadric_medians.fit_residual, whole.quadrics->medians.fit_residual);
     EXPECT_EQ(plan.quadric_medians.radius, whole.quadrics->medians.radius);
     EXPECT_EQ(plan.quadric_medians.noise, whole.quadrics->medians.noise);
+    EXPECT_EQ(plan.quadric_medians.fit_residual_quartile, whole.quadrics->medians.fit_residual_quartile);
   }
   EXPECT_EQ(plan.lattice.cell, whole.contour.cell);
   for (const TileOrientation& o : run.orientations) EXPECT_EQ(o.inexact_samples, 0u);
@@ -91,16 +96,19 @@ TEST_P(MeasuredOverTiles, MeasuresAndMeshAreTheInMemoryOnes) {
 
 // Clean data in both methods (the refined one measures its fits too), the
 // terrain with 40 copies of one sample (their gap, 0, is left out of the
-// median); a noisy cloud, on which phase I raises k; a given rho.
+// median); a noisy cloud, on which phase I raises k; a given rho; sparse
+// CAD parts, whose crease fits look for better ones by the residuals'
+// lower quartile (local_quadrics.h).
 INSTANTIATE_TEST_SUITE_P(Clouds, MeasuredOverTiles,
                          ::testing::Values(Case{"terrain", 12000, Method::refined, 0.0, std::nullopt, 40},
                                            Case{"torus", 10000, Method::hoppe92},
                                            Case{"box", 40000, Method::refined, 1.2},
-                                           Case{"two", 10000, Method::refined, 0.0, 0.05}),
+                                           Case{"two", 10000, Method::refined, 0.0, 0.05},
+                                           Case{"part", 4100, Method::refined, 0.0, std::nullopt, 0, 3}),
                          [](const auto& p) {
                            return std::string(p.param.shape) + "_" + method_name(p.param.method) +
                                   (p.param.noise > 0.0 ? "_noisy" : "") + (p.param.rho ? "_rho" : "") +
-                                  (p.param.copies > 0 ? "_copies" : "");
+                                  (p.param.copies > 0 ? "_copies" : "") + (p.param.in_a_row > 1 ? "_in_a_row" : "");
                          });
 
 // Samples a tile cannot measure exactly are counted, not hidden: five

@@ -23,6 +23,14 @@
 //   lies on that quadric, x_i takes x_j's quadric: near an edge, the samples
 //   a little further into the same face have neighbourhoods on that face
 //   alone. Phase III's nearest-plane rule then meets the faces at the edge.
+//   Only poor fits look: those beyond four times the median residual. On a
+//   sparse CAD part (a few thousand samples) nearly every neighbourhood
+//   reaches an edge, the median is itself a crease's residual, and no fit
+//   looked poor: every edge came out rounded off. So a fit also looks when
+//   its residual passes the larger of 16 times the lower quartile (the
+//   faces' own residual, noise included: on noisy or smooth data that bound
+//   lies beyond the median's) and 1/200 of the median radius (which a
+//   noise-free smooth face never reaches).
 // - Two sheets closer than a neighbourhood (a thin plate, a fold, an arm
 //   against a body). The neighbourhood's heights over its plane then fall in
 //   two groups with an empty band between them; the plane through the
@@ -45,19 +53,25 @@
 namespace recon {
 
 /// The cloud-wide medians the fits compare against: of the fits' residuals
-/// (poor fits look for a better one), of the neighbourhood radii (strays),
-/// and of the residuals of the fits taken (the noise). A tile of a larger
-/// cloud (tiles.h) is given the whole cloud's.
+/// (poor fits look for a better one) and their lower quartile, of the
+/// neighbourhood radii (strays), and of the residuals of the fits taken
+/// (the noise). A tile of a larger cloud (tiles.h) is given the whole cloud's.
 struct QuadricMedians {
   double fit_residual = 0.0;
   double radius = 0.0;
   double noise = 0.0;
+  double fit_residual_quartile = 0.0;
 };
 
 struct LocalQuadricOptions {
   double crease_ratio = 0.5;  ///< borrow a neighbour's fit when its residual is below this fraction of one's own
-  double sheet_gap = 0.5;     ///< two sheets: an empty band of heights over this fraction of their whole range
-  int min_sheet_points = 4;   ///< ... with at least this many samples on either side
+  /// A fit looks for a better one beyond four times the median residual,
+  /// and also beyond the larger of this many times the residuals' lower
+  /// quartile ...
+  double crease_quartile = 16.0;
+  double smooth_residual = 0.005;  ///< ... and this fraction of the median radius (see Creases above)
+  double sheet_gap = 0.5;          ///< two sheets: an empty band of heights over this fraction of their whole range
+  int min_sheet_points = 4;        ///< ... with at least this many samples on either side
   /// ... unless the other side is a parallel sheet nearer than this: sheets
   /// closer than the lattice can follow are fitted as one surface between
   /// them. 0: always split (reconstruct() replaces 0 by 1.5 lattice cells).
