@@ -355,10 +355,11 @@ MeshEmbedding check_embedding(const Mesh& mesh) {
     const bool repeated = tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2];
     if (!repeated) proper.push_back(t);
     if (degenerate(mesh, tri))
-      ++result.degenerate_triangles;
+      result.degenerate.push_back(t);
     else
       live.push_back(t);
   }
+  result.degenerate_triangles = result.degenerate.size();
   result.pairs = intersecting_pairs(mesh, live);
   result.intersecting_pairs = result.pairs.size();
   result.non_manifold_edges = non_manifold_edges(mesh, proper);

@@ -74,6 +74,9 @@ struct RefinementOptions {
   /// triangles face), and (0, 0, 0) where there is none: crease and corner
   /// vertices, unmoved ones (vertex_normals.h fills those). False: no normals.
   bool fitted_normals = false;
+  /// Put back the vertices whose move made triangles cross or a vertex pinched (see "Untangle" above).
+  /// False: the mesh as steps 1-3 leave it (to measure what untangling does; not embedded in general).
+  bool keep_embedding = true;
 };
 
 /// What the refinement reads: the surface fits of phase I (origins on the
@@ -116,6 +119,7 @@ struct Refinement {
   std::size_t brought_back = 0;        ///< vertices moved back onto a crease they were projected past
   std::size_t corner_vertices = 0;     ///< vertices added at corners
   std::size_t unmoved = 0;             ///< vertices whose projection moved them further than max_move
+  std::size_t put_back = 0;            ///< vertices put back toward the contoured mesh (untangling)
   std::size_t trimmed = 0;             ///< triangles cut off past open boundaries
   std::size_t stray_triangles = 0;     ///< triangles dropped beyond f's reach from every sample (step 4)
   std::size_t fragments = 0;           ///< components dropped (see above)
@@ -135,7 +139,7 @@ struct RefinedPatch {
   std::vector<std::uint8_t> far;      ///< per vertex: beyond f's reach from every sample (4b; 0 without sample_tree)
   std::vector<std::uint32_t> piece;   ///< per vertex: the piece of data it stands for (none at a corner)
   std::vector<std::uint32_t> source;  ///< per triangle: the contoured triangle it was cut from
-  std::size_t crease_vertices = 0, brought_back = 0, corner_vertices = 0, unmoved = 0;
+  std::size_t crease_vertices = 0, brought_back = 0, corner_vertices = 0, unmoved = 0, put_back = 0;
 
   /// Keeps the triangles marked 1 and the vertices they use, in order, with their per-vertex entries.
   /// Cost: O(V + F).

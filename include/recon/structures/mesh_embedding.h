@@ -36,9 +36,10 @@ struct MeshEmbedding {
   std::size_t non_manifold_vertices = 0;  ///< vertices whose triangles form two fans or more (pinched)
   std::size_t non_manifold_edges = 0;     ///< edges of three triangles or more
   std::size_t degenerate_triangles = 0;   ///< zero area, exactly (a repeated index or collinear corners)
-  /// The intersecting pairs (t1 < t2), sorted; and the pinched vertices, sorted.
+  /// The intersecting pairs (t1 < t2), the pinched vertices and the degenerate triangles, each sorted.
   std::vector<std::array<std::uint32_t, 2>> pairs;
   std::vector<std::uint32_t> pinched;
+  std::vector<std::uint32_t> degenerate;
   /// No intersecting pair, no pinched vertex, no non-manifold edge, no degenerate triangle.
   [[nodiscard]] bool embedded() const {
     return intersecting_pairs == 0 && non_manifold_vertices == 0 && non_manifold_edges == 0 &&
