@@ -15,8 +15,8 @@
 
 #include <filesystem>
 #include <ostream>
-#include <utility>
 #include <string>
+#include <utility>
 
 namespace recon {
 namespace {

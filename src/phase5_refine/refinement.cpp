@@ -95,7 +95,8 @@ RefinedPatch refine_patch(const Mesh& contoured, const RefinementInput& input, c
       if (put_back[v]) b.mesh.normals[v] = Vec3::Zero();  // off its quadric now: vertex_normals.h fills it
   }
   RefinedPatch patch;
-  patch.put_back = static_cast<std::size_t>(std::count_if(put_back.begin(), put_back.end(), [](std::uint8_t l) { return l > 0; }));
+  patch.put_back =
+      static_cast<std::size_t>(std::count_if(put_back.begin(), put_back.end(), [](std::uint8_t l) { return l > 0; }));
   patch.covered = covered_vertices(b, pr);
   patch.far = far_vertices(b, pr, input);
   patch.piece.resize(b.mesh.vertices.size());

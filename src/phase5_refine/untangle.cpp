@@ -16,8 +16,8 @@
 namespace recon::refinement_steps {
 namespace {
 
-constexpr std::uint8_t home_level = 2;  // 0: as phase V moved it, 1: halfway back, 2: where it was contoured
-constexpr int max_rounds = 2 * home_level + 8;
+constexpr std::uint8_t home_level = 2;          // 0: as phase V moved it, 1: halfway back, 2: where it was contoured
+constexpr int max_rounds = 3 * home_level * 2;  // (each tier to home; 2-6 rounds on the shapes tried)
 
 // Where each vertex was before phase V moved it: a projected vertex its
 // contoured vertex; a crease vertex the midpoint of the two vertices of the
@@ -88,7 +88,8 @@ std::vector<std::uint32_t> tangled(const Builder& b, const std::vector<std::uint
     offence.clear();
   };
   for (const auto& pair : e.pairs) {
-    for (const std::uint32_t t : pair) offence.insert(offence.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
+    for (const std::uint32_t t : pair)
+      offence.insert(offence.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
     take();
   }
   for (const std::uint32_t t : e.degenerate) {
@@ -125,8 +126,9 @@ std::vector<std::uint8_t> untangle(Builder& b, const Mesh& contoured) {
         if (level[v] == 0 || (b.stem[v][1] == none) != (pass == 0)) continue;
         const double back = static_cast<double>(level[v]) / home_level;
         b.mesh.vertices[v] = moved[v] + back * (home(v) - moved[v]);
-        const Vec3 from = b.stem[v][1] == none ? contoured.vertices[b.stem[v][0]]
-                                               : 0.5 * (contoured.vertices[b.stem[v][0]] + contoured.vertices[b.stem[v][1]]);
+        const Vec3 from = b.stem[v][1] == none
+                              ? contoured.vertices[b.stem[v][0]]
+                              : 0.5 * (contoured.vertices[b.stem[v][0]] + contoured.vertices[b.stem[v][1]]);
         b.displacement[v] = static_cast<float>((b.mesh.vertices[v] - from).norm());
       }
   }

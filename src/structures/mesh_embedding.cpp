@@ -107,6 +107,12 @@ bool into_angle(const Vec3& s, const Vec3& b1, const Vec3& b2, const Vec3& x) {
 
 // The triangles (s, a1, a2) and (s, b1, b2) meet off their vertex s.
 bool vertex_meet(const Vec3& s, const Vec3& a1, const Vec3& a2, const Vec3& b1, const Vec3& b2) {
+  // The common case: one triangle's other corners strictly on one side of
+  // the other's plane, which it then touches at s alone.
+  const int o1 = orient3d(s, b1, b2, a1), o2 = orient3d(s, b1, b2, a2);
+  if (o1 != 0 && o1 == o2) return false;
+  const int o3 = orient3d(s, a1, a2, b1), o4 = orient3d(s, a1, a2, b2);
+  if (o3 != 0 && o3 == o4) return false;
   return segment_meets_triangle(a1, a2, s, b1, b2) || segment_meets_triangle(b1, b2, s, a1, a2) ||
          into_angle(s, b1, b2, a1) || into_angle(s, b1, b2, a2) || into_angle(s, a1, a2, b1) ||
          into_angle(s, a1, a2, b2);
