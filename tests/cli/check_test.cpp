@@ -14,7 +14,8 @@ class CliCheck : public CliTest {};
 std::string two_triangles(double z) {
   return "ply\nformat ascii 1.0\nelement vertex 6\nproperty double x\nproperty double y\nproperty double z\n"
          "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
-         "0 0 0\n4 0 0\n0 4 0\n1 1 " + std::to_string(z) + "\n1 1 1\n2 1 1\n3 0 1 2\n3 3 4 5\n";
+         "0 0 0\n4 0 0\n0 4 0\n1 1 " +
+         std::to_string(z) + "\n1 1 1\n2 1 1\n3 0 1 2\n3 3 4 5\n";
 }
 
 TEST_F(CliCheck, CountsAndExitStatus) {
