@@ -39,7 +39,7 @@
 //      each offence's vertices go halfway back to where phase IV had them,
 //      then all the way (a crease vertex to the middle of the edge it split),
 //      and the check runs again, until none is left or every vertex
-//      concerned is home (at most 12 rounds; 2-4 on the shapes tried).
+//      concerned is home (at most 12 rounds; 2-6 on the shapes tried).
 //      Plain vertices go first; crease vertices only where an offence has
 //      no plain vertex left to move, and corners last, so the creases stay
 //      drawn where they can. Each decision reads only the triangles around
