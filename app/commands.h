@@ -21,5 +21,6 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global);
 Command add_generate(CLI::App& app, const GlobalOptions& global);
 Command add_lab(CLI::App& app, const GlobalOptions& global);
 Command add_simplify(CLI::App& app, const GlobalOptions& global);  // simplify.cpp
+Command add_check(CLI::App& app, const GlobalOptions& global);     // check.cpp
 
 }  // namespace recon::cli

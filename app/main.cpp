@@ -143,6 +143,10 @@ int main(int argc, char** argv) {
       "Simplify a mesh (phase VI alone: for a tiled run's mesh, or another program's), keeping creases, corners, "
       "open boundaries and separate objects",
       recon::cli::add_simplify);
+  add("check",
+      "Check that a mesh is embedded and manifold: no triangles crossing, no pinched vertex, no edge of three "
+      "triangles, no triangle of zero area (exact predicates); exit status 1 when not",
+      recon::cli::add_check);
   add("lab",
       "Run every alternative of phases I-II (searches, priority queues, MST algorithms, graphs) on one cloud, "
       "timed, counted and checked against each other",

@@ -170,8 +170,9 @@ StepReport refinement_report(const Refinement& r) {
   std::ostringstream line;
   line << "phase V   refinement: vertices moved " << format_length(moved) << " on average, "
        << plural(r.crease_vertices, "crease vertex") << " added, " << r.brought_back << " brought back onto a crease, "
-       << plural(r.corner_vertices, "corner") << ", " << plural(r.trimmed, "triangle")
-       << " past open boundaries cut off, ";
+       << plural(r.corner_vertices, "corner") << ", ";
+  if (r.put_back > 0) line << plural(r.put_back, "vertex") << " put back where triangles crossed, ";
+  line << plural(r.trimmed, "triangle") << " past open boundaries cut off, ";
   if (r.stray_triangles > 0) line << plural(r.stray_triangles, "triangle") << " beyond the data's reach dropped, ";
   line << plural(r.fragments, "fragment") << " dropped (" << plural(r.fragment_triangles, "triangle") << ") ("
        << format_seconds(r.seconds) << ")";
@@ -180,6 +181,7 @@ StepReport refinement_report(const Refinement& r) {
                                   {"brought_back", r.brought_back},
                                   {"corner_vertices", r.corner_vertices},
                                   {"unmoved_vertices", r.unmoved},
+                                  {"put_back_vertices", r.put_back},
                                   {"trimmed_triangles", r.trimmed},
                                   {"stray_triangles", r.stray_triangles},
                                   {"fragments", r.fragments},

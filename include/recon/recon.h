@@ -26,6 +26,7 @@
 
 // structures/
 #include "recon/structures/binary_heap.h"
+#include "recon/structures/exact_predicates.h"
 #include "recon/structures/fibonacci_heap.h"
 #include "recon/structures/graph.h"
 #include "recon/structures/kdtree.h"
@@ -33,6 +34,7 @@
 #include "recon/structures/lattice_table.h"
 #include "recon/structures/list_heap.h"
 #include "recon/structures/mesh.h"
+#include "recon/structures/mesh_embedding.h"
 #include "recon/structures/pairing_heap.h"
 #include "recon/structures/polyline.h"
 #include "recon/structures/spatial_order.h"

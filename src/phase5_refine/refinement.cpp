@@ -5,6 +5,7 @@
 #include "recon/core/interruption.h"
 #include "recon/core/timer.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -85,8 +86,17 @@ RefinedPatch refine_patch(const Mesh& contoured, const RefinementInput& input, c
   interruption_point();
   sharpen(b, pr, contoured, input, cos_crease);
   interruption_point();
-  if (options.fitted_normals) b.mesh.normals = fitted_normals(b, pr);
+  const std::vector<std::uint8_t> put_back =
+      options.keep_embedding ? untangle(b, contoured) : std::vector<std::uint8_t>(b.mesh.vertices.size(), 0);
+  interruption_point();
+  if (options.fitted_normals) {
+    b.mesh.normals = fitted_normals(b, pr);
+    for (std::size_t v = 0; v < put_back.size(); ++v)
+      if (put_back[v]) b.mesh.normals[v] = Vec3::Zero();  // off its quadric now: vertex_normals.h fills it
+  }
   RefinedPatch patch;
+  patch.put_back =
+      static_cast<std::size_t>(std::count_if(put_back.begin(), put_back.end(), [](std::uint8_t l) { return l > 0; }));
   patch.covered = covered_vertices(b, pr);
   patch.far = far_vertices(b, pr, input);
   patch.piece.resize(b.mesh.vertices.size());
@@ -132,6 +142,7 @@ Refinement refine_mesh(const Mesh& contoured, const RefinementInput& input, cons
   result.brought_back = patch.brought_back;
   result.corner_vertices = patch.corner_vertices;
   result.unmoved = patch.unmoved;
+  result.put_back = patch.put_back;
   if (!options.keep_fragments) {
     const Fragments f = find_fragments(patch.mesh, patch.piece, options.fragment_fraction);
     result.fragments = f.dropped;

@@ -192,6 +192,10 @@ void sharpen(Builder& b, const Projected& pr, const Mesh& contoured, const Refin
 // Step 3 (step3_balance.cpp): the mean sag.
 std::vector<double> mean_sag(const Mesh& contoured, const Projected& pr, double cos_crease);
 
+// After step 3 (untangle.cpp): vertices put back where triangles cross or a
+// vertex is pinched; per vertex 0 (kept), 1 (halfway back) or 2 (home).
+std::vector<std::uint8_t> untangle(Builder& b, const Mesh& contoured);
+
 // Step 4 (step4_clean.cpp): trimming, strays, fragments.
 std::vector<std::uint8_t> covered_vertices(const Builder& b, const Projected& pr);
 std::size_t trim_boundaries(RefinedPatch& patch);
