@@ -212,6 +212,7 @@ ReconstructionOptions reconstruction_options(const ReconstructCommandOptions& o)
   ReconstructionOptions options;
   options.method = method_from_name(o.method);
   options.refinement.keep_fragments = o.keep_fragments;
+  options.refinement.keep_embedding = o.embedded;
   options.planes = phase_1_options(o.phases);
   options.distance.delta = o.delta;
   options.cell = o.cell;
@@ -295,6 +296,10 @@ Command add_reconstruct(CLI::App& app, const GlobalOptions& global) {
                     "four phases");
   app.add_flag("--keep-fragments", o->keep_fragments,
                "Keep small mesh components next to larger ones drawn from the same data (refined)");
+  app.add_flag("--embedded", o->embedded,
+               "Put back phase V's moves that make triangles cross or a vertex pinched, checked exactly: an embedded "
+               "mesh, as slicers and boolean operations need (refined; slower, and creases a little rounder where "
+               "they crossed)");
   add_phase_options(app, o->phases);
   app.add_option("--delta", o->delta, "Noise level, a length (default: estimated from the tangent-plane fits)")
       ->check(non_negative_length());

@@ -254,6 +254,7 @@ void write_plan(const TilePlan& plan, const std::filesystem::path& dir) {
                          plan.refinement.fragment_fraction, plan.refinement.max_move})
     out.put(v);
   out.put(static_cast<std::uint8_t>(plan.refinement.keep_fragments));
+  out.put(static_cast<std::uint8_t>(plan.refinement.keep_embedding));
   out.put(static_cast<std::uint8_t>(plan.colors));
   out.put(static_cast<std::uint8_t>(plan.normals));
   out.put(plan.color_blend.k);
@@ -292,6 +293,7 @@ TilePlan read_plan_file(const std::filesystem::path& path) {
                     &plan.refinement.fragment_fraction, &plan.refinement.max_move})
     *v = in.get<double>();
   plan.refinement.keep_fragments = in.get<std::uint8_t>() != 0;
+  plan.refinement.keep_embedding = in.get<std::uint8_t>() != 0;
   plan.colors = in.get<std::uint8_t>() != 0;
   plan.normals = in.get<std::uint8_t>() != 0;
   plan.color_blend.k = in.get<int>();

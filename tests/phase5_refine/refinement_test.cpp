@@ -117,11 +117,7 @@ TEST(Refinement, BoxEdgesAndCornersAreSharp) {
     const MeshTopology t = analyze_topology(mesh);
     EXPECT_TRUE(t.watertight());
     EXPECT_EQ(t.euler_characteristic, 2);
-    // Untangling (refinement.h) puts back the crease vertices where the
-    // turned box's triangles crossed (233 pairs untangled): two triangles
-    // there come out numerically flat, the edge passes up to 0.3 cell off,
-    // and one corner in eight may be put back (untangle.cpp).
-    EXPECT_LE(t.degenerate_triangles, 2u);
+    EXPECT_EQ(t.degenerate_triangles, 0u);
     EXPECT_GT(t.signed_volume, 0.0) << seed << ": its top is a corner, yet it faces out";
     EXPECT_GT(r.refinement->crease_vertices, 500u);
     const MeshDistance to_mesh(mesh);
@@ -142,8 +138,8 @@ TEST(Refinement, BoxEdgesAndCornersAreSharp) {
             contour_sum += to_contour(turn * p);
             ++count;
           }
-    EXPECT_LT(worst, 0.35 * cell) << seed;  // (0.15 before untangling)
-    EXPECT_LT(sum / count, 0.02 * cell) << seed;
+    EXPECT_LT(worst, 0.15 * cell) << seed;
+    EXPECT_LT(sum / count, 0.01 * cell) << seed;
     EXPECT_GT(contour_sum / count, 0.2 * cell) << seed << ": phase IV alone cuts the edges off";
     std::vector<double> corners;
     for (int s = 0; s < 8; ++s) {
@@ -154,7 +150,7 @@ TEST(Refinement, BoxEdgesAndCornersAreSharp) {
       corners.push_back(nearest);
     }
     std::sort(corners.begin(), corners.end());
-    EXPECT_LT(corners[5], cell / 6.0) << seed;  // (corners[6] before untangling: one corner may go back now)
+    EXPECT_LT(corners[6], cell / 6.0) << seed;
     EXPECT_LT(corners[7], cell) << seed;
   }
 }

@@ -303,11 +303,6 @@ Reconstruction reconstructed_turned_box(const TurnedBox& box, std::size_t n, con
   cloud.normals.clear();
   ReconstructionOptions options;
   options.simplify = simplify;
-  // Phase V without untangling (refinement.h): untangling puts crease
-  // vertices back where the turned box's (and the part's) triangles crossed,
-  // and the simplifier then finds 38 triangles instead of 12 (issue 27,
-  // embed27: left to phase VI's corner finding).
-  options.refinement.keep_embedding = false;
   return reconstruct(cloud, options);
 }
 
@@ -371,11 +366,6 @@ TEST(Simplification, PartCreaseVerticesStayOnTheCreasesAtOneHundredth) {
   cloud.normals.clear();
   ReconstructionOptions options;
   options.simplify.ratio = 0.01;
-  // Phase V without untangling (refinement.h): untangling puts crease
-  // vertices back where the turned box's (and the part's) triangles crossed,
-  // and the simplifier then finds 38 triangles instead of 12 (issue 27,
-  // embed27: left to phase VI's corner finding).
-  options.refinement.keep_embedding = false;
   const Reconstruction r = reconstruct(cloud, options);
   ASSERT_TRUE(r.refinement);
   const Mesh& m = r.mesh();
