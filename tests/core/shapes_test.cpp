@@ -41,6 +41,7 @@ struct Truth {
   int components = 1;
   std::optional<double> area;    // absent where shapes.cpp approximates it
   std::optional<double> volume;  // absent for the open terrain
+  bool concave_creases = false;  // a step along a normal near one comes closer to the facing patch
 };
 
 double sphere_area(double r) { return 4.0 * pi * r * r; }
@@ -49,6 +50,28 @@ double cone_area(double r, double h) { return pi * r * r + pi * r * std::hypot(r
 double cone_volume(double r, double h) { return pi * r * r * h / 3.0; }
 double cylinder_area(double r, double h) { return 2.0 * pi * r * r + 2.0 * pi * r * h; }
 double cylinder_volume(double r, double h) { return pi * r * r * h; }
+double box_area(double a, double b, double c) { return 2.0 * (a * b + a * c + b * c); }
+double ball_shell_volume(double outer, double inner) { return sphere_volume(outer) - sphere_volume(inner); }
+
+// The thin solids at their default thicknesses (shapes.h): plate 0.05,
+// club 0.03, airfoil 0.12 (the NACA section's area is 0.68085 t c), cup
+// 0.04, cavity-cube 0.1, two-cavities 0.1.
+std::vector<Truth> thin_truths() {
+  const double t = 0.03, foot = 0.1 * t;  // the club: the handle's foot on the blade hides foot twice
+  const double club_area = box_area(1.0, t, 0.3) + box_area(0.1, 0.1, 1.2) - 2.0 * foot;
+  const double r = 0.5, h = 0.8, c = 0.04, ri = r - c;  // the cup
+  const double cup_area = pi * r * r + 2.0 * pi * r * h + pi * (r * r - ri * ri) + 2.0 * pi * ri * (h - c) + pi * ri * ri;
+  const double cup_volume = pi * r * r * h - pi * ri * ri * (h - c);
+  return {
+      {"plate", 2, 1, box_area(2.0, 1.0, 0.05), 2.0 * 1.0 * 0.05},
+      {"club", 2, 1, club_area, 1.0 * t * 0.3 + 0.1 * 0.1 * 1.2, true},
+      {"airfoil", 2, 1, std::nullopt, 0.68085 * 0.12 * 1.5},
+      {"cup", 2, 1, cup_area, cup_volume, true},
+      {"cavity-cube", 4, 2, 6.0 + sphere_area(0.4), 1.0 - sphere_volume(0.4)},
+      {"two-cavities", 8, 4, sphere_area(1.0) + sphere_area(0.9) + sphere_area(0.55) + sphere_area(0.45),
+       ball_shell_volume(1.0, 0.9) + ball_shell_volume(0.55, 0.45)},
+  };
+}
 
 std::vector<Truth> all_truths() {
   const double torus_area = 4.0 * pi * pi * 0.35, torus_volume = 2.0 * pi * pi * 0.35 * 0.35;
@@ -77,8 +100,14 @@ std::vector<Truth> all_truths() {
   };
 }
 
+std::vector<Truth> every_truth() {
+  std::vector<Truth> truths = all_truths();
+  for (Truth& t : thin_truths()) truths.push_back(std::move(t));
+  return truths;
+}
+
 Truth truth_of(const std::string& name) {
-  for (const Truth& t : all_truths())
+  for (const Truth& t : every_truth())
     if (t.name == name) return t;
   ADD_FAILURE() << "no truth for " << name;
   return {};
@@ -138,14 +167,25 @@ TEST_P(ShapeTest, SamplesLieOnTheSurfaceWithUnitNormals) {
 }
 
 // A step of e along a normal moves e away from the surface only when the
-// normal is perpendicular to it (a tilted one comes closer); all creases
-// of these shapes are convex, so this holds at them too.
+// normal is perpendicular to it (a tilted one comes closer). At a convex
+// crease this holds too; within about e of a concave one (the club's
+// handle on its blade, the cup's floor) the facing patch comes closer, so
+// there the step may come out shorter, never longer, on a few samples.
 TEST_P(ShapeTest, NormalsArePerpendicularToTheSurface) {
+  const Truth truth = truth_of(GetParam());
   const auto shape = make_shape(GetParam());
   const PointCloud cloud = shape->sample(20000, 4);
   const double e = 1e-3;
-  for (std::size_t i = 0; i < cloud.size(); ++i)
-    ASSERT_NEAR(shape->distance(cloud.positions[i] + e * cloud.normals[i]), e, 1e-8) << "sample " << i;
+  std::size_t shorter = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const double d = shape->distance(cloud.positions[i] + e * cloud.normals[i]);
+    if (truth.concave_creases && d < e - 1e-8) {
+      ++shorter;
+      continue;
+    }
+    ASSERT_NEAR(d, e, 1e-8) << "sample " << i;
+  }
+  EXPECT_LT(shorter, cloud.size() / 100);
 }
 
 // The flux of p through the surface is 3 times the volume inside when the
@@ -235,8 +275,13 @@ TEST_P(ShapeTest, TopologyIsAsDocumented) {
 
 INSTANTIATE_TEST_SUITE_P(Shapes, ShapeTest,
                          ::testing::Values("sphere", "torus", "ellipsoid", "box", "two", "terrain", "part", "handle",
-                                           "conics", "shell", "nested"),
-                         [](const ::testing::TestParamInfo<std::string>& shape) { return shape.param; });
+                                           "conics", "shell", "nested", "plate", "club", "airfoil", "cup",
+                                           "cavity-cube", "two-cavities"),
+                         [](const ::testing::TestParamInfo<std::string>& shape) {
+                           std::string name = shape.param;  // a test name has no '-'
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 TEST(ShapeNames, UnknownNameIsRefusedWithTheKnownOnes) {
   try {
