@@ -485,12 +485,12 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
                  "height field on a jittered grid), part (a slab with three holes: sharp creases, genus 3), handle "
                  "(a long thin capsule), conics (the course's data set: two cones, two cylinders and a sphere), shell "
                  "(a hollow ball: outer radius 1, a cavity of radius 0.7 whose wall faces into it), or nested "
-                 "(that shell with a ball of radius 0.3 in its cavity); the thin solids, closed, with their --thickness: plate "
-                 "(2 x 1 x t), club (a thin blade of thickness t under a 0.1 x 0.1 handle, genus 0), airfoil (a NACA "
-                 "wing of chord 1, thickest t, its trailing edge thinning to nothing, end caps), cup (radius 0.5, "
-                 "height 0.8, walls and floor t thick, genus 0), cavity-cube (a unit cube with a spherical cavity, "
-                 "walls t at their thinnest), two-cavities (a hollow ball with a hollow ball in its cavity: two "
-                 "nested cavities, every wall t thick)")
+                 "(that shell with a ball of radius 0.3 in its cavity); the thin solids, closed, with their "
+                 "--thickness: plate (2 x 1 x t), club (a thin blade of thickness t under a 0.1 x 0.1 handle, genus "
+                 "0), airfoil (a NACA wing of chord 1, thickest t, its trailing edge thinning to nothing, end caps), "
+                 "cup (radius 0.5, height 0.8, walls and floor t thick, genus 0), cavity-cube (a unit cube with a "
+                 "spherical cavity, walls t at their thinnest), two-cavities (a hollow ball with a hollow ball in its "
+                 "cavity: two nested cavities, every wall t thick)")
       ->required();
   app.add_option("-o,--output", o->output, "Point cloud to write (.ply or .xyz)")->required();
   app.add_option("-n,--points", o->count, "Number of points (default 100000; conics: 16000)")

@@ -21,11 +21,11 @@ namespace {
 
 using Rng = std::mt19937_64;
 
-constexpr double view_distance = 2.5;            // eye to centre, in bounding radii
-constexpr double min_incidence_cosine = 0.17;    // about 80 degrees: steeper hits return nothing
-constexpr double depth_jump_footprints = 10.0;   // a neighbour this many footprints nearer: a mixed pixel
-constexpr double dense_per_pixel = 6.0;          // dense samples per pixel at the nearest range
-constexpr std::size_t probe_resolution = 64;     // pixels a side for measuring the coverage
+constexpr double view_distance = 2.5;           // eye to centre, in bounding radii
+constexpr double min_incidence_cosine = 0.17;   // about 80 degrees: steeper hits return nothing
+constexpr double depth_jump_footprints = 10.0;  // a neighbour this many footprints nearer: a mixed pixel
+constexpr double dense_per_pixel = 6.0;         // dense samples per pixel at the nearest range
+constexpr std::size_t probe_resolution = 64;    // pixels a side for measuring the coverage
 constexpr std::size_t max_resolution = 4096;
 constexpr std::size_t max_dense_points = 12000000;
 
@@ -49,8 +49,8 @@ std::vector<View> place_views(const ScanOptions& options, const Vec3& centre, do
   const double start = 2.0 * std::numbers::pi * u(rng);
   std::vector<View> views;
   for (std::size_t k = 0; k < options.views; ++k) {
-    const double azimuth = start + 2.0 * std::numbers::pi * (static_cast<double>(k) + 0.3 * u(rng)) /
-                                       static_cast<double>(options.views);
+    const double azimuth =
+        start + 2.0 * std::numbers::pi * (static_cast<double>(k) + 0.3 * u(rng)) / static_cast<double>(options.views);
     const double elevation = (15.0 + 30.0 * u(rng)) * std::numbers::pi / 180.0;
     const Vec3 direction(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
                          std::sin(elevation));
@@ -80,9 +80,9 @@ std::vector<View> place_views(const ScanOptions& options, const Vec3& centre, do
 // among those that project into it and face the scanner steeply enough.
 struct DepthImage {
   std::size_t width = 0;
-  std::vector<double> depth;            // infinity where nothing was hit
-  std::vector<std::uint32_t> sample;    // the dense sample seen there
-  double pixel = 0.0;                   // pixel side, in units of depth
+  std::vector<double> depth;          // infinity where nothing was hit
+  std::vector<std::uint32_t> sample;  // the dense sample seen there
+  double pixel = 0.0;                 // pixel side, in units of depth
 };
 
 DepthImage render(const View& view, const PointCloud& dense, std::size_t width) {
@@ -98,8 +98,7 @@ DepthImage render(const View& view, const PointCloud& dense, std::size_t width) 
     const Vec3 q = view.to_camera * ray;
     const double col = (q.x() / q.z() + view.half_width) / image.pixel;
     const double row = (q.y() / q.z() + view.half_width) / image.pixel;
-    if (!(col >= 0.0 && row >= 0.0 && col < static_cast<double>(width) && row < static_cast<double>(width)))
-      continue;
+    if (!(col >= 0.0 && row >= 0.0 && col < static_cast<double>(width) && row < static_cast<double>(width))) continue;
     const std::size_t at = static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col);
     if (q.z() < image.depth[at]) {
       image.depth[at] = q.z();
@@ -122,15 +121,15 @@ bool is_mixed_pixel(const DepthImage& image, std::size_t row, std::size_t col) {
 }
 
 std::size_t covered_pixels(const DepthImage& image) {
-  return static_cast<std::size_t>(std::count_if(image.depth.begin(), image.depth.end(),
-                                                [](double d) { return std::isfinite(d); }));
+  return static_cast<std::size_t>(
+      std::count_if(image.depth.begin(), image.depth.end(), [](double d) { return std::isfinite(d); }));
 }
 
 // The returns of one view: each kept pixel's sample, moved along its ray
 // by the range noise (its spread grows with the range, as a scanner's),
 // then by the view's misregistration.
-void add_returns(const View& view, const DepthImage& image, const PointCloud& dense, const Vec3& centre,
-                 double sigma, Rng& rng, PointCloud& cloud) {
+void add_returns(const View& view, const DepthImage& image, const PointCloud& dense, const Vec3& centre, double sigma,
+                 Rng& rng, PointCloud& cloud) {
   std::normal_distribution<double> g(0.0, 1.0);
   const double mean_range = (view.eye - centre).norm();
   for (std::size_t row = 0; row < image.width; ++row)
@@ -149,7 +148,8 @@ void add_returns(const View& view, const DepthImage& image, const PointCloud& de
 }  // namespace
 
 PointCloud scan(const Shape& shape, const ScanOptions& options) {
-  if (options.views == 0 || options.views > 64) throw InvalidInputError("a scan needs at least one view (--scan 1 to 64)");
+  if (options.views == 0 || options.views > 64)
+    throw InvalidInputError("a scan needs at least one view (--scan 1 to 64)");
   if (options.points == 0) throw InvalidInputError("a scan needs a positive number of points");
   if (!(options.noise >= 0.0 && options.noise < 1.0) ||
       !(options.misregistration >= 0.0 && options.misregistration < 1.0))
@@ -173,8 +173,7 @@ PointCloud scan(const Shape& shape, const ScanOptions& options) {
   // the nearest range, so that a pixel's first hit is on the nearest surface.
   const double footprint = (view_distance - 1.0) * radius * 2.0 * views.front().half_width / static_cast<double>(width);
   const auto dense_count = std::min<std::size_t>(
-      static_cast<std::size_t>(std::ceil(dense_per_pixel * shape.area() / (footprint * footprint))),
-      max_dense_points);
+      static_cast<std::size_t>(std::ceil(dense_per_pixel * shape.area() / (footprint * footprint))), max_dense_points);
   const PointCloud dense = shape.sample(std::max<std::size_t>(dense_count, options.points), options.seed);
   // Step 4: each view's z-buffer, its returns with noise and misregistration.
   Rng rng(options.seed ^ 0x7a11c0deULL);

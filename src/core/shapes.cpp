@@ -540,8 +540,7 @@ class Rectangles final : public Shape {
       const AxisRectangle& rect = rectangles_[r];
       Vec3 p, normal = Vec3::Zero();
       p[rect.axis] = rect.level;
-      for (int k = 0; k < 2; ++k)
-        p[(rect.axis + 1 + k) % 3] = rect.lo[k] + uniform(rng) * (rect.hi[k] - rect.lo[k]);
+      for (int k = 0; k < 2; ++k) p[(rect.axis + 1 + k) % 3] = rect.lo[k] + uniform(rng) * (rect.hi[k] - rect.lo[k]);
       normal[rect.axis] = rect.sign;
       cloud.positions.push_back(p);
       cloud.normals.push_back(normal);
@@ -575,8 +574,7 @@ class Rectangles final : public Shape {
 
 // The six faces of the box [lo, hi], less the one on `skip_axis`'s
 // `skip_sign` side (none when skip_axis is -1).
-void add_box_faces(const Vec3& lo, const Vec3& hi, int skip_axis, double skip_sign,
-                   std::vector<AxisRectangle>& out) {
+void add_box_faces(const Vec3& lo, const Vec3& hi, int skip_axis, double skip_sign, std::vector<AxisRectangle>& out) {
   for (int axis = 0; axis < 3; ++axis)
     for (const double sign : {1.0, -1.0}) {
       if (axis == skip_axis && sign == skip_sign) continue;
@@ -661,8 +659,7 @@ class Prism final : public Shape {
     bool odd = false;
     for (std::size_t e = 0, f = polygon_.size() - 1; e < polygon_.size(); f = e++) {
       const Vec2 &a = polygon_[e], &b = polygon_[f];
-      if ((a.y() > m.y()) != (b.y() > m.y()) &&
-          m.x() < a.x() + (m.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
+      if ((a.y() > m.y()) != (b.y() > m.y()) && m.x() < a.x() + (m.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
         odd = !odd;
     }
     return odd;
@@ -758,8 +755,8 @@ std::unique_ptr<Shape> make_cup(double thickness) {
   // wall, floor, each a band of the profile.
   const double r = 0.5, h = 0.8, t = thickness;
   return std::make_unique<SolidOfRevolution>(
-      std::vector<Vec2>{{0.0, 0.0}, {r, 0.0}, {r, h}, {r - t, h}, {r - t, t}, {0.0, t}},
-      Eigen::Matrix3d::Identity(), Vec3::Zero());
+      std::vector<Vec2>{{0.0, 0.0}, {r, 0.0}, {r, h}, {r - t, h}, {r - t, t}, {0.0, t}}, Eigen::Matrix3d::Identity(),
+      Vec3::Zero());
 }
 
 std::unique_ptr<Shape> make_cavity_cube(double thickness) {
@@ -818,8 +815,7 @@ std::optional<double> thickness_for(const std::string& name, std::optional<doubl
     if (!asked) return range.fallback;
     if (!(*asked > range.low && *asked < range.high))
       throw InvalidInputError("thickness " + number(*asked) + " out of range for '" + name +
-                              "': it must lie strictly between " + number(range.low) + " and " +
-                              number(range.high));
+                              "': it must lie strictly between " + number(range.low) + " and " + number(range.high));
     return asked;
   }
   if (asked)
@@ -832,8 +828,8 @@ std::optional<double> thickness_for(const std::string& name, std::optional<doubl
 
 std::unique_ptr<Shape> make_shape(const std::string& name, std::optional<double> thickness) {
   static const std::array<const char*, 17> known = {
-      "sphere", "torus", "ellipsoid", "box",     "two", "terrain",     "part",        "handle",      "conics",
-      "shell",  "nested", "plate",    "club",    "airfoil", "cup",     "cavity-cube", "two-cavities"};
+      "sphere", "torus",  "ellipsoid", "box",  "two",     "terrain", "part",        "handle",      "conics",
+      "shell",  "nested", "plate",     "club", "airfoil", "cup",     "cavity-cube", "two-cavities"};
   if (std::find(known.begin(), known.end(), name) == known.end())
     throw InvalidInputError("unknown shape '" + name +
                             "' (known: sphere, torus, ellipsoid, box, two, terrain, part, handle, conics, shell, "

@@ -243,12 +243,12 @@ TEST_F(CliGenerate, BadScanAndThicknessOptionsAreRefusedBeforeWriting) {
   const RunResult lone = recon({"generate", "box", "--misregistration", "0.01", "-o", "b.ply"});
   EXPECT_EQ(lone.exit_code, 2) << describe(lone);
   EXPECT_NE(lone.err.find("--misregistration requires --scan"), std::string::npos) << describe(lone);
-  EXPECT_TRUE(refused(recon({"generate", "torus", "--thickness", "0.1", "-o", "t.ply"}),
-                      {"shape 'torus' has no thickness"}));
+  EXPECT_TRUE(
+      refused(recon({"generate", "torus", "--thickness", "0.1", "-o", "t.ply"}), {"shape 'torus' has no thickness"}));
   EXPECT_TRUE(refused(recon({"generate", "club", "--thickness", "0.2", "-o", "c.ply"}),
                       {"thickness 0.2 out of range for 'club': it must lie strictly between 0 and 0.1"}));
-  EXPECT_TRUE(option_refused(recon({"generate", "plate", "--thickness", "nan", "-o", "p.ply"}), "--thickness",
-                             "found 'nan'"));
+  EXPECT_TRUE(
+      option_refused(recon({"generate", "plate", "--thickness", "nan", "-o", "p.ply"}), "--thickness", "found 'nan'"));
   EXPECT_TRUE(entries().empty());
 }
 

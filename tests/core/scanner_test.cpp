@@ -79,7 +79,8 @@ TEST(Scan, OccludedRegionsAreHoles) {
   const auto part = make_machined_part();
   const PointCloud cloud = scan(*part, options_of(3, 10000));
   std::size_t walls = 0;
-  for (const Vec3& n : cloud.normals) walls += std::abs(n.z()) < 0.99 && std::abs(n.x()) < 0.99 && std::abs(n.y()) < 0.99;
+  for (const Vec3& n : cloud.normals)
+    walls += std::abs(n.z()) < 0.99 && std::abs(n.x()) < 0.99 && std::abs(n.y()) < 0.99;
   const double wall_share = 3.0 * 2.0 * 3.14159 * 0.18 * 0.4 / part->area();  // about 0.28
   EXPECT_LT(static_cast<double>(walls) / static_cast<double>(cloud.size()), 0.5 * wall_share);
 }

@@ -61,7 +61,8 @@ std::vector<Truth> thin_truths() {
   const double t = 0.03, foot = 0.1 * t;  // the club: the handle's foot on the blade hides foot twice
   const double club_area = box_area(1.0, t, 0.3) + box_area(0.1, 0.1, 1.2) - 2.0 * foot;
   const double r = 0.5, h = 0.8, c = 0.04, ri = r - c;  // the cup
-  const double cup_area = pi * r * r + 2.0 * pi * r * h + pi * (r * r - ri * ri) + 2.0 * pi * ri * (h - c) + pi * ri * ri;
+  const double cup_area =
+      pi * r * r + 2.0 * pi * r * h + pi * (r * r - ri * ri) + 2.0 * pi * ri * (h - c) + pi * ri * ri;
   const double cup_volume = pi * r * r * h - pi * ri * ri * (h - c);
   return {
       {"plate", 2, 1, box_area(2.0, 1.0, 0.05), 2.0 * 1.0 * 0.05},
@@ -381,10 +382,10 @@ TEST(ThinSolids, EveryNormalPointsOutOfTheMaterial) {
 }
 
 TEST(ThinSolids, AThicknessOutOfRangeOrForAnotherShapeIsRefused) {
-  for (const auto& [name, t] : std::vector<std::pair<std::string, double>>{
-           {"plate", 0.0}, {"plate", -0.1}, {"club", 0.1}, {"cup", 0.25}, {"cavity-cube", 0.5},
-           {"two-cavities", 0.3}, {"airfoil", 0.5}, {"shell", 1.0}, {"torus", 0.1}, {"part", 0.1}})
-    EXPECT_THROW((void)make_shape(name, t), InvalidInputError) << name << " " << t;
+  const std::vector<std::pair<std::string, double>> refused = {
+      {"plate", 0.0},        {"plate", -0.1},  {"club", 0.1},  {"cup", 0.25},  {"cavity-cube", 0.5},
+      {"two-cavities", 0.3}, {"airfoil", 0.5}, {"shell", 1.0}, {"torus", 0.1}, {"part", 0.1}};
+  for (const auto& [name, t] : refused) EXPECT_THROW((void)make_shape(name, t), InvalidInputError) << name << " " << t;
   EXPECT_NO_THROW((void)make_shape("club", 0.099));
 }
 
