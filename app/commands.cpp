@@ -515,10 +515,12 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
                  "Wall thickness of a thin solid, in the shape's units (plate 0.05, club 0.03, airfoil 0.12, cup "
                  "0.04, cavity-cube 0.1, two-cavities 0.1, shell 0.3 by default)")
       ->check(finite_within(0.0, 1.0));
-  app.add_flag("--with-normals", o->with_normals, "Also write the true outward normals");
+  app.add_flag("--with-normals", o->with_normals,
+               "Also write the true outward normals (with --scan: of the points hit)");
   CLI::Option* truth = app.add_option(
       "--truth", o->truth,
-      "Also write the ground truth: a dense noise-free sample of the true surface with its normals (.ply)");
+      "Also write the ground truth: a dense noise-free sample of the true surface with its normals (.ply); with "
+      "--scan, of the whole surface, the parts no view saw included");
   app.add_option("--truth-points", o->truth_count, "Number of points of the ground truth")
       ->default_val(o->truth_count)
       ->check(CLI::Range(1, 1 << 30))
