@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <ostream>
 #include <string>
 
@@ -19,10 +20,14 @@ struct ScanCase {
   std::string shape;
   std::size_t views;
   double noise;  // along the rays, a fraction of the diagonal
+  std::size_t points = 12000;
+  double misregistration = 0.0005;
+  std::uint64_t seed = 3;
+  std::string name;  // of the test
 };
 
 void PrintTo(const ScanCase& c, std::ostream* out) {
-  *out << c.shape << ", " << c.views << " views, noise " << c.noise;
+  *out << c.shape << ", " << c.views << " views, noise " << c.noise << ", " << c.points << " points";
 }
 
 // The share of the estimated normals on the true normal's side.
@@ -45,21 +50,36 @@ TEST_P(ScanOrientation, AtLeastNinetyPercentOfTheNormalsFaceOut) {
   const ScanCase& c = GetParam();
   ScanOptions options;
   options.views = c.views;
-  options.points = 12000;
+  options.points = c.points;
   options.noise = c.noise;
-  options.misregistration = 0.0005;
-  options.seed = 3;
+  options.misregistration = c.misregistration;
+  options.seed = c.seed;
   const PointCloud cloud = scan(*make_shape(c.shape), options);
-  ASSERT_GT(cloud.size(), 8000u);
+  ASSERT_GT(cloud.size(), c.points * 2 / 3);
   const double share = share_right(cloud, Method::refined);
   RecordProperty("share_right", std::to_string(share));
   EXPECT_GE(share, 0.9);
 }
 
+// The last case turned the tall cone inside out (5 % right) when one
+// sample decided a piece's side: the best-aligned normal near its extreme
+// happened to be one of the few the walk got wrong (noise of 0.5 % of the
+// diagonal is a sixth of the cone's radius).
 INSTANTIATE_TEST_SUITE_P(Scans, ScanOrientation,
-                         ::testing::Values(ScanCase{"part", 3, 0.005}, ScanCase{"conics", 4, 0.005},
-                                           ScanCase{"torus", 6, 0.002}),
-                         [](const ::testing::TestParamInfo<ScanCase>& c) { return c.param.shape; });
+                         ::testing::Values(ScanCase{"part", 3, 0.005, 12000, 0.0005, 3, "part"},
+                                           ScanCase{"conics", 4, 0.005, 12000, 0.0005, 3, "conics"},
+                                           ScanCase{"torus", 6, 0.002, 12000, 0.0005, 3, "torus"},
+                                           ScanCase{"conics", 4, 0.005, 20000, 0.0, 1, "conics_noisy_cone"}),
+                         [](const ::testing::TestParamInfo<ScanCase>& c) { return c.param.name; });
+
+// A closed plate 1.5 to 2 rho thick: within two neighbourhood radii of its
+// top lie samples of its bottom sheet, rightly pointing down, and when the
+// best-aligned of them decided the side the whole plate came out inside
+// out (0.1 % right).
+TEST(ThinPlateSide, TheTopSheetDecidesNotTheOneBeneathIt) {
+  const PointCloud cloud = make_plate(0.05)->sample(40000, 1);  // rho about 0.025: 2 rho thick
+  EXPECT_GE(share_right(cloud, Method::refined), 0.99);
+}
 
 }  // namespace
 }  // namespace recon
