@@ -472,6 +472,9 @@ struct GenerateCommandOptions {
   std::size_t count = 0;  // 0: default_point_count(shape)
   std::uint64_t seed = 1;
   double noise = 0.0;
+  std::size_t scan_views = 0;  // 0: sample by area, no scanner
+  double misregistration = 0.0;
+  std::optional<double> thickness;  // absent: the shape's default
   bool with_normals = false;
   std::filesystem::path output;
   std::filesystem::path truth;
@@ -487,18 +490,42 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
                  "height field on a jittered grid), part (a slab with three holes: sharp creases, genus 3), handle "
                  "(a long thin capsule), conics (the course's data set: two cones, two cylinders and a sphere), shell "
                  "(a hollow ball: outer radius 1, a cavity of radius 0.7 whose wall faces into it), or nested "
-                 "(that shell with a ball of radius 0.3 in its cavity)")
+                 "(that shell with a ball of radius 0.3 in its cavity); the thin solids, closed, with their "
+                 "--thickness: plate (2 x 1 x t), club (a thin blade of thickness t under a 0.1 x 0.1 handle, genus "
+                 "0), airfoil (a NACA wing of chord 1, thickest t, its trailing edge thinning to nothing, end caps), "
+                 "cup (radius 0.5, height 0.8, walls and floor t thick, genus 0), cavity-cube (a unit cube with a "
+                 "spherical cavity, walls t at their thinnest), two-cavities (a hollow ball with a hollow ball in its "
+                 "cavity: two nested cavities, every wall t thick)")
       ->required();
   app.add_option("-o,--output", o->output, "Point cloud to write (.ply or .xyz)")->required();
   app.add_option("-n,--points", o->count, "Number of points (default 100000; conics: 16000)")
       ->check(CLI::Range(1, 1 << 30));
   app.add_option("--seed", o->seed, "Random seed")->default_val(o->seed);
-  app.add_option("--noise", o->noise, "Gaussian noise, as a fraction of the bounding-box diagonal")
+  app.add_option("--noise", o->noise,
+                 "Gaussian noise, as a fraction of the bounding-box diagonal (with --scan: along each ray, growing "
+                 "with the range)")
       ->check(finite_within(0.0, 1.0));
-  app.add_flag("--with-normals", o->with_normals, "Also write the true outward normals");
+  CLI::Option* scan_views =
+      app.add_option("--scan", o->scan_views,
+                     "Sample as a range scanner would from this many views around the shape, 15-45 degrees above "
+                     "it: only the first surface each pixel's ray hits (occlusion and the underside leave holes), "
+                     "denser near the scanner, about -n points in all")
+          ->check(CLI::Range(1, 64));
+  app.add_option("--misregistration", o->misregistration,
+                 "With --scan: each view is off by a rigid motion, a rotation of this many radians and a shift of "
+                 "this fraction of the diagonal")
+      ->check(finite_within(0.0, 0.5))
+      ->needs(scan_views);
+  app.add_option("--thickness", o->thickness,
+                 "Wall thickness of a thin solid, in the shape's units (plate 0.05, club 0.03, airfoil 0.12, cup "
+                 "0.04, cavity-cube 0.1, two-cavities 0.1, shell 0.3 by default)")
+      ->check(finite_within(0.0, 1.0));
+  app.add_flag("--with-normals", o->with_normals,
+               "Also write the true outward normals (with --scan: of the points hit)");
   CLI::Option* truth = app.add_option(
       "--truth", o->truth,
-      "Also write the ground truth: a dense noise-free sample of the true surface with its normals (.ply)");
+      "Also write the ground truth: a dense noise-free sample of the true surface with its normals (.ply); with "
+      "--scan, of the whole surface, the parts no view saw included");
   app.add_option("--truth-points", o->truth_count, "Number of points of the ground truth")
       ->default_val(o->truth_count)
       ->check(CLI::Range(1, 1 << 30))
@@ -510,13 +537,15 @@ Command add_generate(CLI::App& app, const GlobalOptions& global) {
     if (!o->truth.empty() && io::point_format_from_path(o->truth) != io::PointFormat::ply)
       throw InvalidInputError(o->truth.string() + ": the ground truth is written as .ply (x y z nx ny nz)");
     check_outputs({}, {o->output, o->truth});
-    const auto shape = make_shape(o->shape);
+    const auto shape = make_shape(o->shape, o->thickness);
     const std::size_t count = o->count > 0 ? o->count : default_point_count(o->shape);
-    PointCloud cloud = shape->sample(count, o->seed);
-    if (o->noise > 0.0) add_noise(cloud, o->noise, o->seed);
+    PointCloud cloud = o->scan_views > 0 ? scan(*shape, {o->scan_views, count, o->noise, o->misregistration, o->seed})
+                                         : shape->sample(count, o->seed);
+    if (o->noise > 0.0 && o->scan_views == 0) add_noise(cloud, o->noise, o->seed);
     if (!o->with_normals) cloud.normals.clear();
     io::write_points(o->output, cloud, write_options);
-    summary.say("wrote     " + o->output.string() + ": " + plural(cloud.size(), "point") + " sampled from '" +
+    summary.say("wrote     " + o->output.string() + ": " + plural(cloud.size(), "point") +
+                (o->scan_views > 0 ? " scanned from " + plural(o->scan_views, "view") + " of '" : " sampled from '") +
                 o->shape + "'");
     if (!o->truth.empty()) write_truth(*shape, o->truth, o->truth_count, o->seed, summary);
   };

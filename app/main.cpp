@@ -137,7 +137,8 @@ int main(int argc, char** argv) {
   add("reconstruct", "Reconstruct a triangle mesh from a point cloud (all four phases)", recon::cli::add_reconstruct);
   add("generate",
       "Write a point sample of a known shape (sphere, torus, ellipsoid, box, two, terrain, part, handle, conics, "
-      "shell, nested)",
+      "shell, nested; thin solids: plate, club, airfoil, cup, cavity-cube, two-cavities), or what a range scanner "
+      "sees of it (--scan)",
       recon::cli::add_generate);
   add("simplify",
       "Simplify a mesh (phase VI alone: for a tiled run's mesh, or another program's), keeping creases, corners, "

@@ -10,7 +10,9 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <random>
+#include <sstream>
 
 namespace recon {
 namespace {
@@ -516,6 +518,183 @@ class Terrain final : public Shape {
   static Vec3 normal(double x, double y) { return Vec3(-dx(x, y), -dy(x, y), 1.0).normalized(); }
 };
 
+// A surface made of axis-aligned rectangles: the boundary of a union of
+// boxes that touch along faces, cut into the rectangles that stay on the
+// outside. Each rectangle lies in the plane x_axis = level, spans
+// [lo, hi] in the two other axes (axis + 1, axis + 2, in that order) and
+// faces the `sign` side of its plane. Sampling by area; the distance is
+// the least of the exact distances to the rectangles.
+struct AxisRectangle {
+  int axis = 0;
+  double sign = 1.0;
+  double level = 0.0;
+  Vec2 lo, hi;
+  [[nodiscard]] double area() const { return (hi - lo).prod(); }
+};
+
+class Rectangles final : public Shape {
+ public:
+  Rectangles(std::vector<AxisRectangle> rectangles, int euler) : rectangles_(std::move(rectangles)), euler_(euler) {}
+  PointCloud sample(std::size_t n, std::uint64_t seed) const override {
+    return sample_by_area(n, seed, areas(), [this](std::size_t r, Rng& rng, PointCloud& cloud) {
+      const AxisRectangle& rect = rectangles_[r];
+      Vec3 p, normal = Vec3::Zero();
+      p[rect.axis] = rect.level;
+      for (int k = 0; k < 2; ++k) p[(rect.axis + 1 + k) % 3] = rect.lo[k] + uniform(rng) * (rect.hi[k] - rect.lo[k]);
+      normal[rect.axis] = rect.sign;
+      cloud.positions.push_back(p);
+      cloud.normals.push_back(normal);
+    });
+  }
+  double distance(const Vec3& p) const override {
+    double d = std::numeric_limits<double>::infinity();
+    for (const AxisRectangle& rect : rectangles_) {
+      const double h = p[rect.axis] - rect.level;
+      const double du = std::max({rect.lo[0] - p[(rect.axis + 1) % 3], p[(rect.axis + 1) % 3] - rect.hi[0], 0.0});
+      const double dv = std::max({rect.lo[1] - p[(rect.axis + 2) % 3], p[(rect.axis + 2) % 3] - rect.hi[1], 0.0});
+      d = std::min(d, std::sqrt(h * h + du * du + dv * dv));
+    }
+    return d;
+  }
+  double area() const override {
+    const std::vector<double> a = areas();
+    return std::accumulate(a.begin(), a.end(), 0.0);
+  }
+  int euler_characteristic() const override { return euler_; }
+
+ private:
+  std::vector<double> areas() const {
+    std::vector<double> a;
+    for (const AxisRectangle& rect : rectangles_) a.push_back(rect.area());
+    return a;
+  }
+  std::vector<AxisRectangle> rectangles_;
+  int euler_;
+};
+
+// The six faces of the box [lo, hi], less the one on `skip_axis`'s
+// `skip_sign` side (none when skip_axis is -1).
+void add_box_faces(const Vec3& lo, const Vec3& hi, int skip_axis, double skip_sign, std::vector<AxisRectangle>& out) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {1.0, -1.0}) {
+      if (axis == skip_axis && sign == skip_sign) continue;
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      out.push_back({axis, sign, sign > 0.0 ? hi[axis] : lo[axis], Vec2(lo[u], lo[v]), Vec2(hi[u], hi[v])});
+    }
+}
+
+// A closed polygon in the (u, v) plane, counter-clockwise, extruded along w
+// from 0 to `span`, closed by two flat caps, then turned by `rotation` and
+// moved by `origin`.
+// Each polygon edge sweeps a rectangular wall whose outward normal is the
+// edge's direction turned clockwise. A cap is sampled by rejection from
+// the polygon's bounding rectangle. The distance is exact: the least of
+// the distances to the walls (2D distance to the edge, and how far past
+// the ends along w) and to the caps (height over the cap, and 2D distance
+// to the polygon where p's projection falls outside it).
+class Prism final : public Shape {
+ public:
+  Prism(std::vector<Vec2> polygon, double span, const Eigen::Matrix3d& rotation, Vec3 origin)
+      : polygon_(std::move(polygon)), span_(span), rotation_(rotation), origin_(std::move(origin)) {
+    for (const Vec2& q : polygon_) {
+      lo_ = lo_.cwiseMin(q);
+      hi_ = hi_.cwiseMax(q);
+    }
+  }
+  PointCloud sample(std::size_t n, std::uint64_t seed) const override {
+    return sample_by_area(n, seed, patch_areas(), [this](std::size_t patch, Rng& rng, PointCloud& cloud) {
+      const std::size_t edges = polygon_.size();
+      Vec3 local, normal;
+      if (patch < edges) {
+        const Vec2 a = polygon_[patch], b = polygon_[(patch + 1) % edges];
+        const Vec2 m = a + uniform(rng) * (b - a), d = (b - a).normalized();
+        local = Vec3(m.x(), m.y(), uniform(rng) * span_);
+        normal = Vec3(d.y(), -d.x(), 0.0);
+      } else {
+        Vec2 m;
+        do m = lo_ + Vec2(uniform(rng), uniform(rng)).cwiseProduct(hi_ - lo_);
+        while (!inside(m));
+        const bool top = patch == edges + 1;
+        local = Vec3(m.x(), m.y(), top ? span_ : 0.0);
+        normal = Vec3(0.0, 0.0, top ? 1.0 : -1.0);
+      }
+      cloud.positions.push_back(origin_ + rotation_ * local);
+      cloud.normals.push_back(rotation_ * normal);
+    });
+  }
+  double distance(const Vec3& p) const override {
+    const Vec3 q = rotation_.transpose() * (p - origin_);
+    const Vec2 m(q.x(), q.y());
+    double edge = std::numeric_limits<double>::infinity();
+    for (std::size_t e = 0; e < polygon_.size(); ++e)
+      edge = std::min(edge, segment_distance(m, polygon_[e], polygon_[(e + 1) % polygon_.size()]));
+    const double past_ends = std::max({-q.z(), q.z() - span_, 0.0});
+    const double walls = std::hypot(edge, past_ends);
+    const double outside = inside(m) ? 0.0 : edge;
+    const double caps = std::hypot(std::min(std::abs(q.z()), std::abs(q.z() - span_)), outside);
+    return std::min(walls, caps);
+  }
+  double area() const override {
+    const std::vector<double> a = patch_areas();
+    return std::accumulate(a.begin(), a.end(), 0.0);
+  }
+  int euler_characteristic() const override { return 2; }
+
+ private:
+  // Patches: one wall per edge, then the bottom cap (w = 0) and the top.
+  std::vector<double> patch_areas() const {
+    std::vector<double> areas;
+    double twice_area = 0.0;
+    for (std::size_t e = 0; e < polygon_.size(); ++e) {
+      const Vec2 a = polygon_[e], b = polygon_[(e + 1) % polygon_.size()];
+      areas.push_back((b - a).norm() * span_);
+      twice_area += a.x() * b.y() - b.x() * a.y();
+    }
+    areas.push_back(0.5 * twice_area);
+    areas.push_back(0.5 * twice_area);
+    return areas;
+  }
+  // Even-odd rule: a ray towards +u crosses the boundary an odd number of times.
+  bool inside(const Vec2& m) const {
+    bool odd = false;
+    for (std::size_t e = 0, f = polygon_.size() - 1; e < polygon_.size(); f = e++) {
+      const Vec2 &a = polygon_[e], &b = polygon_[f];
+      if ((a.y() > m.y()) != (b.y() > m.y()) && m.x() < a.x() + (m.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
+        odd = !odd;
+    }
+    return odd;
+  }
+
+  std::vector<Vec2> polygon_;
+  double span_;
+  Eigen::Matrix3d rotation_;
+  Vec3 origin_;
+  Vec2 lo_ = Vec2::Constant(std::numeric_limits<double>::infinity());
+  Vec2 hi_ = Vec2::Constant(-std::numeric_limits<double>::infinity());
+};
+
+// The symmetric NACA four-digit section of chord 1 and greatest thickness
+// `thickness` (at 30 % of the chord), with the closed trailing edge (the
+// last coefficient -0.1036 instead of -0.1015): its half-thickness falls
+// to exactly 0 at x = 1. Cosine spacing puts more vertices near the round
+// leading edge; counter-clockwise from the trailing edge over the top.
+std::vector<Vec2> naca_section(double thickness, int vertices_per_side) {
+  auto half = [thickness](double x) {
+    return 5.0 * thickness *
+           (0.2969 * std::sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x * x * x - 0.1036 * x * x * x * x);
+  };
+  std::vector<Vec2> polygon;
+  for (int i = 0; i < vertices_per_side; ++i) {  // top: x from 1 down to 0
+    const double x = 0.5 * (1.0 + std::cos(std::numbers::pi * i / vertices_per_side));
+    polygon.emplace_back(x, i == 0 ? 0.0 : half(x));
+  }
+  for (int i = vertices_per_side; i > 0; --i) {  // bottom: x from 0 up to (not including) 1
+    const double x = 0.5 * (1.0 + std::cos(std::numbers::pi * i / vertices_per_side));
+    polygon.emplace_back(x, -half(x));
+  }
+  return polygon;
+}
+
 }  // namespace
 
 std::unique_ptr<Shape> make_terrain() { return std::make_unique<Terrain>(); }
@@ -543,6 +722,52 @@ std::unique_ptr<Shape> make_nested_balls() {
   return std::make_unique<Union>(make_hollow_ball(), std::make_unique<Sphere>(0.3, Vec3::Zero()));
 }
 
+std::unique_ptr<Shape> make_plate(double thickness) { return std::make_unique<Cuboid>(Vec3(2.0, 1.0, thickness)); }
+
+std::unique_ptr<Shape> make_club(double thickness) {
+  // The blade [0, 1] x [-t/2, t/2] x [0, 0.3]; the handle, 0.1 x 0.1 in
+  // section, stands on its top from x = 0.05 to 0.15 and rises to z = 1.5.
+  const double t = thickness, w = 0.1, top = 0.3, x0 = 0.05, x1 = x0 + w;
+  std::vector<AxisRectangle> rectangles;
+  add_box_faces(Vec3(0.0, -t / 2, 0.0), Vec3(1.0, t / 2, top), 2, 1.0, rectangles);
+  add_box_faces(Vec3(x0, -w / 2, top), Vec3(x1, w / 2, top + 1.2), 2, -1.0, rectangles);
+  // The blade's top, less the handle's foot (the handle is the wider);
+  // the handle's underside, less the blade (two strips hang over it).
+  // The plane z = top is axis 2: its rectangles span (x, y).
+  rectangles.push_back({2, 1.0, top, Vec2(0.0, -t / 2), Vec2(x0, t / 2)});
+  rectangles.push_back({2, 1.0, top, Vec2(x1, -t / 2), Vec2(1.0, t / 2)});
+  rectangles.push_back({2, -1.0, top, Vec2(x0, -w / 2), Vec2(x1, -t / 2)});
+  rectangles.push_back({2, -1.0, top, Vec2(x0, t / 2), Vec2(x1, w / 2)});
+  return std::make_unique<Rectangles>(std::move(rectangles), 2);
+}
+
+std::unique_ptr<Shape> make_airfoil(double thickness) {
+  // The section in (x, z) (turned a quarter about x: the section's v
+  // becomes z, the span runs along -y), centred on the origin.
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(std::numbers::pi / 2.0, Vec3::UnitX()).toRotationMatrix();
+  std::vector<Vec2> polygon = naca_section(thickness, 100);
+  for (Vec2& q : polygon) q.x() -= 0.5;
+  return std::make_unique<Prism>(std::move(polygon), 1.5, turn, Vec3(0.0, 0.75, 0.0));
+}
+
+std::unique_ptr<Shape> make_cup(double thickness) {
+  // Outer radius 0.5, height 0.8: outside bottom, outer wall, rim, inner
+  // wall, floor, each a band of the profile.
+  const double r = 0.5, h = 0.8, t = thickness;
+  return std::make_unique<SolidOfRevolution>(
+      std::vector<Vec2>{{0.0, 0.0}, {r, 0.0}, {r, h}, {r - t, h}, {r - t, t}, {0.0, t}}, Eigen::Matrix3d::Identity(),
+      Vec3::Zero());
+}
+
+std::unique_ptr<Shape> make_cavity_cube(double thickness) {
+  return std::make_unique<Union>(make_box(Vec3::Constant(1.0)),
+                                 std::make_unique<Sphere>(0.5 - thickness, Vec3::Zero(), -1.0));
+}
+
+std::unique_ptr<Shape> make_two_cavities(double thickness) {
+  return std::make_unique<Union>(make_hollow_ball(1.0, 1.0 - thickness), make_hollow_ball(0.55, 0.55 - thickness));
+}
+
 std::unique_ptr<Shape> make_machined_part() { return std::make_unique<MachinedPart>(); }
 std::unique_ptr<Shape> make_handle() { return std::make_unique<Capsule>(1.0, 0.08); }
 
@@ -562,7 +787,54 @@ std::vector<std::unique_ptr<Shape>> make_conics_pieces() {
 }
 std::unique_ptr<Shape> make_conics() { return unite(make_conics_pieces()); }
 
-std::unique_ptr<Shape> make_shape(const std::string& name) {
+namespace {
+
+// The thin solids' thickness: the default, or the one asked for if the
+// shape has one and it lies within the shape's range.
+struct ThicknessRange {
+  const char* name;
+  double fallback, low, high;  // default, and the open interval (low, high) it must lie in
+};
+constexpr std::array<ThicknessRange, 7> thickness_ranges = {{{"plate", 0.05, 0.0, 1.0},
+                                                             {"club", 0.03, 0.0, 0.1},
+                                                             {"airfoil", 0.12, 0.0, 0.5},
+                                                             {"cup", 0.04, 0.0, 0.25},
+                                                             {"cavity-cube", 0.1, 0.0, 0.5},
+                                                             {"two-cavities", 0.1, 0.0, 0.3},
+                                                             {"shell", 0.3, 0.0, 1.0}}};
+
+std::string number(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+std::optional<double> thickness_for(const std::string& name, std::optional<double> asked) {
+  for (const ThicknessRange& range : thickness_ranges) {
+    if (name != range.name) continue;
+    if (!asked) return range.fallback;
+    if (!(*asked > range.low && *asked < range.high))
+      throw InvalidInputError("thickness " + number(*asked) + " out of range for '" + name +
+                              "': it must lie strictly between " + number(range.low) + " and " + number(range.high));
+    return asked;
+  }
+  if (asked)
+    throw InvalidInputError("shape '" + name +
+                            "' has no thickness (plate, club, airfoil, cup, cavity-cube, two-cavities and shell have)");
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::unique_ptr<Shape> make_shape(const std::string& name, std::optional<double> thickness) {
+  static const std::array<const char*, 17> known = {
+      "sphere", "torus",  "ellipsoid", "box",  "two",     "terrain", "part",        "handle",      "conics",
+      "shell",  "nested", "plate",     "club", "airfoil", "cup",     "cavity-cube", "two-cavities"};
+  if (std::find(known.begin(), known.end(), name) == known.end())
+    throw InvalidInputError("unknown shape '" + name +
+                            "' (known: sphere, torus, ellipsoid, box, two, terrain, part, handle, conics, shell, "
+                            "nested, plate, club, airfoil, cup, cavity-cube, two-cavities)");
+  const std::optional<double> t = thickness_for(name, thickness);
   if (name == "sphere") return make_sphere();
   if (name == "torus") return make_torus();
   if (name == "ellipsoid") return make_ellipsoid();
@@ -572,11 +844,14 @@ std::unique_ptr<Shape> make_shape(const std::string& name) {
   if (name == "part") return make_machined_part();
   if (name == "handle") return make_handle();
   if (name == "conics") return make_conics();
-  if (name == "shell") return make_hollow_ball();
   if (name == "nested") return make_nested_balls();
-  throw InvalidInputError("unknown shape '" + name +
-                          "' (known: sphere, torus, ellipsoid, box, two, terrain, part, handle, conics, shell, "
-                          "nested)");
+  if (name == "shell") return thickness ? make_hollow_ball(1.0, 1.0 - *t) : make_hollow_ball();
+  if (name == "plate") return make_plate(*t);
+  if (name == "club") return make_club(*t);
+  if (name == "airfoil") return make_airfoil(*t);
+  if (name == "cup") return make_cup(*t);
+  if (name == "cavity-cube") return make_cavity_cube(*t);
+  return make_two_cavities(*t);
 }
 
 void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed) {

@@ -22,11 +22,13 @@ constexpr double sin_30_degrees = 0.5;                  // a steep edge (facing 
 constexpr double sin_10_degrees = 0.17364817766693033;  // a steep edge across a wedge
 
 // sign_by_extremes (see the header). The offer of one direction, per
-// component: the sample within two neighbourhood radii of the extreme whose
-// normal is best aligned with the direction, and whether it points along it.
+// component: how well the best-aligned normal within two neighbourhood
+// radii of the extreme is aligned with the direction, and whether the
+// samples there point along it, by a vote (see offers_along).
 struct Offer {
   double alignment = -1.0;
   bool outward = true;
+  double vote = 0.0;  // sum of the samples' along x their weight
 };
 
 // The normals the walk is guided by (OrientationOptions::guide): the
@@ -56,6 +58,14 @@ Vec<D> signed_normal(const Normals& guide, const std::vector<std::uint8_t>& flip
   return flipped[i] ? Vec<D>(-guide[i]) : Vec<D>(guide[i]);
 }
 
+// Which way the samples near the extreme point is a vote, not the word of
+// the best-aligned one: that one may be among the few the walk got wrong
+// (noise on a thin cone), and within two radii of a thin plate's top lie
+// samples of its bottom sheet too, rightly pointing the other way. Each
+// sample votes with its component along the direction, weighted by
+// exp(-depth / r) for its depth below the extreme and its neighbourhood
+// radius r: the outermost layer outweighs a sheet beneath it, and a
+// majority outweighs a few. (A tie keeps the best-aligned sample's word.)
 template <int D>
 std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const Guide<D>& guide, const OrientedNormals<D>& result,
                                 int axis, double sign) {
@@ -65,10 +75,16 @@ std::vector<Offer> offers_along(const TangentPlanes<D>& planes, const Guide<D>& 
     top[label[i]] = std::max(top[label[i]], sign * planes.origins[i][axis]);
   std::vector<Offer> offer(top.size());
   for (std::size_t i = 0; i < label.size(); ++i) {
-    if (sign * planes.origins[i][axis] < top[label[i]] - 2.0 * static_cast<double>(planes.radius[i])) continue;
+    const auto radius = static_cast<double>(planes.radius[i]);
+    if (sign * planes.origins[i][axis] < top[label[i]] - 2.0 * radius) continue;
+    const double depth = top[label[i]] - sign * planes.origins[i][axis];
     const double along = sign * signed_normal<D>(guide, result.flipped, i)[axis];
-    if (std::abs(along) > offer[label[i]].alignment) offer[label[i]] = {std::abs(along), along > 0.0};
+    Offer& o = offer[label[i]];
+    if (std::abs(along) > o.alignment) o = {std::abs(along), along > 0.0, o.vote};
+    o.vote += along * (radius > 0.0 ? std::exp(-depth / radius) : 1.0);
   }
+  for (Offer& o : offer)
+    if (o.vote != 0.0) o.outward = o.vote > 0.0;
   return offer;
 }
 

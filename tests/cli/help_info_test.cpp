@@ -220,6 +220,45 @@ TEST_F(CliGenerate, BadTruthOptionsAreRefusedBeforeWriting) {
   EXPECT_TRUE(entries().empty());
 }
 
+// --scan: a range scanner's cloud, about -n points, with the true normals
+// of the points it hit and the whole surface as the truth.
+TEST_F(CliGenerate, ScanWritesWhatTheViewsSeeWithTheWholeTruth) {
+  const RunResult run = recon({"generate", "box", "--scan", "3", "-n", "3000", "--noise", "0.002", "--with-normals",
+                               "-o", "b.ply", "--truth", "gt.ply", "--truth-points", "6000"});
+  ASSERT_TRUE(succeeded(run));
+  EXPECT_NE(run.out.find("scanned from 3 views of 'box'"), std::string::npos) << describe(run);
+  const PointCloud cloud = io::read_points(at("b.ply")), truth = io::read_points(at("gt.ply"));
+  EXPECT_GT(cloud.size(), 2000U);
+  EXPECT_LT(cloud.size(), 4000U);
+  ASSERT_TRUE(cloud.has_normals());
+  for (const Vec3& n : cloud.normals) ASSERT_GT(n.z(), -0.5);  // the views stand above: no bottom face
+  std::size_t bottom = 0;
+  for (const Vec3& n : truth.normals) bottom += n.z() < -0.5 ? 1U : 0U;
+  EXPECT_GT(bottom, 500U);  // the truth has it
+}
+
+TEST_F(CliGenerate, BadScanAndThicknessOptionsAreRefusedBeforeWriting) {
+  EXPECT_TRUE(option_refused(recon({"generate", "box", "--scan", "0", "-o", "b.ply"}), "--scan", "not in range"));
+  EXPECT_TRUE(option_refused(recon({"generate", "box", "--scan", "65", "-o", "b.ply"}), "--scan", "not in range"));
+  const RunResult lone = recon({"generate", "box", "--misregistration", "0.01", "-o", "b.ply"});
+  EXPECT_EQ(lone.exit_code, 2) << describe(lone);
+  EXPECT_NE(lone.err.find("--misregistration requires --scan"), std::string::npos) << describe(lone);
+  EXPECT_TRUE(
+      refused(recon({"generate", "torus", "--thickness", "0.1", "-o", "t.ply"}), {"shape 'torus' has no thickness"}));
+  EXPECT_TRUE(refused(recon({"generate", "club", "--thickness", "0.2", "-o", "c.ply"}),
+                      {"thickness 0.2 out of range for 'club': it must lie strictly between 0 and 0.1"}));
+  EXPECT_TRUE(
+      option_refused(recon({"generate", "plate", "--thickness", "nan", "-o", "p.ply"}), "--thickness", "found 'nan'"));
+  EXPECT_TRUE(entries().empty());
+}
+
+TEST_F(CliGenerate, ThinSolidsTakeTheirThickness) {
+  ASSERT_TRUE(succeeded(recon({"--quiet", "generate", "plate", "--thickness", "0.01", "-n", "2000", "-o", "p.xyz"})));
+  double top = 0.0;
+  for (const Vec3& p : io::read_points(at("p.xyz")).positions) top = std::max(top, p.z());
+  EXPECT_NEAR(top, 0.005, 1e-12);
+}
+
 // ---------------------------------------------------------------- lab
 
 using CliLab = CliTest;

@@ -14,6 +14,7 @@
 //   only exceed the true distance, and by no more than the sample spacing.
 
 #include "recon/core/shapes.h"
+#include "recon/core/errors.h"
 #include "recon/reconstruct.h"
 #include "recon/structures/mesh.h"
 
@@ -41,6 +42,7 @@ struct Truth {
   int components = 1;
   std::optional<double> area;    // absent where shapes.cpp approximates it
   std::optional<double> volume;  // absent for the open terrain
+  bool concave_creases = false;  // a step along a normal near one comes closer to the facing patch
 };
 
 double sphere_area(double r) { return 4.0 * pi * r * r; }
@@ -49,6 +51,29 @@ double cone_area(double r, double h) { return pi * r * r + pi * r * std::hypot(r
 double cone_volume(double r, double h) { return pi * r * r * h / 3.0; }
 double cylinder_area(double r, double h) { return 2.0 * pi * r * r + 2.0 * pi * r * h; }
 double cylinder_volume(double r, double h) { return pi * r * r * h; }
+double box_area(double a, double b, double c) { return 2.0 * (a * b + a * c + b * c); }
+double ball_shell_volume(double outer, double inner) { return sphere_volume(outer) - sphere_volume(inner); }
+
+// The thin solids at their default thicknesses (shapes.h): plate 0.05,
+// club 0.03, airfoil 0.12 (the NACA section's area is 0.68085 t c), cup
+// 0.04, cavity-cube 0.1, two-cavities 0.1.
+std::vector<Truth> thin_truths() {
+  const double t = 0.03, foot = 0.1 * t;  // the club: the handle's foot on the blade hides foot twice
+  const double club_area = box_area(1.0, t, 0.3) + box_area(0.1, 0.1, 1.2) - 2.0 * foot;
+  const double r = 0.5, h = 0.8, c = 0.04, ri = r - c;  // the cup
+  const double cup_area =
+      pi * r * r + 2.0 * pi * r * h + pi * (r * r - ri * ri) + 2.0 * pi * ri * (h - c) + pi * ri * ri;
+  const double cup_volume = pi * r * r * h - pi * ri * ri * (h - c);
+  return {
+      {"plate", 2, 1, box_area(2.0, 1.0, 0.05), 2.0 * 1.0 * 0.05},
+      {"club", 2, 1, club_area, 1.0 * t * 0.3 + 0.1 * 0.1 * 1.2, true},
+      {"airfoil", 2, 1, std::nullopt, 0.68085 * 0.12 * 1.5},
+      {"cup", 2, 1, cup_area, cup_volume, true},
+      {"cavity-cube", 4, 2, 6.0 + sphere_area(0.4), 1.0 - sphere_volume(0.4)},
+      {"two-cavities", 8, 4, sphere_area(1.0) + sphere_area(0.9) + sphere_area(0.55) + sphere_area(0.45),
+       ball_shell_volume(1.0, 0.9) + ball_shell_volume(0.55, 0.45)},
+  };
+}
 
 std::vector<Truth> all_truths() {
   const double torus_area = 4.0 * pi * pi * 0.35, torus_volume = 2.0 * pi * pi * 0.35 * 0.35;
@@ -77,8 +102,14 @@ std::vector<Truth> all_truths() {
   };
 }
 
+std::vector<Truth> every_truth() {
+  std::vector<Truth> truths = all_truths();
+  for (Truth& t : thin_truths()) truths.push_back(std::move(t));
+  return truths;
+}
+
 Truth truth_of(const std::string& name) {
-  for (const Truth& t : all_truths())
+  for (const Truth& t : every_truth())
     if (t.name == name) return t;
   ADD_FAILURE() << "no truth for " << name;
   return {};
@@ -138,14 +169,25 @@ TEST_P(ShapeTest, SamplesLieOnTheSurfaceWithUnitNormals) {
 }
 
 // A step of e along a normal moves e away from the surface only when the
-// normal is perpendicular to it (a tilted one comes closer); all creases
-// of these shapes are convex, so this holds at them too.
+// normal is perpendicular to it (a tilted one comes closer). At a convex
+// crease this holds too; within about e of a concave one (the club's
+// handle on its blade, the cup's floor) the facing patch comes closer, so
+// there the step may come out shorter, never longer, on a few samples.
 TEST_P(ShapeTest, NormalsArePerpendicularToTheSurface) {
+  const Truth truth = truth_of(GetParam());
   const auto shape = make_shape(GetParam());
   const PointCloud cloud = shape->sample(20000, 4);
   const double e = 1e-3;
-  for (std::size_t i = 0; i < cloud.size(); ++i)
-    ASSERT_NEAR(shape->distance(cloud.positions[i] + e * cloud.normals[i]), e, 1e-8) << "sample " << i;
+  std::size_t shorter = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const double d = shape->distance(cloud.positions[i] + e * cloud.normals[i]);
+    if (truth.concave_creases && d < e - 1e-8) {
+      ++shorter;
+      continue;
+    }
+    ASSERT_NEAR(d, e, 1e-8) << "sample " << i;
+  }
+  EXPECT_LT(shorter, cloud.size() / 100);
 }
 
 // The flux of p through the surface is 3 times the volume inside when the
@@ -235,8 +277,13 @@ TEST_P(ShapeTest, TopologyIsAsDocumented) {
 
 INSTANTIATE_TEST_SUITE_P(Shapes, ShapeTest,
                          ::testing::Values("sphere", "torus", "ellipsoid", "box", "two", "terrain", "part", "handle",
-                                           "conics", "shell", "nested"),
-                         [](const ::testing::TestParamInfo<std::string>& shape) { return shape.param; });
+                                           "conics", "shell", "nested", "plate", "club", "airfoil", "cup",
+                                           "cavity-cube", "two-cavities"),
+                         [](const ::testing::TestParamInfo<std::string>& shape) {
+                           std::string name = shape.param;  // a test name has no '-'
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 TEST(ShapeNames, UnknownNameIsRefusedWithTheKnownOnes) {
   try {
@@ -246,6 +293,100 @@ TEST(ShapeNames, UnknownNameIsRefusedWithTheKnownOnes) {
     for (const char* name : {"part", "handle", "conics", "terrain"})
       EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
   }
+}
+
+// ---------------------------------------------------------------- thin solids
+
+// The thickness asked for is the wall's: a point halfway through a wall
+// lies t/2 from both its sheets. Checked down to ρ/2 at 40,000 points
+// (ρ about 0.01 on the plate) and at a few multiples of it.
+TEST(ThinSolids, AWallsMiddleLiesHalfTheThicknessFromTheSurface) {
+  struct Wall {
+    std::string shape;
+    Vec3 (*middle)(double t);
+    double tolerance;  // relative to t: the airfoil is a polygon, thinner than its curve between vertices
+  };
+  const std::vector<Wall> walls = {
+      {"plate", [](double) { return Vec3(0.3, 0.2, 0.0); }, 1e-12},
+      {"club", [](double) { return Vec3(0.5, 0.0, 0.15); }, 1e-12},
+      {"airfoil", [](double) { return Vec3(-0.2, 0.0, 0.0); }, 2e-3},  // thickest at 30 % of the chord
+      {"cup", [](double t) { return Vec3(0.5 - t / 2, 0.0, 0.4); }, 1e-12},
+      {"cup", [](double t) { return Vec3(0.0, 0.1, t / 2); }, 1e-12},
+      {"cavity-cube", [](double t) { return Vec3(0.0, 0.5 - t / 2, 0.0); }, 1e-12},
+      {"two-cavities", [](double t) { return Vec3(1.0 - t / 2, 0.0, 0.0); }, 1e-12},
+      {"two-cavities", [](double t) { return Vec3(0.0, 0.0, 0.55 - t / 2); }, 1e-12},
+      {"shell", [](double t) { return Vec3(0.0, 1.0 - t / 2, 0.0); }, 1e-12},
+  };
+  for (const Wall& wall : walls)
+    for (const double t : {0.005, 0.0075, 0.01, 0.02, 0.05}) {
+      const auto shape = make_shape(wall.shape, t);
+      EXPECT_NEAR(shape->distance(wall.middle(t)), t / 2, wall.tolerance * t) << wall.shape << " at " << t;
+    }
+}
+
+// Thin walls change the volume, not the topology: the flux of p through
+// the sample is the solid's volume at every thickness (a sheet facing the
+// wrong way would count its side's volume with the wrong sign).
+TEST(ThinSolids, NormalsPointOutAtEveryThickness) {
+  for (const double t : {0.005, 0.02}) {
+    const double ri = 0.5 - t;
+    const std::vector<std::pair<std::string, double>> volumes = {
+        {"plate", 2.0 * t},
+        {"club", 1.0 * t * 0.3 + 0.1 * 0.1 * 1.2},
+        {"cup", pi * 0.25 * 0.8 - pi * ri * ri * (0.8 - t)},
+        {"cavity-cube", 1.0 - sphere_volume(0.5 - t)},
+        {"two-cavities", ball_shell_volume(1.0, 1.0 - t) + ball_shell_volume(0.55, 0.55 - t)},
+    };
+    for (const auto& [name, volume] : volumes) {
+      const auto shape = make_shape(name, t);
+      EXPECT_NEAR(enclosed_volume(shape->sample(400000, 21), shape->area()), volume, 0.05 * volume)
+          << name << " at " << t;
+    }
+  }
+}
+
+// Whether q lies in the material of each thin solid of thickness t (as
+// shapes.h describes them); the airfoil, convex, is left to the flux.
+bool in_box(const Vec3& q, const Vec3& lo, const Vec3& hi) {
+  return (q.array() > lo.array()).all() && (q.array() < hi.array()).all();
+}
+bool in_material(const std::string& shape, double t, const Vec3& q) {
+  const double r = q.norm();
+  if (shape == "plate") return in_box(q, Vec3(-1.0, -0.5, -t / 2), Vec3(1.0, 0.5, t / 2));
+  if (shape == "club")
+    return in_box(q, Vec3(0.0, -t / 2, 0.0), Vec3(1.0, t / 2, 0.3)) ||
+           in_box(q, Vec3(0.05, -0.05, 0.3), Vec3(0.15, 0.05, 1.5));
+  if (shape == "cup") {
+    const double rho = std::hypot(q.x(), q.y());
+    return q.z() > 0.0 && q.z() < 0.8 && rho < 0.5 && !(rho < 0.5 - t && q.z() > t);
+  }
+  if (shape == "cavity-cube") return in_box(q, Vec3::Constant(-0.5), Vec3::Constant(0.5)) && r > 0.5 - t;
+  return (r < 1.0 && r > 1.0 - t) || (r < 0.55 && r > 0.55 - t);  // two-cavities
+}
+
+// Every sample's normal leaves the material: a step of e along it lands
+// outside, a step back inside. The flux would miss a small patch turned
+// the wrong way (the club's overhangs under the handle are 1.7 % of its
+// area, 2 % of its volume); this does not.
+TEST(ThinSolids, EveryNormalPointsOutOfTheMaterial) {
+  const double e = 1e-4;
+  for (const double t : {0.005, 0.02})
+    for (const std::string name : {"plate", "club", "cup", "cavity-cube", "two-cavities"}) {
+      const PointCloud cloud = make_shape(name, t)->sample(50000, 22);
+      for (std::size_t i = 0; i < cloud.size(); ++i) {
+        const Vec3 &p = cloud.positions[i], &n = cloud.normals[i];
+        ASSERT_FALSE(in_material(name, t, p + e * n)) << name << " at " << t << ", sample " << i;
+        ASSERT_TRUE(in_material(name, t, p - e * n)) << name << " at " << t << ", sample " << i;
+      }
+    }
+}
+
+TEST(ThinSolids, AThicknessOutOfRangeOrForAnotherShapeIsRefused) {
+  const std::vector<std::pair<std::string, double>> refused = {
+      {"plate", 0.0},        {"plate", -0.1},  {"club", 0.1},  {"cup", 0.25},  {"cavity-cube", 0.5},
+      {"two-cavities", 0.3}, {"airfoil", 0.5}, {"shell", 1.0}, {"torus", 0.1}, {"part", 0.1}};
+  for (const auto& [name, t] : refused) EXPECT_THROW((void)make_shape(name, t), InvalidInputError) << name << " " << t;
+  EXPECT_NO_THROW((void)make_shape("club", 0.099));
 }
 
 // ---------------------------------------------------------------- part

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -119,12 +120,96 @@ class Shape {
 /// Pre: fraction > 0 and at least two distinct positions (std::normal_distribution needs a positive spread).
 void add_noise(PointCloud& cloud, double fraction, std::uint64_t seed);
 
+/// How scan() looks at a shape (the options of `recon generate --scan`).
+struct ScanOptions {
+  std::size_t views = 4;         ///< viewpoints around the shape, 1 to 64
+  std::size_t points = 100000;   ///< about how many points all the views return together
+  double noise = 0.0;            ///< range noise: std. deviation along the ray, a fraction of the diagonal
+  double misregistration = 0.0;  ///< each view's rigid error: radians of rotation, and that fraction of the diagonal
+  std::uint64_t seed = 1;
+};
+
+/// What a range scanner standing at a few places around the shape records:
+/// holes where no view sees the surface, noise along the rays, more points
+/// near the scanner, views that do not quite line up.
+///   - The views stand 2.5 bounding radii from the centre of the shape's
+///     bounding box, spread evenly in azimuth around the z axis (with a
+///     random start and jitter), 15 to 45 degrees above the centre: the
+///     underside and every self-shadowed region get no points (real holes).
+///   - Each view is a pinhole camera whose square image just covers the
+///     bounding sphere; a pixel returns the first surface point along its
+///     ray. The first hit is found by a z-buffer over a dense sample of the
+///     true surface (about six samples per pixel footprint at the nearest
+///     range) rather than by casting rays, because every Shape can sample
+///     itself but only some can tell inside from outside.
+///   - A pixel returns nothing where the surface is seen at more than about
+///     80 degrees from its normal (or from behind), or where a neighbouring
+///     pixel is nearer by more than ten pixel footprints (a pixel astride a
+///     depth edge, which scanners also drop).
+///   - The image resolution is set so all views together return about
+///     `points` points (a first coarse rendering measures the coverage).
+///     The density on the surface falls with the square of the range and
+///     with the slant, as a scanner's does.
+///   - Each return moves along its ray by a Gaussian of standard deviation
+///     noise x diagonal x (its range / the view's distance to the centre);
+///     then the view's misregistration moves all its returns: a rotation
+///     by `misregistration` radians about a random axis through the centre
+///     and a shift of misregistration x diagonal in a random direction.
+///   - The normals are the true outward normals of the points hit, turned
+///     with their view's misregistration (not by the noise).
+/// The same options give the same cloud. Points come view by view.
+/// Cost: O(dense sample + views x pixels); the dense sample is capped at
+/// 12 million points, the image at 4096 pixels a side.
+/// Throws: InvalidInputError for no views, no points, or noise or
+/// misregistration outside [0, 1).
+/// Pre: shape's sample() is uniform by area (its density sets the dense sample's).
+[[nodiscard]] PointCloud scan(const Shape& shape, const ScanOptions& options);
+
+/// The thin solids: closed solids with two sheets close together, where a
+/// reconstruction's neighbourhoods span both. `thickness` is in the same
+/// units as the shape (absolute, not in multiples of a sample spacing:
+/// the caller knows its point count and works out rho).
+/// The box [-1, 1] x [-0.5, 0.5] x [-t/2, t/2]. Genus 0.
+[[nodiscard]] std::unique_ptr<Shape> make_plate(double thickness = 0.05);
+/// A golf club: a thin blade [0, 1] x [-t/2, t/2] x [0, 0.3] and a handle of
+/// 0.1 x 0.1 section standing on its top (x from 0.05 to 0.15) up to z = 1.5.
+/// Every face is axis-aligned; where the handle meets the blade the creases
+/// are concave. One closed surface, genus 0.
+/// Pre: 0 < thickness < 0.1 (the handle is the wider).
+[[nodiscard]] std::unique_ptr<Shape> make_club(double thickness = 0.03);
+/// A wing: the symmetric NACA four-digit section of chord 1 (x from -0.5
+/// to 0.5), greatest thickness `thickness` at 30 % of the chord, with the
+/// closed trailing edge (it thins to nothing at x = 0.5), as a polygon of
+/// 200 vertices; extruded along y from -0.75 to 0.75 and closed by two flat
+/// end caps. Convex. Genus 0.
+[[nodiscard]] std::unique_ptr<Shape> make_airfoil(double thickness = 0.12);
+/// A cup of outer radius 0.5 and height 0.8 standing on z = 0, with walls
+/// and floor `thickness` thick: one solid of revolution whose outer and
+/// inner walls meet at a flat rim (genus 0; a concave crease where the
+/// inner wall meets the floor). Pre: 0 < thickness < 0.25.
+[[nodiscard]] std::unique_ptr<Shape> make_cup(double thickness = 0.04);
+/// The unit cube around the origin with a spherical cavity of radius
+/// 0.5 - thickness at its centre (the wall is `thickness` at its thinnest,
+/// at the faces' centres); the cavity's wall faces into it. Two
+/// components, Euler characteristic 4.
+[[nodiscard]] std::unique_ptr<Shape> make_cavity_cube(double thickness = 0.1);
+/// Two nested cavities: a hollow ball (radii 1 and 1 - t) whose cavity
+/// holds a second hollow ball (radii 0.55 and 0.55 - t), so the pieces'
+/// sides alternate out, in, out, in with their depth. Four components,
+/// Euler characteristic 8. Pre: 0 < thickness < 0.3.
+[[nodiscard]] std::unique_ptr<Shape> make_two_cavities(double thickness = 0.1);
+
 /// A shape by name, at its default sizes: "sphere", "torus", "ellipsoid", "box", "two" (sphere + torus),
-/// "terrain", "part" (make_machined_part), "handle", "conics", "shell" (make_hollow_ball), "nested"
-/// (make_nested_balls).
+/// "terrain", "part" (make_machined_part), "handle", "conics", "shell" (make_hollow_ball, outer radius 1,
+/// the cavity's radius 1 - thickness), "nested" (make_nested_balls), and the thin solids "plate", "club",
+/// "airfoil", "cup", "cavity-cube", "two-cavities" (make_plate to make_two_cavities) with the given
+/// thickness, or their default one (shell: 0.3) without.
 /// Cost: O(1).
-/// Throws: InvalidInputError for another name.
+/// Throws: InvalidInputError for another name, a thickness for a shape that has none, or a thickness
+/// outside the shape's range (for each, the open interval from 0 to the bound its factory states;
+/// plate below 1, airfoil below 0.5, shell below 1, cavity-cube below 0.5).
 /// Pre: none.
-[[nodiscard]] std::unique_ptr<Shape> make_shape(const std::string& name);
+[[nodiscard]] std::unique_ptr<Shape> make_shape(const std::string& name,
+                                                std::optional<double> thickness = std::nullopt);
 
 }  // namespace recon

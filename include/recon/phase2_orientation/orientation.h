@@ -21,9 +21,16 @@
 // it points up, as in Hoppe's rule. Where no normal up there is (a tip, a
 // crease), the same is asked of the other five axis directions (the
 // extremes of a closed surface have outward normals along them), and the
-// best-aligned one decides. The whole component is turned round when that
-// normal points inwards; the tree walk still decides every sign relative to
-// the others. (Open surfaces, a terrain, a facade, have no inside: there the
+// best-aligned direction decides. Which way the component's normals point
+// there is a vote of the samples in that band, each weighted by its
+// component along the direction and by exp(-depth / r) for its depth below
+// the extreme (r its neighbourhood radius), not the word of the
+// best-aligned sample alone: that one may be among the few the walk got
+// wrong on noisy data, and in a plate thinner than two radii the band also
+// holds the bottom sheet, rightly pointing the other way; the outermost
+// layer and the majority decide. The whole component is turned round when
+// the vote says inwards; the tree walk still decides every sign relative
+// to the others. (Open surfaces, a terrain, a facade, have no inside: there the
 // side facing up is kept, as before, wherever the top is well defined.)
 //
 // Nested pieces (the refined method). Each component's side is decided
