@@ -25,6 +25,10 @@ make_cloud() {
     ellipsoid|part|handle) "$recon" generate "$name" -n 20000 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
     part-4100) "$recon" generate part -n 4100 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
     conics) "$recon" generate conics --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
+    scan-part) "$recon" generate part --scan 4 -n 40000 --noise 0.002 --misregistration 0.001 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
+    scan-conics) "$recon" generate conics --scan 4 -n 20000 --noise 0.005 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
+    plate-thin) "$recon" generate plate --thickness 0.015 -n 40000 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
+    club|cup|two-cavities) "$recon" generate "$name" -n 40000 --seed 1 -o "$out" --truth "$work/${name}_gt.ply" ;;
     bunny)  # the scan's vertices are the cloud (every program reads a PLY's vertices); its mesh is the truth
       cp "$data_dir/stanford_bunny/bun_zipper.ply" "$work/bunny_gt.ply"
       cp "$data_dir/stanford_bunny/bun_zipper.ply" "$out" ;;

@@ -20,14 +20,18 @@
 # Clouds: gen_synthetic.py's sphere, torus, box (rotated, sharp), plate
 # (thickness 0.05), torus with 0.2 % noise; recon generate's ellipsoid, part
 # (genus 3, creases) at 20,000 and at 4,100 points, handle, conics; the
-# Stanford bunny (its vertices, measured against its own mesh). Needs
+# Stanford bunny (its vertices, measured against its own mesh); recon
+# generate --scan's noisy, occluded scans of the part and the conics
+# (measured against the whole true surface, so their holes count: compare
+# with trimmed Poisson); thin solids: a plate 0.015 thick (about 1.5 rho),
+# the club, the cup, two nested cavities. Needs
 # python3-numpy python3-scipy python3-open3d libcgal-dev (bench/peers.sh
 # installs them); builds bench/peers' cgal_poisson into build/peers.
 set -euo pipefail
 
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 output="${QUALITY_OUTPUT:-$root/bench/results/quality.md}"
-clouds="${QUALITY_CLOUDS:-sphere torus box plate noisy-torus ellipsoid part part-4100 handle conics bunny}"
+clouds="${QUALITY_CLOUDS:-sphere torus box plate noisy-torus ellipsoid part part-4100 handle conics bunny scan-part scan-conics plate-thin club cup two-cavities}"
 work="$root/build/quality"
 mkdir -p "$work"
 cmake -S bench/peers -B build/peers -DCMAKE_BUILD_TYPE=Release -G Ninja > "$work/peers-configure.log"
