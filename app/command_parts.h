@@ -88,7 +88,7 @@ struct ReconstructCommandOptions {
   std::optional<int> resolution;
   bool ascii = false, use_normals = false, keep_fragments = false;
   bool embedded = false;  ///< --embedded: phase V puts back the moves that make triangles cross
-  bool normals = false;  ///< --normals: vertex normals in the mesh (always in a .glb)
+  bool normals = false;   ///< --normals: vertex normals in the mesh (always in a .glb)
   std::string method = "refined";
   double tile_size = 0.0;           ///< --tile-size: work in tiles (tiled.h)
   std::filesystem::path tmpdir;     ///< --tmpdir: where the tiles go (default: the output's folder)
