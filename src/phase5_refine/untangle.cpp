@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace recon::refinement_steps {
 namespace {
@@ -56,7 +57,7 @@ int tier(const Builder& b, std::uint32_t v) {
 // The triangles a vertex put back has made numerically flat (as
 // analyze_topology counts them: area under 1e-14 d^2, d the box's diagonal).
 std::vector<std::uint32_t> flattened(const Mesh& mesh, const std::vector<std::uint8_t>& level) {
-  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const Vec3& p : mesh.vertices) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);

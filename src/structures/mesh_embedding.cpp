@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -182,7 +183,7 @@ struct Grid {
 // triangle fills too many cells).
 Grid make_grid(const std::vector<Box>& boxes, const std::vector<std::uint32_t>& live) {
   Grid g;
-  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   double sum = 0.0, largest = 0.0;
   for (const std::uint32_t t : live) {
     lo = lo.cwiseMin(boxes[t].lo);
