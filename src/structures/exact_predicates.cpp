@@ -187,8 +187,9 @@ int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 
 bool coordinates_in_exact_range(const Vec3& p) {
   for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(p[k])) return false;  // (first: an ordered comparison with NaN raises FE_INVALID)
     const double x = std::fabs(p[k]);
-    if (x != 0.0 && !(x >= 0x1p-290 && x <= 0x1p290)) return false;
+    if (x != 0.0 && (x < 0x1p-290 || x > 0x1p290)) return false;
   }
   return true;
 }
