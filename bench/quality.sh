@@ -23,7 +23,7 @@
 # Stanford bunny (its vertices, measured against its own mesh); recon
 # generate --scan's noisy, occluded scans of the part and the conics
 # (measured against the whole true surface, so their holes count: compare
-# with trimmed Poisson); thin solids: a plate 0.015 thick (about 1.5 rho),
+# with trimmed Poisson); thin solids: a plate 0.015 thick (0.46 rho),
 # the club, the cup, two nested cavities. Needs
 # python3-numpy python3-scipy python3-open3d libcgal-dev (bench/peers.sh
 # installs them); builds bench/peers' cgal_poisson into build/peers.
